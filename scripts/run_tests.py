@@ -1,0 +1,154 @@
+#!/usr/bin/env python3
+"""Run the workspace's tests and print one combined closing line ``N passed, N failed``.
+
+Tier 1: pytest over every package's ``test/unit/`` (pure libraries; tests that need a master
+start their own on a free port). Tier 2: every package's ``test/*.test`` through ``rostest``,
+each on its own free master port so that runs cannot collide.
+
+    run_tests.py                   both tiers
+    run_tests.py --tier 1          unit tests only
+    run_tests.py -k sim            only packages / .test files whose path contains 'sim'
+"""
+import argparse
+import glob
+import os
+import socket
+import subprocess
+import sys
+import time
+import xml.etree.ElementTree as ET
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# One results folder per run (several runs may go on at once on a shared machine).
+RESULTS = os.path.join(ROOT, "out", "test-results", time.strftime("%Y%m%d-%H%M%S-") + str(os.getpid()))
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def junit_counts(path):
+    """(passed, failed, skipped) from a JUnit XML file written by pytest or rostest."""
+    if not os.path.exists(path):
+        return 0, 0, 0
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError:
+        return 0, 1, 0
+    suites = [root] if root.tag == "testsuite" else root.findall("testsuite")
+    passed = failed = skipped = 0
+    for suite in suites:
+        tests = int(suite.get("tests", 0))
+        bad = int(suite.get("failures", 0)) + int(suite.get("errors", 0))
+        skip = int(suite.get("skipped", suite.get("skip", 0)) or 0)
+        passed += tests - bad - skip
+        failed += bad
+        skipped += skip
+    return passed, failed, skipped
+
+
+def run_unit(pattern):
+    dirs = sorted(d for d in glob.glob(os.path.join(ROOT, "src", "*", "test", "unit"))
+                  if pattern in d and glob.glob(os.path.join(d, "test_*.py")))
+    if not dirs:
+        print("[tests] tier 1: no unit test directories matched")
+        return 0, 0, 0
+    xml = os.path.join(RESULTS, "unit.xml")
+    cmd = [sys.executable, "-m", "pytest", "-q", "--import-mode=importlib", "-p", "no:cacheprovider",
+           "--junitxml", xml, "-o", "junit_family=xunit2"] + dirs
+    print("[tests] tier 1: pytest over %d packages" % len(dirs), flush=True)
+    if os.path.exists(xml):
+        os.remove(xml)
+    rc = subprocess.call(cmd, cwd=ROOT)
+    passed, failed, skipped = junit_counts(xml)
+    if rc not in (0, 5) and failed == 0:
+        failed = 1  # pytest itself failed (collection or usage error): count it
+        print("[tests] pytest exited with %d" % rc)
+    return passed, failed, skipped
+
+
+def run_rostests(pattern, timeout):
+    files = sorted(f for f in glob.glob(os.path.join(ROOT, "src", "*", "test", "*.test")) if pattern in f)
+    total = [0, 0, 0]
+    if not files:
+        print("[tests] tier 2: no .test files matched")
+        return tuple(total)
+    print("[tests] tier 2: %d rostest files" % len(files), flush=True)
+    failures = []
+    for i, path in enumerate(files, 1):
+        pkg = os.path.basename(os.path.dirname(os.path.dirname(path)))
+        name = os.path.splitext(os.path.basename(path))[0]
+        outdir = os.path.join(RESULTS, "rostest", pkg)
+        os.makedirs(outdir, exist_ok=True)
+        port = free_port()
+        env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % port,
+                   ROS_HOME=os.path.join(RESULTS, "ros_home"))
+        logfile = os.path.join(outdir, name + ".log")
+        start = time.time()
+        # rostest starts its master on a free port of its own (port 0); ROS_MASTER_URI is set to
+        # an unused port as well so that nothing can fall back to a master of the user's.
+        cmd = ["rostest", "--results-base-dir", outdir, path]
+        with open(logfile, "w") as log:
+            try:
+                rc = subprocess.call(cmd, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT,
+                                     timeout=timeout)
+            except subprocess.TimeoutExpired:
+                rc = "timeout after %d s" % timeout
+        fresh = [x for x in glob.glob(os.path.join(outdir, "**", "*.xml"), recursive=True)
+                 if os.path.getmtime(x) >= start]
+        # rosunit-*.xml hold the test cases of each test node; rostest-*.xml is a summary with
+        # one entry per node (it fails a node that crashed before writing its own results).
+        p = f = s = 0
+        for x in fresh:
+            if os.path.basename(x).startswith("rosunit-"):
+                a, b, c = junit_counts(x)
+                p, f, s = p + a, f + b, s + c
+        summary_failed = sum(junit_counts(x)[1] for x in fresh
+                             if os.path.basename(x).startswith("rostest-"))
+        f = max(f, summary_failed)
+        if rc != 0 and f == 0:
+            f = 1
+        if p + f == 0:
+            f = 1  # a .test that ran no test is a failure
+        total[0] += p
+        total[1] += f
+        total[2] += s
+        status = "ok" if f == 0 else "FAILED (rc=%s, log: %s)" % (rc, os.path.relpath(logfile, ROOT))
+        print("[tests] [%d/%d] %s/%s: %d passed, %d failed in %.0f s  %s"
+              % (i, len(files), pkg, name, p, f, time.time() - start, status), flush=True)
+        if f:
+            failures.append(logfile)
+    for logfile in failures:
+        print("---- last lines of %s" % os.path.relpath(logfile, ROOT))
+        with open(logfile, errors="replace") as fh:
+            print("".join(fh.readlines()[-40:]))
+    return tuple(total)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--tier", type=int, choices=(1, 2), help="run only this tier")
+    ap.add_argument("-k", dest="pattern", default="", help="only paths containing this string")
+    ap.add_argument("--timeout", type=int, default=900, help="seconds per rostest file (default 900)")
+    args = ap.parse_args()
+    os.makedirs(RESULTS, exist_ok=True)
+    print("[tests] results and logs: %s" % os.path.relpath(RESULTS, ROOT))
+    totals = [0, 0, 0]
+    if args.tier in (None, 1):
+        for i, v in enumerate(run_unit(args.pattern)):
+            totals[i] += v
+    if args.tier in (None, 2):
+        for i, v in enumerate(run_rostests(args.pattern, args.timeout)):
+            totals[i] += v
+    passed, failed, skipped = totals
+    line = "%d passed, %d failed" % (passed, failed)
+    if skipped:
+        line += ", %d skipped" % skipped
+    print(line)
+    return 1 if failed or passed == 0 else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

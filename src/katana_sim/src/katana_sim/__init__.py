@@ -1,0 +1,1 @@
+"""Katana 450 arm simulation: laser, detection, IK, pick-and-stack (seed 001)."""

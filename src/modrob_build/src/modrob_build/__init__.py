@@ -1,0 +1,1 @@
+"""Module orders to Gazebo-ready URDF, controller YAML and launch files."""

@@ -1,0 +1,1 @@
+"""Module database, gripper, meshes, worlds (Bulbs and Slides) and small test robots."""

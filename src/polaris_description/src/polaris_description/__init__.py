@@ -1,0 +1,1 @@
+"""Polaris Ranger EV e-ATV: steering, drive, odometry, IMU, GPS, lidar (seed 003)."""

@@ -1,0 +1,1 @@
+"""Pan/tilt/roll/zoom camera digital twin (seed 002)."""
