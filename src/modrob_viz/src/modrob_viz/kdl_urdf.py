@@ -53,6 +53,7 @@ class KdlTree(object):
         self.limits = {}          # joint name -> (lower, upper); continuous: (-inf, inf)
         self.joint_types = {}     # every URDF joint name -> type
         self.warnings = []        # things converted with a loss (floating joints ...)
+        self.parser_notes = []    # urdf_parser_py's remarks on tags it ignores
 
     @property
     def link_names(self):
@@ -155,21 +156,33 @@ def _limits(joint):
     return (lower, upper)
 
 
-def parse_urdf(xml):
-    """``urdf_parser_py`` robot from a URDF string; errors become :class:`UrdfError`."""
+def parse_urdf(xml, notes=None):
+    """``urdf_parser_py`` robot from a URDF string; errors become :class:`UrdfError`.
+
+    urdf_parser_py's remarks about tags it does not model (``<transmission>`` details,
+    ``<gazebo>``) go to the list ``notes`` instead of stderr.
+    """
     from urdf_parser_py.urdf import URDF  # from the workspace venv (PyPI urdfdom-py)
+    from urdf_parser_py.xml_reflection import core
     if not isinstance(xml, str) or not xml.strip():
         raise UrdfError("the robot description is empty: load a URDF into robot_description")
+    saved = core.on_error
+    core.on_error = (notes.append if notes is not None else (lambda message: None))
     try:
         robot = URDF.from_xml_string(xml)
     except Exception as err:  # lxml syntax errors, urdf_parser_py assertion/value errors
         raise UrdfError("the robot description is not a valid URDF: %s" % err)
+    finally:
+        core.on_error = saved
     return robot
 
 
 def tree_from_urdf_string(xml):
     """A :class:`KdlTree` from a URDF string (what kdl_parser's treeFromString does)."""
-    return tree_from_urdf_model(parse_urdf(xml))
+    notes = []
+    kdl = tree_from_urdf_model(parse_urdf(xml, notes))
+    kdl.parser_notes = notes
+    return kdl
 
 
 def tree_from_urdf_model(robot):

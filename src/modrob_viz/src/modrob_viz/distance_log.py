@@ -1,0 +1,68 @@
+"""Distances over time for the control-device user tests: CSV and a PNG plot like the seed's
+figure 17 (red: end effector to goal, turquoise: end effector to the trajectory). No rospy."""
+import csv
+import math
+import os
+
+from modrob_viz.errors import VizError
+
+
+class DistanceLog(object):
+    """Rows of (time [s], distance_to_endpoint [m], distance_to_trajectory [m] or NaN)."""
+
+    def __init__(self):
+        self.rows = []
+
+    def add(self, t, d_end, d_traj=float("nan")):
+        self.rows.append((float(t), float(d_end), float(d_traj)))
+
+    def __len__(self):
+        return len(self.rows)
+
+    def write_csv(self, path):
+        _folder(path)
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["time_s", "distance_to_endpoint_m", "distance_to_trajectory_m"])
+            for t, a, b in self.rows:
+                w.writerow(["%.4f" % t, "%.6f" % a, "" if math.isnan(b) else "%.6f" % b])
+        return path
+
+    @staticmethod
+    def read_csv(path):
+        log = DistanceLog()
+        with open(path) as f:
+            for row in csv.DictReader(f):
+                log.add(row["time_s"], row["distance_to_endpoint_m"], row["distance_to_trajectory_m"] or "nan")
+        return log
+
+    def plot(self, path, title="Control device user test"):
+        """A PNG of both distances over time (matplotlib Agg)."""
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        _folder(path)
+        t = [r[0] for r in self.rows]
+        fig, ax = plt.subplots(figsize=(8, 4), dpi=100)
+        ax.plot(t, [r[1] for r in self.rows], color="red", label="end effector to end point")
+        if any(not math.isnan(r[2]) for r in self.rows):
+            ax.plot(t, [r[2] for r in self.rows], color="turquoise", label="end effector to trajectory")
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("distance [m]")
+        ax.set_title(title)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="upper right")
+        fig.tight_layout()
+        fig.savefig(path)
+        plt.close(fig)
+        return path
+
+
+def _folder(path):
+    if not path:
+        raise VizError("no output file given")
+    folder = os.path.dirname(os.path.abspath(path))
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as err:
+        raise VizError("cannot create folder '%s': %s" % (folder, err))
