@@ -33,7 +33,8 @@ class DistanceLog(object):
         log = DistanceLog()
         with open(path) as f:
             for row in csv.DictReader(f):
-                log.add(row["time_s"], row["distance_to_endpoint_m"], row["distance_to_trajectory_m"] or "nan")
+                log.add(row["time_s"], row["distance_to_endpoint_m"],
+                        row["distance_to_trajectory_m"] or "nan")
         return log
 
     def plot(self, path, title="Control device user test"):

@@ -129,7 +129,8 @@ class Divergence(object):
         self.final = float(final)
 
     def __str__(self):
-        return "max %.4f m, RMS %.4f m, final %.4f m over %d samples" % (self.max, self.rms, self.final, self.n)
+        return ("max %.4f m, RMS %.4f m, final %.4f m over %d samples"
+                % (self.max, self.rms, self.final, self.n))
 
 
 def divergence(desired, travelled):

@@ -26,7 +26,8 @@ class JointPath(object):
                                   % (len(self.names), pos.shape))
         if not np.all(np.isfinite(pos)):
             bad = int(np.argmax(~np.all(np.isfinite(pos), axis=1)))
-            raise TrajectoryError("trajectory point %d has a non-finite position %s" % (bad, pos[bad].tolist()))
+            raise TrajectoryError("trajectory point %d has a non-finite position %s"
+                                  % (bad, pos[bad].tolist()))
         self.positions = pos
         self.times = np.zeros(len(pos)) if times is None else np.asarray(times, dtype=float)
 
@@ -55,11 +56,13 @@ class JointPath(object):
         """Refuse joint names the robot lacks and missing joints the FK needs (``needed``)."""
         unknown = [n for n in self.names if n not in kdl_tree.joint_types]
         if unknown:
-            raise TrajectoryError("trajectory names joint(s) %s that robot '%s' lacks (its movable joints: %s)"
-                                  % (", ".join(unknown), kdl_tree.robot_name, ", ".join(kdl_tree.joint_names)))
+            raise TrajectoryError("trajectory names joint(s) %s that robot '%s' lacks "
+                                  "(its movable joints: %s)" % (", ".join(unknown), kdl_tree.robot_name,
+                                                                ", ".join(kdl_tree.joint_names)))
         missing = [n for n in (needed or []) if n not in self.names]
         if missing:
-            raise TrajectoryError("trajectory lacks joint(s) %s needed for the end-effector pose of robot '%s'"
+            raise TrajectoryError("trajectory lacks joint(s) %s needed for the end-effector pose "
+                                  "of robot '%s'"
                                   % (", ".join(missing), kdl_tree.robot_name))
 
 

@@ -39,7 +39,9 @@ def parse_color(value):
 
 
 def rgba(color):
-    r, g, b, a = parse_color(color) if not isinstance(color, ColorRGBA) else (color.r, color.g, color.b, color.a)
+    if isinstance(color, ColorRGBA):
+        return ColorRGBA(color.r, color.g, color.b, color.a)
+    r, g, b, a = parse_color(color)
     return ColorRGBA(r, g, b, a)
 
 

@@ -58,7 +58,8 @@ GENERATORS = {"circle": circle, "line": line, "helix": helix, "figure_eight": fi
 def generate(shape, **kwargs):
     """Points of the named shape; unknown shapes and parameters are refused with the choices."""
     if shape not in GENERATORS:
-        raise TrajectoryError("unknown path shape '%s': choose one of %s" % (shape, ", ".join(sorted(GENERATORS))))
+        raise TrajectoryError("unknown path shape '%s': choose one of %s"
+                              % (shape, ", ".join(sorted(GENERATORS))))
     func = GENERATORS[shape]
     try:
         return func(**kwargs)
