@@ -1,0 +1,132 @@
+"""The world's props and static objects as a visualization_msgs/MarkerArray, so RViz shows what
+gzclient would (robots with joints are shown by RViz's RobotModel from robot_description).
+
+``WorldMarkers(world, which).update(force)`` returns a MarkerArray when something changed (a
+model spawned or deleted, a prop moved) or when forced, else None. ``which``: "props" (models
+without movable joints: static objects, loose objects, the ground), "all" or "none".
+"""
+import os
+
+from geometry_msgs.msg import Pose
+from visualization_msgs.msg import Marker, MarkerArray
+
+from modrob_sim.gazebo_ros import description
+from modrob_sim.gazebo_ros import transforms as tf
+
+FRAME = "world"
+MOVE_TOLERANCE = 1e-4      # m and rad: smaller motions do not republish
+
+
+def _wanted(model, which):
+    if which == "all":
+        return True
+    if which == "none":
+        return False
+    return all(j.type == "fixed" for j in model.joints.values())
+
+
+def _mesh_uri(filename):
+    if "://" in filename:
+        return filename
+    return "file://" + os.path.abspath(filename)
+
+
+class WorldMarkers(object):
+    def __init__(self, world, which="props"):
+        if which not in ("props", "all", "none"):
+            raise ValueError("~marker_models must be props, all or none, got %r" % which)
+        self.world = world
+        self.which = which
+        self._visuals = {}          # model name -> {link: [Visual]} (parsed once per model)
+        self._last_poses = {}       # (model, link) -> pose published last
+        self._models = ()
+
+    def _model_visuals(self, model):
+        vis = self._visuals.get(model.name)
+        if vis is None or vis[0] is not model:
+            info = description.parse_links(getattr(model, "source_xml", "") or "", model.name)
+            vis = (model, {lname: li.visuals for lname, li in info.items() if li.visuals})
+            self._visuals[model.name] = vis
+        return vis[1]
+
+    def update(self, force=False):
+        models = [m for m in self.world.models.values() if _wanted(m, self.which)]
+        names = tuple(m.name for m in models)
+        poses = {}
+        for m in models:
+            for lname in self._model_visuals(m):
+                link = m.links.get(lname)
+                if link is not None:
+                    poses[(m.name, lname)] = link.pose
+        if not force and names == self._models and not self._moved(poses):
+            return None
+        self._models = names
+        self._last_poses = poses
+        for gone in set(self._visuals) - set(self.world.models):
+            del self._visuals[gone]
+        return self._build(models, poses)
+
+    def _moved(self, poses):
+        if set(poses) != set(self._last_poses):
+            return True
+        for key, pose in poses.items():
+            d, a = tf.pose_distance(pose, self._last_poses[key])
+            if d > MOVE_TOLERANCE or a > MOVE_TOLERANCE:
+                return True
+        return False
+
+    def _build(self, models, poses):
+        arr = MarkerArray()
+        clear = Marker()
+        clear.header.frame_id = FRAME
+        clear.action = Marker.DELETEALL
+        arr.markers.append(clear)
+        for m in models:
+            i = 0
+            for lname, visuals in self._model_visuals(m).items():
+                link_pose = poses.get((m.name, lname))
+                if link_pose is None:
+                    continue
+                for v in visuals:
+                    mk = self._marker(m.name, i, tf.compose(link_pose, v.origin), v)
+                    if mk is not None:
+                        arr.markers.append(mk)
+                        i += 1
+        return arr
+
+    @staticmethod
+    def _marker(ns, idx, pose, v):
+        mk = Marker()
+        mk.header.frame_id = FRAME
+        mk.ns = ns
+        mk.id = idx
+        mk.action = Marker.ADD
+        mk.frame_locked = False
+        (mk.color.r, mk.color.g, mk.color.b, mk.color.a) = v.rgba
+        if v.kind == "box":
+            mk.type = Marker.CUBE
+            mk.scale.x, mk.scale.y, mk.scale.z = v.size
+        elif v.kind == "cylinder":
+            mk.type = Marker.CYLINDER
+            mk.scale.x = mk.scale.y = 2.0 * v.size[0]
+            mk.scale.z = v.size[1]
+        elif v.kind == "sphere":
+            mk.type = Marker.SPHERE
+            mk.scale.x = mk.scale.y = mk.scale.z = 2.0 * v.size[0]
+        elif v.kind == "plane":
+            mk.type = Marker.CUBE
+            mk.scale.x, mk.scale.y = v.size
+            mk.scale.z = 0.002
+            pose = tf.compose(pose, ((0.0, 0.0, -0.001), (0.0, 0.0, 0.0, 1.0)))
+        elif v.kind == "mesh" and v.filename:
+            mk.type = Marker.MESH_RESOURCE
+            mk.mesh_resource = _mesh_uri(v.filename)
+            mk.mesh_use_embedded_materials = False
+            mk.scale.x, mk.scale.y, mk.scale.z = v.scale
+        else:
+            return None
+        p = Pose()
+        (p.position.x, p.position.y, p.position.z) = pose[0]
+        (p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w) = pose[1]
+        mk.pose = p
+        return mk

@@ -1,0 +1,125 @@
+"""Pose and twist arithmetic for the /gazebo node (pure, no rospy).
+
+Conventions of the physics contract: a pose is ``((x, y, z), (qx, qy, qz, qw))``, a twist is
+``((vx, vy, vz), (wx, wy, wz))`` in the world frame; all plain floats.
+"""
+import math
+
+IDENTITY = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
+ZERO_TWIST = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+
+
+def quat_normalize(q):
+    """Unit quaternion; an all-zero quaternion (a default-constructed geometry_msgs/Quaternion)
+    means identity, as Gazebo treats it."""
+    n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    if n < 1e-12:
+        return (0.0, 0.0, 0.0, 1.0)
+    return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)
+
+
+def quat_mul(a, b):
+    ax, ay, az, aw = a
+    bx, by, bz, bw = b
+    return (aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+            aw * bw - ax * bx - ay * by - az * bz)
+
+
+def quat_conj(q):
+    return (-q[0], -q[1], -q[2], q[3])
+
+
+def quat_rotate(q, v):
+    """Rotate vector v by unit quaternion q."""
+    qx, qy, qz, qw = q
+    vx, vy, vz = v
+    # t = 2 * cross(q.xyz, v); v' = v + w * t + cross(q.xyz, t)
+    tx = 2.0 * (qy * vz - qz * vy)
+    ty = 2.0 * (qz * vx - qx * vz)
+    tz = 2.0 * (qx * vy - qy * vx)
+    return (vx + qw * tx + (qy * tz - qz * ty),
+            vy + qw * ty + (qz * tx - qx * tz),
+            vz + qw * tz + (qx * ty - qy * tx))
+
+
+def quat_from_rpy(roll, pitch, yaw):
+    """Quaternion of fixed-axis roll (x), pitch (y), yaw (z), as URDF and tf use them."""
+    cr, sr = math.cos(roll / 2.0), math.sin(roll / 2.0)
+    cp, sp = math.cos(pitch / 2.0), math.sin(pitch / 2.0)
+    cy, sy = math.cos(yaw / 2.0), math.sin(yaw / 2.0)
+    return (sr * cp * cy - cr * sp * sy,
+            cr * sp * cy + sr * cp * sy,
+            cr * cp * sy - sr * sp * cy,
+            cr * cp * cy + sr * sp * sy)
+
+
+def rpy_from_quat(q):
+    x, y, z, w = q
+    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
+    s = max(-1.0, min(1.0, 2.0 * (w * y - z * x)))
+    pitch = math.asin(s)
+    yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+    return roll, pitch, yaw
+
+
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def compose(a, b):
+    """Pose a * b: b expressed in frame a, returned in a's parent frame."""
+    return (add(a[0], quat_rotate(a[1], b[0])), quat_normalize(quat_mul(a[1], b[1])))
+
+
+def inverse(p):
+    qi = quat_conj(p[1])
+    t = quat_rotate(qi, p[0])
+    return ((-t[0], -t[1], -t[2]), qi)
+
+
+def relative(frame, pose):
+    """World pose ``pose`` expressed in the frame whose world pose is ``frame``."""
+    return compose(inverse(frame), pose)
+
+
+def twist_in_frame(frame_pose, frame_twist, twist):
+    """World twist expressed relative to a moving frame, as Gazebo's get_model_state does:
+    the difference of the velocities rotated into the frame."""
+    qi = quat_conj(frame_pose[1])
+    return (quat_rotate(qi, sub(twist[0], frame_twist[0])),
+            quat_rotate(qi, sub(twist[1], frame_twist[1])))
+
+
+def twist_to_world(frame_pose, twist):
+    """A twist given in a reference frame, rotated into the world (Gazebo's set_model_state)."""
+    q = frame_pose[1]
+    return (quat_rotate(q, twist[0]), quat_rotate(q, twist[1]))
+
+
+def is_finite(*values):
+    """True when every number in the (nested) tuples is finite."""
+    for v in values:
+        if isinstance(v, (tuple, list)):
+            if not is_finite(*v):
+                return False
+        elif not math.isfinite(v):
+            return False
+    return True
+
+
+def pose_distance(a, b):
+    """(translation distance, rotation angle) between two poses."""
+    d = sub(a[0], b[0])
+    dist = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    dot = abs(sum(x * y for x, y in zip(a[1], b[1])))
+    return dist, 2.0 * math.acos(min(1.0, dot))
