@@ -1,0 +1,552 @@
+"""Model, Link and Joint: the objects the contract exposes. They wrap the ODE bodies, geoms and
+joints that :mod:`builder` creates; the World steps them.
+
+Frames: every ODE body sits at the centre of mass of its *group* (a link plus every link welded
+to it by fixed joints), oriented like the group's root link. Each Link keeps ``_T`` = pose of the
+link frame in its body frame, so link poses go both ways without loss (also for links behind
+fixed joints, which Gazebo loses).
+"""
+import math
+
+from ..errors import SimulationError
+from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, pose_inv, pose_mul,
+                         quat_from_axis_angle, quat_rotate, from_ode_quat, to_ode_quat)
+
+TWO_PI = 2.0 * math.pi
+#: forces/torques beyond this (N, N m) are clamped before they reach ODE: finite but astronomic
+#: values overflow ODE's integrator into NaN, which aborts the process.
+FORCE_CAP = 1e9
+
+
+def _body_pose(body):
+    q = body.getQuaternion()
+    return (body.getPosition(), (q[1], q[2], q[3], q[0]))
+
+
+def _set_body_pose(body, pose):
+    body.setPosition(pose[0])
+    body.setQuaternion(to_ode_quat(pose[1]))
+
+
+class Group(object):
+    """Links welded together by fixed joints: one ODE body (or none when static)."""
+    __slots__ = ("index", "body", "links", "root", "model", "mass", "gravity_mode", "anti_gravity",
+                 "static_pose", "_inertia")
+
+    def __init__(self, index, model, root):
+        self.index = index
+        self.model = model
+        self.root = root
+        self.links = []
+        self.body = None
+        self.mass = 0.0
+        self.gravity_mode = True
+        self.anti_gravity = ()  # ((mass, local com), ...) for links with gravity off in a mixed body
+        self.static_pose = None
+        self._inertia = None
+
+
+class Link(object):
+    """One URDF/SDF link. ``pose`` is the world pose of the LINK frame (not the inertial frame)."""
+
+    def __init__(self, model, desc):
+        self.name = desc.name
+        self.model = model
+        self.mass = desc.mass
+        self.inertia = desc.inertia
+        self.inertial_origin = desc.inertial_origin
+        self.collisions = desc.collisions  # addition: GeometryDesc list (link frame)
+        self.visuals = desc.visuals        # addition: GeometryDesc list (link frame)
+        self.sensors = desc.sensors        # addition: <sensor> Elements
+        self.material = desc.material
+        self.self_collide = desc.self_collide
+        self._gravity = desc.gravity
+        self._group = None
+        self._body = None
+        self._T = IDENTITY_POSE      # link frame in body frame (dynamic) ...
+        self._static_pose = None     # ... or world pose (static)
+        self._geoms = []             # (geom, pose of geom in link frame)
+        self._wrenches = []          # [force, torque, local point, remaining or None]
+        self.parent_joint = None     # addition: Joint or None
+
+    def __repr__(self):
+        return "<Link %s::%s>" % (self.model.name, self.name)
+
+    # ---- state -------------------------------------------------------------------------------
+    @property
+    def is_static(self):
+        return self._body is None
+
+    @property
+    def pose(self):
+        b = self._body
+        if b is None:
+            return self._static_pose
+        return pose_mul(_body_pose(b), self._T)
+
+    @property
+    def twist(self):
+        b = self._body
+        if b is None:
+            return ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+        q = b.getQuaternion()
+        r = quat_rotate((q[1], q[2], q[3], q[0]), self._T[0])
+        v = b.getLinearVel()
+        w = b.getAngularVel()
+        c = cross(w, r)
+        return ((v[0] + c[0], v[1] + c[1], v[2] + c[2]), tuple(w))
+
+    def set_pose(self, pose):
+        """Teleport this link's body (the links welded to it move along). Joints to other links
+        then pull them together again, as in Gazebo; use Model.set_pose to move a whole model."""
+        pose = check_pose(pose, "link '%s' set_pose" % self.name)
+        if self._body is None:
+            self.model._move_static(pose_mul(pose, pose_inv(self._static_pose)))
+            return
+        _set_body_pose(self._body, pose_mul(pose, pose_inv(self._T)))
+        self._body.enable()
+        self.model._after_teleport()
+
+    def set_twist(self, twist):
+        lin = check_vec3(twist[0], "link '%s' twist linear" % self.name)
+        ang = check_vec3(twist[1], "link '%s' twist angular" % self.name)
+        b = self._body
+        if b is None:
+            return
+        q = b.getQuaternion()
+        r = quat_rotate((q[1], q[2], q[3], q[0]), self._T[0])
+        c = cross(ang, r)
+        b.setLinearVel((lin[0] - c[0], lin[1] - c[1], lin[2] - c[2]))
+        b.setAngularVel(ang)
+        b.enable()
+
+    @property
+    def gravity_enabled(self):
+        return self._gravity
+
+    @gravity_enabled.setter
+    def gravity_enabled(self, on):
+        self._gravity = bool(on)
+        if self._group is not None:
+            self.model._world._update_group_gravity(self._group)
+
+    # ---- wrenches ----------------------------------------------------------------------------
+    def add_wrench(self, force, torque, reference_point=(0.0, 0.0, 0.0), duration=None):
+        """Force and torque in the WORLD frame; ``reference_point`` in the LINK frame (where the
+        force acts, relative to the link origin). Applied every step until ``duration`` simulated
+        seconds have passed (None: until clear_wrenches())."""
+        what = "link '%s' of model '%s' add_wrench" % (self.name, self.model.name)
+        f = check_vec3(force, what + " force")
+        t = check_vec3(torque, what + " torque")
+        p = check_vec3(reference_point, what + " reference_point")
+        if duration is not None:
+            duration = float(duration)
+            if not math.isfinite(duration) or duration <= 0:
+                raise ValueError("%s: duration must be a positive number of seconds or None" % what)
+        if self._body is None:
+            return
+        self._wrenches.append([f, t, p, duration])
+        self.model._world._wrench_links.add(self)
+
+    def clear_wrenches(self):
+        del self._wrenches[:]
+
+
+class Joint(object):
+    """One URDF/SDF joint; positions in rad or m. Continuous joints accumulate (no wrap)."""
+
+    def __init__(self, model, desc):
+        self.name = desc.name
+        self.type = desc.type
+        self.parent = desc.parent
+        self.child = desc.child
+        self.axis = desc.axis
+        self.origin = desc.origin  # addition: joint frame in the parent link frame
+        self._child_offset = desc.child_offset
+        self.lower = desc.lower
+        self.upper = desc.upper
+        self.effort_limit = desc.effort_limit
+        self.velocity_limit = desc.velocity_limit
+        self.damping = desc.damping
+        self.friction = desc.friction
+        self.mimic = desc.mimic
+        self.model = model
+        self.effort = 0.0
+        self._ode = None
+        self._angular = desc.type in ("revolute", "continuous")
+        self._linear = desc.type == "prismatic"
+        self._turns = 0
+        self._last_raw = 0.0
+        self._unwrap = False       # revolute without stops inside (-pi, pi]: track turns
+        self._soft_limits = False  # revolute limits beyond +-pi: stops moved each step
+        self._cmd = 0.0
+        self._has_cmd = False
+        self._vel_target = None    # (v, fmax)
+        self._child_inertia = 1.0  # about the axis; bounds the explicit damping for stability
+
+    def __repr__(self):
+        return "<Joint %s::%s (%s)>" % (self.model.name, self.name, self.type)
+
+    @property
+    def position(self):
+        j = self._ode
+        if j is None:
+            return 0.0
+        if self._angular:
+            return j.getAngle() + TWO_PI * self._turns
+        return j.getPosition()
+
+    @property
+    def velocity(self):
+        j = self._ode
+        if j is None:
+            return 0.0
+        if self._angular:
+            return j.getAngleRate()
+        return j.getPositionRate()
+
+    def _limit(self, f):
+        lim = self.effort_limit
+        if lim is not None and lim > 0.0:
+            if f > lim:
+                return lim
+            if f < -lim:
+                return -lim
+        if f > FORCE_CAP:
+            return FORCE_CAP
+        if f < -FORCE_CAP:
+            return -FORCE_CAP
+        return f
+
+    def set_effort(self, f):
+        """Effort (N m or N) for the NEXT step only; clamped to +-effort_limit. Several calls in one
+        step: the last one wins (as Gazebo's SetForce within one update)."""
+        try:
+            f = float(f)
+        except (TypeError, ValueError):
+            raise ValueError("joint '%s' of model '%s': effort %r is not a number"
+                             % (self.name, self.model.name, f))
+        if not math.isfinite(f):
+            raise ValueError("joint '%s' of model '%s': effort %r is not finite; nothing applied"
+                             % (self.name, self.model.name, f))
+        if self._ode is None:
+            raise ValueError("joint '%s' of model '%s' is %s: it takes no effort"
+                             % (self.name, self.model.name, self.type))
+        self._cmd = self._limit(f)
+        if not self._has_cmd:
+            self._has_cmd = True
+            self.model._world._effort_joints.append(self)
+
+    def set_position(self, q):
+        """Kinematic: teleports the child subtree; the joint ends with zero velocity."""
+        self.model.set_configuration([self.name], [q])
+
+    def set_velocity_target(self, v, max_force):
+        """ODE joint motor (ros_control's velocity interface): drive towards velocity ``v`` with at
+        most ``max_force``; ``max_force`` 0 disables it (the <dynamics friction> motor returns).
+        ``v`` is clamped to +-velocity_limit when that is positive."""
+        what = "joint '%s' of model '%s' set_velocity_target" % (self.name, self.model.name)
+        try:
+            v, fm = float(v), float(max_force)
+        except (TypeError, ValueError):
+            raise ValueError("%s: velocity and max_force must be numbers" % what)
+        if not (math.isfinite(v) and math.isfinite(fm)):
+            raise ValueError("%s: non-finite velocity %r or max_force %r; nothing applied"
+                             % (what, v, max_force))
+        if fm < 0:
+            raise ValueError("%s: max_force must not be negative" % what)
+        if self._ode is None:
+            raise ValueError("%s: a %s joint has no motor" % (what, self.type))
+        vl = self.velocity_limit
+        if vl is not None and vl > 0:
+            v = max(-vl, min(vl, v))
+        fm = min(fm, FORCE_CAP)
+        self._vel_target = (v, fm) if fm > 0 else None
+        self._apply_motor()
+
+    def _apply_motor(self):
+        j = self._ode
+        if j is None or self.mimic is not None:
+            return
+        import ode
+        if self._vel_target is not None:
+            j.setParam(ode.ParamVel, self._vel_target[0])
+            j.setParam(ode.ParamFMax, self._vel_target[1])
+        else:
+            j.setParam(ode.ParamVel, 0.0)
+            j.setParam(ode.ParamFMax, self.friction)
+        b = j.getBody(0)
+        if b is not None:
+            b.enable()
+
+    def _resync_turns(self, q):
+        """After a teleport: choose the turn count so that position == q."""
+        if self._angular and self._ode is not None:
+            raw = self._ode.getAngle()
+            self._turns = int(round((q - raw) / TWO_PI)) if self._unwrap else 0
+            self._last_raw = raw
+
+
+class Model(object):
+    """A spawned model. Built by :func:`builder.build_model`; see the contract for the API."""
+
+    def __init__(self, world, desc, robot_namespace):
+        self._world = world
+        self.name = desc.name
+        self.kind = desc.kind
+        self.source_xml = desc.source_xml
+        self.robot_namespace = robot_namespace
+        self.plugins = []
+        self.links = {}
+        self.joints = {}
+        self.canonical_link = None
+        self.spawn_pose = IDENTITY_POSE
+        self.is_static = False
+        self._groups = []
+        self._dyn_groups = []
+        self._bodies = []         # ODE bodies, in group order
+        self._geoms = []          # every ODE geom (PyODE frees unreferenced geoms)
+        self._ode_joints = []     # every ODE joint of the model
+        self._joint_order = []    # joints, parents before children
+        self._world_pose = IDENTITY_POSE   # the frame of a 'world' root link (spawn pose)
+        self._world_attached = False       # a joint to 'world' that is not fixed (anchors in world)
+        self._spawn_state = None
+        self._snapshot_state = None
+        self._spawn_config = {}
+        self._slot = 0
+        self._root_name = None
+        self._adjacent = frozenset()  # (group index, group index) pairs joined by a joint
+        self._ncontacts = 0
+
+    def __repr__(self):
+        return "<Model %s>" % self.name
+
+    # ---- pose and twist ----------------------------------------------------------------------
+    @property
+    def pose(self):
+        return self.canonical_link.pose
+
+    @property
+    def twist(self):
+        return self.canonical_link.twist
+
+    def set_pose(self, pose):
+        pose = check_pose(pose, "model '%s' set_pose" % self.name)
+        delta = pose_mul(pose, pose_inv(self.canonical_link.pose))
+        if self._world_attached:
+            q = {j.name: j.position for j in self._joint_order if j._ode is not None}
+            self._world_pose = pose_mul(delta, self._world_pose)
+            self._move_static(delta, only_static=True)
+            self._place_zero_configuration()
+            self._reset_joint_frames()
+            self._apply_configuration(q, rigid_velocity=True)
+        else:
+            self._move_static(delta)
+        self._after_teleport()
+
+    def set_twist(self, twist):
+        lin = check_vec3(twist[0], "model '%s' twist linear" % self.name)
+        ang = check_vec3(twist[1], "model '%s' twist angular" % self.name)
+        p0 = self.canonical_link.pose[0]
+        for b in self._bodies:
+            p = b.getPosition()
+            c = cross(ang, (p[0] - p0[0], p[1] - p0[1], p[2] - p0[2]))
+            b.setLinearVel((lin[0] + c[0], lin[1] + c[1], lin[2] + c[2]))
+            b.setAngularVel(ang)
+            b.enable()
+
+    def _move_static(self, delta, only_static=False):
+        """Apply the rigid transform ``delta`` (world frame) to every static link and, unless
+        only_static, to every body (velocities rotated with it)."""
+        self._world_pose = pose_mul(delta, self._world_pose) if not only_static else self._world_pose
+        for g in self._groups:
+            if g.body is None:
+                for ln in g.links:
+                    ln._static_pose = pose_mul(delta, ln._static_pose)
+                    for geom, rel in ln._geoms:
+                        self._world._place_static_geom(geom, pose_mul(ln._static_pose, rel))
+            elif not only_static:
+                b = g.body
+                _set_body_pose(b, pose_mul(delta, _body_pose(b)))
+                b.setLinearVel(quat_rotate(delta[1], b.getLinearVel()))
+                b.setAngularVel(quat_rotate(delta[1], b.getAngularVel()))
+                b.enable()
+
+    # ---- configuration -----------------------------------------------------------------------
+    def set_configuration(self, names, positions):
+        """Teleport joints (works while running): the named joints take the given positions and
+        zero velocity; links below them move rigidly with their parents. Mimic joints follow."""
+        names = list(names)
+        positions = list(positions)
+        if len(names) != len(positions):
+            raise ValueError("model '%s' set_configuration: %d names but %d positions"
+                             % (self.name, len(names), len(positions)))
+        targets = {}
+        for n, q in zip(names, positions):
+            j = self.joints.get(n)
+            if j is None:
+                raise ValueError("model '%s' has no joint '%s' (joints: %s)"
+                                 % (self.name, n, ", ".join(sorted(self.joints)) or "none"))
+            try:
+                q = float(q)
+            except (TypeError, ValueError):
+                raise ValueError("model '%s' joint '%s': position %r is not a number"
+                                 % (self.name, n, q))
+            if not math.isfinite(q):
+                raise ValueError("model '%s' joint '%s': position %r is not finite" % (self.name, n, q))
+            if j.type in ("fixed", "floating", "planar"):
+                raise ValueError("model '%s' joint '%s' is %s: it has no position to set"
+                                 % (self.name, n, j.type))
+            targets[n] = q
+        if not targets:
+            return
+        self._apply_configuration(targets, rigid_velocity=False)
+        self._after_teleport()
+
+    def _fk(self, targets):
+        """World poses of all links with joint positions from ``targets`` (others: current)."""
+        poses = {"world": self._world_pose}
+        root = self._root_name
+        if root != "world":
+            poses[root] = self.links[root].pose
+        for j in self._joint_order:
+            if j.mimic is not None and j.name not in targets and j.mimic[0] in targets:
+                q = targets[j.mimic[0]] * j.mimic[1] + j.mimic[2]
+                targets[j.name] = q
+        for j in self._joint_order:
+            parent = poses[j.parent]
+            t = j.type
+            if t == "fixed":
+                rel = j.origin
+            elif t in ("revolute", "continuous"):
+                q = targets[j.name] if j.name in targets else j.position
+                rel = pose_mul(j.origin, ((0.0, 0.0, 0.0), quat_from_axis_angle(j.axis, q)))
+            elif t == "prismatic":
+                q = targets[j.name] if j.name in targets else j.position
+                a = j.axis
+                rel = pose_mul(j.origin, ((a[0] * q, a[1] * q, a[2] * q), (0.0, 0.0, 0.0, 1.0)))
+            else:  # floating / planar: keep the measured relative pose
+                cur_parent = self._world_pose if j.parent == "world" else self.links[j.parent].pose
+                rel = pose_mul(pose_inv(cur_parent), self.links[j.child].pose)
+            if j._child_offset is not IDENTITY_POSE and t not in ("floating", "planar"):
+                rel = pose_mul(rel, j._child_offset)
+            poses[j.child] = pose_mul(parent, rel)
+        return poses
+
+    def _apply_configuration(self, targets, rigid_velocity):
+        targets = dict(targets)
+        current = {j.name: j.position for j in self._joint_order if j._angular}
+        poses = self._fk(targets)
+        # velocities: the moved subtree moves rigidly with the parent of each set joint
+        moved = set()
+        for j in self._joint_order:
+            if j.name in targets or j.parent in moved:
+                moved.add(j.child)
+        old_vel = {}
+        for g in self._dyn_groups:
+            old_vel[g.index] = (g.body.getLinearVel(), g.body.getAngularVel(), g.body.getPosition())
+        for g in self._dyn_groups:
+            _set_body_pose(g.body, pose_mul(poses[g.root.name], pose_inv(g.root._T)))
+        for j in self._joint_order:
+            if j.child not in moved and not rigid_velocity:
+                continue
+            child = self.links[j.child]
+            if child._group.root is not child:
+                continue
+            pl = self.links.get(j.parent)
+            body = child._body
+            if pl is None or pl._body is None:
+                body.setLinearVel((0.0, 0.0, 0.0))
+                body.setAngularVel((0.0, 0.0, 0.0))
+                continue
+            pb = pl._body
+            w = pb.getAngularVel()
+            v = pb.getLinearVel()
+            pp, cp = pb.getPosition(), body.getPosition()
+            c = cross(w, (cp[0] - pp[0], cp[1] - pp[1], cp[2] - pp[2]))
+            if j.type in ("floating", "planar") and j.name not in targets:
+                lv, av, _ = old_vel[child._group.index]
+                body.setLinearVel(lv)
+                body.setAngularVel(av)
+            else:
+                body.setLinearVel((v[0] + c[0], v[1] + c[1], v[2] + c[2]))
+                body.setAngularVel(w)
+        for j in self._joint_order:
+            if j._angular:
+                j._resync_turns(targets.get(j.name, current[j.name]))
+        for b in self._bodies:
+            b.enable()
+
+    def _place_zero_configuration(self):
+        """Put every body where it is in the zero configuration (the frame the ODE joints were
+        built in), from the current root placement."""
+        zero = {j.name: 0.0 for j in self._joint_order if j._ode is not None}
+        poses = self._fk(zero)
+        for g in self._dyn_groups:
+            _set_body_pose(g.body, pose_mul(poses[g.root.name], pose_inv(g.root._T)))
+
+    def _reset_joint_frames(self):
+        """Re-anchor every ODE joint from the current (zero-configuration) body placement."""
+        for j in self._joint_order:
+            if j._ode is None:
+                continue
+            parent_pose = self._world_pose if j.parent == "world" else self.links[j.parent].pose
+            frame = pose_mul(parent_pose, j.origin)
+            axis = quat_rotate(frame[1], j.axis)
+            if j._angular:
+                j._ode.setAnchor(frame[0])
+                j._ode.setAxis(axis)
+            else:
+                j._ode.setAxis(axis)
+            j._turns = 0
+            j._last_raw = 0.0
+
+    def _after_teleport(self):
+        self._world._model_teleported(self)
+
+    # ---- state snapshots (spawn state, guard) ------------------------------------------------
+    def _capture(self):
+        bodies = [(b.getPosition(), b.getQuaternion(), b.getLinearVel(), b.getAngularVel())
+                  for b in self._bodies]
+        joints = [(j._turns, j._last_raw) for j in self._joint_order]
+        statics = [(ln, ln._static_pose) for g in self._groups if g.body is None for ln in g.links]
+        return (bodies, joints, statics, self._world_pose)
+
+    def _restore(self, state, zero_velocity):
+        bodies, joints, statics, world_pose = state
+        if world_pose != self._world_pose or any(ln._static_pose != p for ln, p in statics):
+            # the base was moved since: put it back and re-anchor joints to the world
+            self._world_pose = world_pose
+            for ln, p in statics:
+                ln._static_pose = p
+                for geom, rel in ln._geoms:
+                    self._world._place_static_geom(geom, pose_mul(p, rel))
+            if self._world_attached:
+                self._place_zero_configuration()
+                self._reset_joint_frames()
+        for b, (p, q, v, w) in zip(self._bodies, bodies):
+            b.setPosition(p)
+            b.setQuaternion(q)
+            if zero_velocity:
+                b.setLinearVel((0.0, 0.0, 0.0))
+                b.setAngularVel((0.0, 0.0, 0.0))
+            else:
+                b.setLinearVel(v)
+                b.setAngularVel(w)
+            b.enable()
+        for j, (t, r) in zip(self._joint_order, joints):
+            j._turns, j._last_raw = t, r
+        for ln in self.links.values():
+            ln.clear_wrenches()
+        for j in self._joint_order:
+            j._cmd = 0.0
+            j.effort = 0.0
+
+    def _check_finite(self):
+        for b in self._bodies:
+            for v in b.getPosition():
+                if not math.isfinite(v):
+                    raise SimulationError("model '%s' has a non-finite pose" % self.name)
+
+
+__all__ = ["Model", "Link", "Joint", "Group", "from_ode_quat", "FORCE_CAP"]

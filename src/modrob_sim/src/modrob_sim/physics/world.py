@@ -1,0 +1,818 @@
+"""The World: an ODE world stepped in simulated time, with Gazebo-like contacts, step hooks and a
+blow-up guard. See docs/physics.md for the design and sim_core_api.md for the contract."""
+import hashlib
+import logging
+import math
+import random
+import struct
+from collections import OrderedDict, namedtuple
+
+import ode
+
+from ..errors import ModelError, SimulationError
+from . import odelib
+from .builder import build_model
+from .model import FORCE_CAP, TWO_PI
+from .transforms import IDENTITY_POSE, check_pose, check_vec3, dot, to_ode_quat
+from .urdf_reader import read_urdf
+
+LOG = logging.getLogger("modrob_sim.physics")
+
+GuardEvent = namedtuple("GuardEvent", "model link reason time")
+
+#: Gazebo's ODE defaults, except max_contacts (Gazebo 20 per pair; ODE makes up to 8 for a
+#: cylinder on a box, 4 spread points hold any resting face) and the guard settings (ours).
+DEFAULT_PARAMS = OrderedDict([
+    ("iters", 50),
+    ("sor", 1.3),
+    ("cfm", 0.0),
+    ("erp", 0.2),
+    ("contact_max_correcting_vel", 100.0),
+    ("contact_surface_layer", 0.001),
+    ("max_contacts", 4),
+    ("auto_disable", False),
+    ("guard_max_linear_velocity", 50.0),
+    ("guard_max_angular_velocity", 500.0),
+    ("guard_max_contacts", 2000),
+    ("snapshot_interval", 50),
+])
+
+_ALL_BITS = (1 << 62) - 1
+_APPROX1 = ode.ContactApprox1_1 | ode.ContactApprox1_2
+_BASE_MODE = _APPROX1 | ode.ContactSoftERP | ode.ContactSoftCFM
+
+
+class _GeomInfo(object):
+    __slots__ = ("model", "link", "body", "surface", "self_collide", "group", "geom")
+
+    def __init__(self, geom, model, link, surface, body):
+        self.geom = geom
+        self.model = model
+        self.link = link
+        self.body = body
+        self.surface = surface
+        self.self_collide = link.self_collide
+        self.group = link._group.index
+
+
+class _PairParams(object):
+    __slots__ = ("mu", "mu2", "erp", "cfm", "mode", "shift", "cap", "isotropic")
+
+
+class World(object):
+    """An ODE world. All times are simulated; nothing here reads the wall clock."""
+
+    def __init__(self, time_step=0.001, gravity=(0.0, 0.0, -9.81), seed=0, resource_resolver=None):
+        self._dt = self._check_dt(time_step)
+        self._gravity = check_vec3(gravity, "World gravity")
+        try:
+            self._seed = int(seed)
+        except (TypeError, ValueError):
+            raise ValueError("World seed must be an integer, got %r" % (seed,))
+        self._resolver = resource_resolver
+        self._ode_world = ode.World()
+        self._ode_world.setGravity(self._gravity)
+        self._static_space = ode.HashSpace()
+        self._dyn_space = ode.HashSpace()
+        self._contact_group = ode.JointGroup()
+        self._params = OrderedDict(DEFAULT_PARAMS)
+        self.models = OrderedDict()
+        self._geom_info = {}
+        self._hooks = OrderedDict()
+        self._next_hook = 1
+        self._before = ()
+        self._after = ()
+        self._effort_joints = []
+        self._last_effort_joints = []
+        self._wrench_links = _OrderedSet()
+        self._events = []
+        self._warned = set()
+        self._pair_cache = {}
+        self._used_slots = set()
+        self._mesh_cache = {}
+        self.time = 0.0
+        self.iterations = 0
+        self._reseed()
+        self._apply_params()
+        self._rebuild_caches()
+
+    # ---- properties --------------------------------------------------------------------------
+    @staticmethod
+    def _check_dt(dt):
+        try:
+            dt = float(dt)
+        except (TypeError, ValueError):
+            raise ValueError("time_step must be a number of seconds, got %r" % (dt,))
+        if not (math.isfinite(dt) and 0.0 < dt <= 0.1):
+            raise ValueError("time_step must be in (0, 0.1] s, got %r" % dt)
+        return dt
+
+    @property
+    def time_step(self):
+        return self._dt
+
+    @time_step.setter
+    def time_step(self, dt):
+        self._dt = self._check_dt(dt)
+        self._pair_cache.clear()
+
+    @property
+    def gravity(self):
+        return self._gravity
+
+    @gravity.setter
+    def gravity(self, g):
+        self._gravity = check_vec3(g, "World gravity")
+        self._ode_world.setGravity(self._gravity)
+        for m in self.models.values():
+            for b in m._bodies:
+                b.enable()
+
+    @property
+    def seed(self):
+        return self._seed
+
+    @property
+    def rng(self):
+        """The world's seeded random generator (random.Random): use it for anything random."""
+        return self._rng
+
+    @property
+    def physics_params(self):
+        return dict(self._params)
+
+    def set_physics_params(self, **kw):
+        new = OrderedDict(self._params)
+        for k, v in kw.items():
+            if k not in new:
+                raise ValueError("unknown physics parameter '%s' (known: %s)" % (k, ", ".join(new)))
+            if k == "auto_disable":
+                new[k] = bool(v)
+                continue
+            try:
+                v = float(v)
+            except (TypeError, ValueError):
+                raise ValueError("physics parameter %s=%r is not a number" % (k, v))
+            if not math.isfinite(v) or v < 0:
+                raise ValueError("physics parameter %s=%r must be finite and not negative" % (k, v))
+            if k in ("iters", "max_contacts", "guard_max_contacts", "snapshot_interval"):
+                if v < 1:
+                    raise ValueError("physics parameter %s must be at least 1" % k)
+                v = int(v)
+            new[k] = v
+        self._params = new
+        self._apply_params()
+
+    def _apply_params(self):
+        p = self._params
+        w = self._ode_world
+        w.setQuickStepNumIterations(int(p["iters"]))
+        w.setERP(p["erp"])
+        w.setCFM(p["cfm"])
+        w.setContactMaxCorrectingVel(p["contact_max_correcting_vel"])
+        w.setContactSurfaceLayer(p["contact_surface_layer"])
+        if odelib.AVAILABLE:
+            odelib.LIB.dWorldSetQuickStepW(odelib.raw_pointer(w), p["sor"])
+        self._max_contacts = int(p["max_contacts"])
+        self._vmax2 = p["guard_max_linear_velocity"] ** 2
+        self._wmax2 = p["guard_max_angular_velocity"] ** 2
+        self._pair_cache.clear()
+        for m in self.models.values():
+            self._apply_auto_disable(m)
+
+    def _apply_auto_disable(self, model):
+        """Auto-disable (as Gazebo's allow_auto_disable) only for free single-body models: an
+        articulated robot under control must never fall asleep."""
+        on = bool(self._params["auto_disable"]) and len(model._bodies) == 1 and not model._ode_joints
+        for b in model._bodies:
+            _set_auto_disable(b, on)
+
+    def _reseed(self):
+        self._rng = random.Random(self._seed)
+        self._ode_seed = self._seed & 0xFFFFFFFF
+
+    # ---- hooks -------------------------------------------------------------------------------
+    def add_step_hook(self, before=None, after=None):
+        if before is None and after is None:
+            raise ValueError("add_step_hook needs before and/or after")
+        for f, n in ((before, "before"), (after, "after")):
+            if f is not None and not callable(f):
+                raise ValueError("add_step_hook: %s=%r is not callable" % (n, f))
+        handle = self._next_hook
+        self._next_hook += 1
+        self._hooks[handle] = (before, after)
+        self._update_hooks()
+        return handle
+
+    def remove_step_hook(self, handle):
+        if handle not in self._hooks:
+            raise ValueError("no step hook with handle %r" % (handle,))
+        del self._hooks[handle]
+        self._update_hooks()
+
+    def _update_hooks(self):
+        self._before = tuple(b for b, _ in self._hooks.values() if b is not None)
+        self._after = tuple(a for _, a in self._hooks.values() if a is not None)
+
+    # ---- models ------------------------------------------------------------------------------
+    def _warn_once(self, key, message):
+        if key not in self._warned:
+            self._warned.add(key)
+            LOG.warning(message)
+
+    def _check_new_name(self, name):
+        if not isinstance(name, str) or not name.strip():
+            raise ModelError("a model name must be a non-empty string, got %r" % (name,))
+        if name in self.models:
+            raise ModelError("a model named '%s' already exists: delete it first or choose another "
+                             "name" % name)
+
+    def add_urdf(self, name, urdf_xml, pose=IDENTITY_POSE, joint_positions=None, robot_namespace=""):
+        """Spawn a URDF model. Raises ModelError (the world is then unchanged)."""
+        self._check_new_name(name)
+        try:
+            pose = check_pose(pose if pose is not None else IDENTITY_POSE,
+                              "model '%s' spawn pose" % name)
+        except ValueError as e:
+            raise ModelError(str(e))
+        desc = read_urdf(name, urdf_xml, self._warn_once)
+        return self._spawn(desc, pose, joint_positions, robot_namespace or "")
+
+    def add_sdf(self, sdf_xml, name=None, pose=None):
+        """Spawn every model of an SDF <world> (or one <model>); returns the list of Models.
+        All-or-nothing: on any ModelError no model of the file stays in the world."""
+        from .sdf_reader import read_sdf
+        descs = read_sdf(sdf_xml, name, self._warn_once)
+        seen = set()
+        for d in descs:
+            self._check_new_name(d.name)
+            if d.name in seen:
+                raise ModelError("the SDF defines two models named '%s'" % d.name)
+            seen.add(d.name)
+        if pose is not None:
+            try:
+                pose = check_pose(pose, "SDF spawn pose")
+            except ValueError as e:
+                raise ModelError(str(e))
+        made = []
+        try:
+            for d in descs:
+                p = pose if (pose is not None and len(descs) == 1) else (d.pose or IDENTITY_POSE)
+                made.append(self._spawn(d, p, None, ""))
+        except ModelError:
+            for m in made:
+                self.remove_model(m.name)
+            raise
+        return made
+
+    def _spawn(self, desc, pose, joint_positions, robot_namespace):
+        targets = {}
+        if joint_positions:
+            for jn, q in dict(joint_positions).items():
+                jd = desc.joints.get(jn)
+                if jd is None:
+                    raise ModelError("model '%s': initial position for unknown joint '%s' (joints: %s)"
+                                     % (desc.name, jn, ", ".join(desc.joints) or "none"))
+                if jd.type not in ("revolute", "continuous", "prismatic"):
+                    raise ModelError("model '%s': joint '%s' is %s and takes no initial position"
+                                     % (desc.name, jn, jd.type))
+                try:
+                    q = float(q)
+                except (TypeError, ValueError):
+                    q = float("nan")
+                if not math.isfinite(q):
+                    raise ModelError("model '%s': initial position of joint '%s' is not a finite "
+                                     "number: %r" % (desc.name, jn, joint_positions[jn]))
+                targets[jn] = q
+        meshes = self._prepare_meshes(desc)
+        model = build_model(self, desc, pose, robot_namespace, meshes)
+        model.spawn_pose = pose
+        try:
+            self._finalize_model(model, desc)
+            if targets:
+                model._apply_configuration(targets, rigid_velocity=False)
+        except Exception:
+            self._destroy_model_objects(model)
+            raise
+        self.models[model.name] = model
+        self._rebuild_caches()
+        model._spawn_state = model._capture()
+        model._snapshot_state = model._spawn_state
+        self._check_spawn_overlap(model)
+        LOG.info("spawned model '%s': %d links, %d joints, %d bodies%s", model.name, len(model.links),
+                 len(model.joints), len(model._bodies), " (static)" if model.is_static else "")
+        return model
+
+    def _finalize_model(self, model, desc):
+        # collision filtering: links of one model never collide unless selfCollide; a model with
+        # several bodies and no selfCollide gets a category bit so that ODE itself drops its
+        # internal pairs before any Python callback (62 slots; beyond, Python filters)
+        if desc.self_collide:
+            for ln in model.links.values():
+                ln.self_collide = True
+        any_self = any(ln.self_collide for ln in model.links.values())
+        slot = 0
+        if len(model._groups) > 1 and not any_self:
+            for s in range(1, 62):
+                if s not in self._used_slots:
+                    slot = s
+                    break
+        model._slot = slot
+        if slot:
+            self._used_slots.add(slot)
+            cat, col = 1 << slot, _ALL_BITS & ~(1 << slot)
+        else:
+            cat, col = _ALL_BITS, _ALL_BITS
+        for geom in model._geoms:
+            info = self._geom_info[geom]
+            info.self_collide = info.link.self_collide
+            geom.setCategoryBits(cat)
+            geom.setCollideBits(col)
+        adj = set()
+        for j in model._joint_order:
+            if j.type == "fixed":
+                continue
+            cg = model.links[j.child]._group.index
+            if j.parent == "world":
+                pg = model.links[model.canonical_link.name]._group.index if \
+                    model.canonical_link._body is None else -1
+            else:
+                pg = model.links[j.parent]._group.index
+            adj.add((pg, cg))
+            adj.add((cg, pg))
+        model._adjacent = frozenset(adj)
+        self._apply_auto_disable(model)
+
+    def remove_model(self, name):
+        model = self.models.get(name)
+        if model is None:
+            raise ModelError("no model named '%s' (models: %s)" % (name, ", ".join(self.models) or "none"))
+        del self.models[name]
+        self._destroy_model_objects(model)
+        self._used_slots.discard(model._slot)
+        self._rebuild_caches()
+        LOG.info("removed model '%s'", name)
+
+    def _destroy_model_objects(self, model):
+        for geom in model._geoms:
+            self._geom_info.pop(geom, None)
+            sp = geom.getSpace()
+            if sp is not None:
+                sp.remove(geom)
+        for ln in model.links.values():
+            ln._geoms = []
+            ln._body = None
+            ln._wrenches = []
+            self._wrench_links.discard(ln)
+        for j in model.joints.values():
+            if j._ode is not None:
+                j._ode.attach(None, None)
+            j._ode = None
+        self._effort_joints = [j for j in self._effort_joints if j.model is not model]
+        self._last_effort_joints = [j for j in self._last_effort_joints if j.model is not model]
+        self._contact_group.empty()
+        model._geoms = []
+        model._ode_joints = []
+        for g in model._groups:
+            g.body = None
+        model._bodies = []
+        model._dyn_groups = []
+
+    def _rebuild_caches(self):
+        ms = list(self.models.values())
+        self._dynamic_models = [m for m in ms if m._bodies]
+        joints = [j for m in ms for j in m._joint_order if j._ode is not None]
+        self._damped = [j for j in joints if j.damping > 0.0]
+        self._mimics = [(j, m.joints[j.mimic[0]]) for m in ms for j in m._joint_order
+                        if j.mimic is not None and j._ode is not None]
+        self._unwrap = [j for j in joints if j._unwrap]
+        self._soft = [j for j in joints if j._soft_limits]
+        self._anti_gravity = [g for m in ms for g in m._dyn_groups if g.anti_gravity]
+        for j in self._damped:
+            j._damping_eff = min(j.damping, j._child_inertia / self._dt)
+
+    def _register_geom(self, geom, model, link, surface, body):
+        model._geoms.append(geom)
+        self._geom_info[geom] = _GeomInfo(geom, model, link, surface, body)
+
+    def _place_static_geom(self, geom, pose):
+        if isinstance(geom, ode.GeomPlane):
+            n = geom.attribs.get("local_normal") if hasattr(geom, "attribs") else None
+            if n is not None:
+                from .transforms import quat_rotate
+                nw = quat_rotate(pose[1], n)
+                geom.setParams(nw, dot(nw, pose[0]))
+            return
+        geom.setPosition(pose[0])
+        geom.setQuaternion(to_ode_quat(pose[1]))
+
+    def _make_plane(self, normal, pose):
+        from .transforms import normalized, quat_rotate
+        n = normalized(normal)
+        nw = quat_rotate(pose[1], n)
+        geom = ode.GeomPlane(self._static_space, nw, dot(nw, pose[0]))
+        geom.attribs["local_normal"] = n
+        return geom
+
+    def _update_group_gravity(self, group):
+        body = group.body
+        if body is None:
+            return
+        flags = [ln._gravity for ln in group.links]
+        if all(flags):
+            body.setGravityMode(True)
+            group.anti_gravity = ()
+        elif not any(flags):
+            body.setGravityMode(False)
+            group.anti_gravity = ()
+        else:
+            body.setGravityMode(True)
+            anti = []
+            from .transforms import pose_mul
+            for ln in group.links:
+                if not ln._gravity and ln.mass > 0:
+                    anti.append((ln.mass, pose_mul(ln._T, ln.inertial_origin)[0]))
+            group.anti_gravity = tuple(anti)
+        body.enable()
+        if group.model.name in self.models:
+            self._rebuild_caches()
+
+    # ---- meshes ------------------------------------------------------------------------------
+    def _prepare_meshes(self, desc):
+        out = {}
+        for ld in desc.links.values():
+            for gd in ld.collisions:
+                if gd.kind == "mesh":
+                    raise ModelError("model '%s' link '%s': mesh collision '%s' is not supported yet"
+                                     % (desc.name, ld.name, gd.uri))
+        return out
+
+    def _make_mesh_geom(self, mesh, space, what, gd):
+        raise ModelError("%s: mesh collisions are not supported yet" % what)
+
+    # ---- stepping ----------------------------------------------------------------------------
+    def step(self, n=1):
+        """n steps: for each, before-hooks(t, dt), forces, collide + ODE quickStep, guard,
+        after-hooks(t + dt, dt)."""
+        n = int(n)
+        if n < 0:
+            raise ValueError("step(n): n must not be negative")
+        for _ in range(n):
+            self._step_once()
+
+    def _step_once(self):
+        dt = self._dt
+        t = self.time
+        for h in self._before:
+            h(t, dt)
+        self._apply_forces(dt)
+        self._contact_group.empty()
+        self._collide()
+        odelib.set_seed(self._ode_seed)
+        self._ode_world.quickStep(dt)
+        self._ode_seed = odelib.get_seed()
+        self.iterations += 1
+        self.time = t + dt
+        for j in self._unwrap:
+            raw = j._ode.getAngle()
+            d = raw - j._last_raw
+            if d > math.pi:
+                j._turns -= 1
+            elif d < -math.pi:
+                j._turns += 1
+            j._last_raw = raw
+        self._guard()
+        for h in self._after:
+            h(self.time, dt)
+
+    def _apply_forces(self, dt):
+        for j in self._last_effort_joints:
+            j.effort = 0.0
+        if self._effort_joints:
+            for j in self._effort_joints:
+                f = j._cmd
+                if j._angular:
+                    j._ode.addTorque(f)
+                else:
+                    j._ode.addForce(f)
+                j.effort = f
+                j._cmd = 0.0
+                j._has_cmd = False
+            self._last_effort_joints = self._effort_joints
+            self._effort_joints = []
+        else:
+            self._last_effort_joints = []
+        for j in self._damped:
+            o = j._ode
+            if j._angular:
+                o.addTorque(-j._damping_eff * o.getAngleRate())
+            else:
+                o.addForce(-j._damping_eff * o.getPositionRate())
+        for j, m in self._mimics:
+            self._drive_mimic(j, m, dt)
+        for j in self._soft:
+            self._update_soft_limits(j)
+        if self._wrench_links:
+            for ln in list(self._wrench_links):
+                b = ln._body
+                keep = []
+                for w in ln._wrenches:
+                    f, tq, p, remaining = w
+                    if b is not None:
+                        q = b.getQuaternion()
+                        from .transforms import transform_point
+                        bp = b.getPosition()
+                        pw = transform_point(((bp[0], bp[1], bp[2]), (q[1], q[2], q[3], q[0])),
+                                             transform_point(ln._T, p))
+                        b.addForceAtPos(f, pw)
+                        b.addTorque(tq)
+                    if remaining is not None:
+                        remaining -= dt
+                        if remaining <= 1e-12:
+                            continue
+                        w[3] = remaining
+                    keep.append(w)
+                ln._wrenches = keep
+                if not keep:
+                    self._wrench_links.discard(ln)
+        if self._anti_gravity:
+            g = self._gravity
+            for grp in self._anti_gravity:
+                b = grp.body
+                for m, rel in grp.anti_gravity:
+                    b.addForceAtRelPos((-m * g[0], -m * g[1], -m * g[2]), rel)
+
+    def _drive_mimic(self, j, master, dt):
+        mult, off = j.mimic[1], j.mimic[2]
+        target = master.position * mult + off
+        err = target - j.position
+        v = master.velocity * mult + 0.2 * err / dt
+        fmax = j.effort_limit if (j.effort_limit is not None and j.effort_limit > 0) else 1e4
+        j._ode.setParam(ode.ParamVel, v)
+        j._ode.setParam(ode.ParamFMax, fmax)
+
+    def _update_soft_limits(self, j):
+        """Revolute limits beyond +-pi: ODE stops only work on the raw angle in (-pi, pi], so move
+        them with the turn count each step."""
+        k = TWO_PI * j._turns
+        lo, hi = j.lower - k, j.upper - k
+        o = j._ode
+        o.setParam(ode.ParamLoStop, lo if lo > -math.pi else -ode.Infinity)
+        o.setParam(ode.ParamHiStop, hi if hi < math.pi else ode.Infinity)
+
+    # ---- collision ---------------------------------------------------------------------------
+    def _collide(self):
+        self._dyn_space.collide(None, self._near)
+        ode.collide2(self._static_space, self._dyn_space, None, self._near_top)
+
+    def _near_top(self, _arg, g1, g2):
+        if g1.isSpace() or g2.isSpace():
+            ode.collide2(g1, g2, None, self._near)
+        else:
+            self._near(None, g1, g2)
+
+    def _pair(self, s1, s2):
+        key = (s1, s2)
+        pp = self._pair_cache.get(key)
+        if pp is not None:
+            return pp
+        dt = self._dt
+        kp = 1.0 / (1.0 / s1.kp + 1.0 / s2.kp)
+        kd = s1.kd + s2.kd
+        pp = _PairParams()
+        pp.erp = dt * kp / (dt * kp + kd)
+        pp.cfm = 1.0 / (dt * kp + kd)
+        pp.mu = min(s1.mu1, s2.mu1)
+        pp.mu2 = min(s1.mu2, s2.mu2)
+        pp.isotropic = pp.mu == pp.mu2
+        pp.mode = _BASE_MODE | (0 if pp.isotropic else ode.ContactMu2)
+        layer = self._params["contact_surface_layer"]
+        min_depth = max(s1.min_depth, s2.min_depth)
+        pp.shift = max(0.0, min_depth - layer)
+        max_vel = min(s1.max_vel, s2.max_vel)
+        pp.cap = layer + max_vel * dt / pp.erp if pp.erp > 0 else float("inf")
+        self._pair_cache[key] = pp
+        return pp
+
+    def _near(self, _arg, g1, g2):
+        info = self._geom_info
+        i1 = info.get(g1)
+        i2 = info.get(g2)
+        if i1 is None or i2 is None:
+            return
+        m = i1.model
+        if m is i2.model:
+            if not (i1.self_collide or i2.self_collide) or i1.group == i2.group or \
+                    (i1.group, i2.group) in m._adjacent:
+                return
+        b1, b2 = i1.body, i2.body
+        if b1 is None and b2 is None:
+            return
+        contacts = ode.collide(g1, g2)
+        if not contacts:
+            return
+        n = len(contacts)
+        cap = self._max_contacts
+        if n > cap:
+            contacts = [contacts[(i * n) // cap] for i in range(cap)]
+            n = cap
+        m._ncontacts += n
+        i2.model._ncontacts += n
+        pp = self._pair(i1.surface, i2.surface)
+        mode = pp.mode
+        fdir = None
+        world = self._ode_world
+        group = self._contact_group
+        for k, c in enumerate(contacts):
+            pos, normal, depth, _a, _b = c.getContactGeomParams()
+            if k == 0 and pp.isotropic:
+                fdir = self._friction_dir(b1, b2, pos, normal)
+                if fdir is not None:
+                    mode |= ode.ContactFDir1
+            d = depth - pp.shift
+            if d > pp.cap:
+                d = pp.cap
+            if d < 0.0:
+                d = 0.0
+            if d != depth:
+                c.setContactGeomParams(pos, normal, d, g1, g2)
+            c.setMode(mode)
+            c.setMu(pp.mu)
+            c.setMu2(pp.mu2)
+            c.setSoftERP(pp.erp)
+            c.setSoftCFM(pp.cfm)
+            if fdir is not None:
+                c.setFDir1(fdir)
+            j = ode.ContactJoint(world, group, c)
+            j.attach(b1, b2)
+
+    def _friction_dir(self, b1, b2, pos, n):
+        """First friction direction for an isotropic pyramid: along the relative sliding velocity,
+        or (at rest) along gravity's tangential part, so that the pyramid's limit mu*N applies
+        in the direction the contact would slip (ODE's arbitrary default lets a box hold on a
+        slope steeper than atan(mu) by up to sqrt(2))."""
+        vx = vy = vz = 0.0
+        if b1 is not None:
+            v = b1.getPointVel(pos)
+            vx, vy, vz = v
+        if b2 is not None:
+            v = b2.getPointVel(pos)
+            vx -= v[0]
+            vy -= v[1]
+            vz -= v[2]
+        vn = vx * n[0] + vy * n[1] + vz * n[2]
+        tx, ty, tz = vx - vn * n[0], vy - vn * n[1], vz - vn * n[2]
+        t2 = tx * tx + ty * ty + tz * tz
+        if t2 < 1e-10:
+            g = self._gravity
+            gn = g[0] * n[0] + g[1] * n[1] + g[2] * n[2]
+            tx, ty, tz = g[0] - gn * n[0], g[1] - gn * n[1], g[2] - gn * n[2]
+            t2 = tx * tx + ty * ty + tz * tz
+            if t2 < 1e-12 * (dot(g, g) + 1e-30):
+                return None
+        s = 1.0 / math.sqrt(t2)
+        return (tx * s, ty * s, tz * s)
+
+    # ---- guard -------------------------------------------------------------------------------
+    def _guard(self):
+        vmax2, wmax2 = self._vmax2, self._wmax2
+        cmax = self._params["guard_max_contacts"]
+        snap = self.iterations % int(self._params["snapshot_interval"]) == 0
+        for m in self._dynamic_models:
+            bad = None
+            for g in m._dyn_groups:
+                b = g.body
+                v = b.getLinearVel()
+                w = b.getAngularVel()
+                v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+                w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+                if not (v2 < vmax2 and w2 < wmax2):
+                    if not (math.isfinite(v2) and math.isfinite(w2)):
+                        bad = (g, "non-finite velocity (NaN/inf)")
+                    elif not v2 < vmax2:
+                        bad = (g, "runaway linear velocity %.3g m/s (limit %.3g)"
+                               % (math.sqrt(v2), math.sqrt(vmax2)))
+                    else:
+                        bad = (g, "runaway angular velocity %.3g rad/s (limit %.3g)"
+                               % (math.sqrt(w2), math.sqrt(wmax2)))
+                    break
+            if bad is None and m._ncontacts > cmax:
+                bad = (m._dyn_groups[0], "contact explosion: %d contacts in one step (limit %d)"
+                       % (m._ncontacts, cmax))
+            m._ncontacts = 0
+            if bad is not None:
+                self._restore_after_blowup(m, bad[0].root.name, bad[1])
+            elif snap:
+                m._snapshot_state = m._capture()
+
+    def _restore_after_blowup(self, model, link, reason):
+        ev = GuardEvent(model.name, link, reason, self.time)
+        self._events.append(ev)
+        LOG.error("blow-up guard: model '%s' link '%s': %s at t=%.4f s; restored to its last sane "
+                  "state (zero velocity, wrenches cleared)", model.name, link, reason, self.time)
+        state = model._snapshot_state or model._spawn_state
+        model._restore(state, zero_velocity=True)
+        if not self._state_finite(model):
+            model._restore(model._spawn_state, zero_velocity=True)
+
+    @staticmethod
+    def _state_finite(model):
+        for b in model._bodies:
+            for v in b.getPosition() + b.getQuaternion():
+                if not math.isfinite(v):
+                    return False
+        return True
+
+    def pop_events(self):
+        ev, self._events = self._events, []
+        return ev
+
+    def _model_teleported(self, model):
+        model._snapshot_state = model._capture()
+
+    # ---- reset, digest -----------------------------------------------------------------------
+    def reset(self):
+        """reset_simulation: time and iterations to 0, every model to its spawn state."""
+        self.time = 0.0
+        self.iterations = 0
+        self._reseed()
+        self.reset_world()
+
+    def reset_world(self):
+        """reset_world: poses and velocities of every model to the spawn state; time kept."""
+        self._contact_group.empty()
+        for m in self.models.values():
+            m._restore(m._spawn_state, zero_velocity=False)
+            m._snapshot_state = m._spawn_state
+            m._ncontacts = 0
+        self._effort_joints = []
+        self._last_effort_joints = []
+
+    def state_digest(self):
+        """SHA-256 (hex) over time, iterations and every body's pose and velocity."""
+        h = hashlib.sha256()
+        h.update(struct.pack("<dq", self.time, self.iterations))
+        for m in self.models.values():
+            h.update(m.name.encode("utf-8"))
+            for b in m._bodies:
+                h.update(struct.pack("<13d", *(b.getPosition() + b.getQuaternion() +
+                                               b.getLinearVel() + b.getAngularVel())))
+        return h.hexdigest()
+
+    # ---- spawn checks ------------------------------------------------------------------------
+    def _check_spawn_overlap(self, model, threshold=0.01):
+        found = {}
+
+        def cb(_arg, g1, g2):
+            i1, i2 = self._geom_info.get(g1), self._geom_info.get(g2)
+            if i1 is None or i2 is None or i1.model is i2.model:
+                return
+            if i1.body is None and i2.body is None:
+                return
+            for c in ode.collide(g1, g2):
+                d = c.getContactGeomParams()[2]
+                key = (i1.model.name, i1.link.name, i2.model.name, i2.link.name)
+                if d > found.get(key, 0.0):
+                    found[key] = d
+
+        for geom in model._geoms:
+            if isinstance(geom, ode.GeomPlane):
+                continue
+            for sp in (self._static_space, self._dyn_space):
+                ode.collide2(geom, sp, None, cb)
+        for (m1, l1, m2, l2), d in sorted(found.items()):
+            if d > threshold:
+                LOG.warning("spawn overlap: model '%s' link '%s' penetrates model '%s' link '%s' "
+                            "by %.1f mm; contacts push them apart at most at maxVel", m1, l1, m2,
+                            l2, d * 1000.0)
+
+
+class _OrderedSet(object):
+    """Insertion-ordered set (iteration order must not depend on memory addresses, or two runs
+    would sum forces in different orders)."""
+
+    def __init__(self):
+        self._d = OrderedDict()
+
+    def add(self, x):
+        self._d[x] = None
+
+    def discard(self, x):
+        self._d.pop(x, None)
+
+    def __iter__(self):
+        return iter(list(self._d))
+
+    def __len__(self):
+        return len(self._d)
+
+    def __bool__(self):
+        return bool(self._d)
+
+
+def _set_auto_disable(body, on):
+    if odelib.AVAILABLE:  # PyODE wraps only the world-wide default
+        odelib.LIB.dBodySetAutoDisableFlag(odelib.raw_pointer(body), 1 if on else 0)
+
+
+__all__ = ["World", "GuardEvent", "DEFAULT_PARAMS", "FORCE_CAP", "SimulationError"]

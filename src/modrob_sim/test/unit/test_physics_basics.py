@@ -1,0 +1,102 @@
+"""Tier 1: the physics core's basic physics and contract accessors (pendulum, box drop, hooks)."""
+import math
+import os
+
+import pytest
+
+from modrob_sim.physics import World
+
+FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "physics")
+
+
+def fixture(name):
+    with open(os.path.join(FIX, name)) as f:
+        return f.read()
+
+
+def zero_crossings(values, dt):
+    """Times of upward zero crossings, linearly interpolated."""
+    out = []
+    for i in range(1, len(values)):
+        a, b = values[i - 1], values[i]
+        if a < 0.0 <= b:
+            out.append((i - 1 + (-a) / (b - a)) * dt)
+    return out
+
+
+def test_pendulum_small_swing_period_matches_compound_pendulum_theory():
+    world = World(time_step=0.001)
+    model = world.add_urdf("pendulum", fixture("pendulum.urdf"), joint_positions={"swing": 0.05})
+    joint = model.joints["swing"]
+    assert joint.position == pytest.approx(0.05, abs=1e-9)
+    qs = []
+    for _ in range(4000):
+        world.step()
+        qs.append(joint.position)
+    crossings = zero_crossings(qs, world.time_step)
+    assert len(crossings) >= 3
+    period = (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+    m, length, ic = 1.0, 0.25, 0.0208667  # fixture: rod mass, pivot-to-COM distance, inertia about COM
+    theory = 2.0 * math.pi * math.sqrt((ic + m * length ** 2) / (m * 9.81 * length))
+    assert abs(period - theory) / theory < 0.02, (period, theory)
+    # amplitude is kept (no numerical damping worth speaking of in 4 s)
+    assert max(qs[-1200:]) == pytest.approx(0.05, rel=0.05)
+
+
+def test_pendulum_link_pose_follows_joint_angle():
+    world = World()
+    model = world.add_urdf("pendulum", fixture("pendulum.urdf"), joint_positions={"swing": 0.3})
+    pos, quat = model.links["rod"].pose
+    # link frame at the pivot (z = 1.5), rotated 0.3 rad about y
+    assert pos == pytest.approx((0.0, 0.0, 1.5), abs=1e-9)
+    assert quat == pytest.approx((0.0, math.sin(0.15), 0.0, math.cos(0.15)), abs=1e-9)
+    assert model.links["pivot"].pose[0] == pytest.approx((0.0, 0.0, 1.5))
+    assert model.canonical_link.name == "pivot"
+    assert set(model.links) == {"pivot", "rod"}
+    assert set(model.joints) == {"fix", "swing"}
+    j = model.joints["swing"]
+    assert (j.type, j.parent, j.child, j.axis) == ("revolute", "pivot", "rod", (0.0, 1.0, 0.0))
+    assert (j.lower, j.upper, j.effort_limit, j.velocity_limit) == (-3.0, 3.0, 10.0, 10.0)
+    assert model.links["rod"].mass == 1.0
+
+
+def test_dropped_box_rests_at_half_its_height():
+    world = World()
+    world.add_urdf("ground", fixture("ground_box.urdf"))
+    box = world.add_urdf("box", fixture("box.urdf"), pose=((0.3, -0.2, 0.5), (0, 0, 0, 1)))
+    for _ in range(1500):
+        world.step()
+    (x, y, z), _ = box.pose
+    assert z == pytest.approx(0.05, abs=0.002)
+    assert (x, y) == pytest.approx((0.3, -0.2), abs=1e-3)
+    lin, ang = box.twist
+    assert max(abs(v) for v in lin + ang) < 1e-3
+    assert world.pop_events() == []
+
+
+def test_time_and_iterations_and_hooks_get_injected_time():
+    world = World(time_step=0.002)
+    world.add_urdf("box", fixture("box.urdf"), pose=((0, 0, 1.0), (0, 0, 0, 1)))
+    seen = []
+    h = world.add_step_hook(before=lambda t, dt: seen.append(("b", t, dt)),
+                            after=lambda t, dt: seen.append(("a", t, dt)))
+    world.step(3)
+    assert world.iterations == 3
+    assert world.time == pytest.approx(0.006)
+    assert seen[0] == ("b", 0.0, 0.002)
+    assert seen[1][0] == "a" and seen[1][1] == pytest.approx(0.002)
+    assert [s[0] for s in seen] == ["b", "a"] * 3
+    world.remove_step_hook(h)
+    world.step()
+    assert len(seen) == 6
+    with pytest.raises(ValueError):
+        world.remove_step_hook(h)
+
+
+def test_free_fall_matches_g_and_link_twist():
+    world = World()
+    box = world.add_urdf("box", fixture("box.urdf"), pose=((0, 0, 10.0), (0, 0, 0, 1)))
+    world.step(500)
+    t = world.time
+    assert box.pose[0][2] == pytest.approx(10.0 - 0.5 * 9.81 * t * t, abs=0.01)
+    assert box.twist[0][2] == pytest.approx(-9.81 * t, rel=1e-6)
