@@ -1,0 +1,20 @@
+"""ros_controllers' controllers, pure (no rospy). ``CONTROLLER_TYPES`` maps ros_control type
+names to classes."""
+from modrob_sim.ros_control.controllers.forward_command import (
+    EffortJointEffortController, PositionJointPositionController, VelocityJointVelocityController)
+from modrob_sim.ros_control.controllers.effort_joint_position import EffortJointPositionController
+from modrob_sim.ros_control.controllers.effort_joint_velocity import EffortJointVelocityController
+from modrob_sim.ros_control.controllers.joint_state import JointStateController
+from modrob_sim.ros_control.controllers.joint_trajectory import (
+    EffortJointTrajectoryController, PositionJointTrajectoryController)
+
+CONTROLLER_TYPES = {cls.TYPE: cls for cls in (
+    JointStateController,
+    EffortJointPositionController,
+    EffortJointVelocityController,
+    EffortJointEffortController,
+    PositionJointPositionController,
+    VelocityJointVelocityController,
+    PositionJointTrajectoryController,
+    EffortJointTrajectoryController,
+)}

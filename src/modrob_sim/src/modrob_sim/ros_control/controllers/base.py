@@ -1,0 +1,71 @@
+"""What every controller shares: name, type, claimed joints, the state machine the controller
+manager drives (initialized -> running <-> stopped), and a thread-safe command buffer."""
+import math
+import threading
+
+from modrob_sim.ros_control.transmissions import CPP_NAMES
+
+
+class CommandBuffer(object):
+    """ros_controllers' realtime_tools::RealtimeBuffer: ROS callbacks write, the loop reads."""
+
+    def __init__(self, value=0.0):
+        self._lock = threading.Lock()
+        self._value = value
+
+    def write(self, value):
+        with self._lock:
+            self._value = value
+
+    def read(self):
+        with self._lock:
+            return self._value
+
+
+class CommandResult(object):
+    """What became of one command: ``accepted`` (False for NaN/inf), ``value`` stored,
+    ``clamped_from`` the original value when it was limited to the joint range."""
+    __slots__ = ("accepted", "value", "clamped_from", "reason")
+
+    def __init__(self, accepted, value=None, clamped_from=None, reason=""):
+        self.accepted, self.value, self.clamped_from, self.reason = accepted, value, clamped_from, reason
+
+
+def check_finite(value, what):
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        return None, CommandResult(False, reason="%s %r is not a number: ignored" % (what, value))
+    if not math.isfinite(value):
+        return None, CommandResult(False, reason="%s %r is not finite: ignored" % (what, value))
+    return value, None
+
+
+class Controller(object):
+    TYPE = ""
+    INTERFACE = None          # transmissions.EFFORT / POSITION / VELOCITY, or None (state only)
+    STATE_INTERFACE = "hardware_interface::JointStateInterface"
+
+    def __init__(self, name, hw, params):
+        self.name = name
+        self.hw = hw
+        self.params = params
+        self.state = "initialized"
+        self.joint_names = []
+        self.pending = None     # data the ROS layer publishes after this update (or None)
+
+    @property
+    def claimed_resources(self):
+        """[(hardware interface C++ name, [joint names])] as controller_manager lists them."""
+        if self.INTERFACE is None:
+            return [(self.STATE_INTERFACE, [])]
+        return [(CPP_NAMES[self.INTERFACE], list(self.joint_names))]
+
+    def starting(self, t):
+        pass
+
+    def update(self, t, dt):
+        pass
+
+    def stopping(self, t):
+        pass

@@ -1,0 +1,353 @@
+"""position_controllers/JointTrajectoryController and effort_controllers/JointTrajectoryController
+(ros_controllers' joint_trajectory_controller, Noetic), pure.
+
+Parameters (under the controller's namespace):
+  joints                         list, required
+  constraints/goal_time          default 0: how long after the trajectory's end the goal
+                                 tolerances may still be met
+  constraints/stopped_velocity_tolerance   default 0.01: goal velocity tolerance
+  constraints/<joint>/trajectory path position tolerance (0 = none)
+  constraints/<joint>/goal       goal position tolerance (0 = none)
+  stop_trajectory_duration       default 0: time to come to rest on cancel/stop
+  state_publish_rate             default 50 Hz (``state`` topic)
+  action_monitor_rate            default 20 Hz (action feedback)
+  allow_partial_joints_goal      default false
+  gains/<joint>                  effort type only, required: PID {p, i, d, i_clamp, ...}
+  velocity_ff/<joint>            effort type only, default 0
+
+The ROS layer passes goals in (``submit``/``cancel``) and drains ``events`` (goal outcomes)
+and ``pending``/``pending_feedback`` (state/feedback data) after each update.
+"""
+import math
+
+from modrob_sim.errors import ControllerError
+from modrob_sim.ros_control import angles
+from modrob_sim.ros_control.controllers.base import Controller
+from modrob_sim.ros_control.pid import Pid, PidGains
+from modrob_sim.ros_control.trajectory import State, Trajectory, hold_trajectory
+from modrob_sim.ros_control.transmissions import EFFORT, POSITION
+
+SUCCESSFUL = 0
+INVALID_GOAL = -1
+INVALID_JOINTS = -2
+OLD_HEADER_TIMESTAMP = -3
+PATH_TOLERANCE_VIOLATED = -4
+GOAL_TOLERANCE_VIOLATED = -5
+
+
+class TrajectoryPoint(object):
+    __slots__ = ("positions", "velocities", "accelerations", "time_from_start")
+
+    def __init__(self, positions, velocities=None, accelerations=None, time_from_start=0.0):
+        self.positions = list(positions)
+        self.velocities = list(velocities or [])
+        self.accelerations = list(accelerations or [])
+        self.time_from_start = float(time_from_start)
+
+
+class Tolerance(object):
+    """Per-joint tolerances; 0 means 'not checked'."""
+    __slots__ = ("position", "velocity", "acceleration")
+
+    def __init__(self, position=0.0, velocity=0.0, acceleration=0.0):
+        self.position, self.velocity, self.acceleration = position, velocity, acceleration
+
+
+class ActiveGoal(object):
+    def __init__(self, goal_id, path, goal, goal_time):
+        self.goal_id, self.path, self.goal, self.goal_time = goal_id, path, goal, goal_time
+        self.end_time = None
+
+
+def _merge(default, override):
+    """control_msgs/JointTolerance semantics: >0 replaces, 0 keeps the default, -1 erases."""
+    if override is None or override == 0.0:
+        return default
+    if override < 0.0:
+        return 0.0
+    return override
+
+
+class JointTrajectoryControllerBase(Controller):
+    INTERFACE = None
+
+    def __init__(self, name, hw, params):
+        super(JointTrajectoryControllerBase, self).__init__(name, hw, params)
+        joints = params.get("joints", kind=list)
+        if not joints:
+            raise ControllerError("Parameter %s is empty: list the joints this trajectory controller drives"
+                                  % params.path("joints"))
+        if len(set(joints)) != len(joints):
+            raise ControllerError("Parameter %s names a joint twice: %s" % (params.path("joints"), joints))
+        self.joint_names = list(joints)
+        self.joints = [hw.joint(j, self.INTERFACE, controller=name) for j in joints]
+        self.n = len(joints)
+        c = params.child("constraints")
+        self.default_goal_time = c.get("goal_time", 0.0, kind=float)
+        self.stopped_velocity_tolerance = c.get("stopped_velocity_tolerance", 0.01, kind=float)
+        self.default_path = []
+        self.default_goal = []
+        for j in joints:
+            jc = c.child(j)
+            self.default_path.append(Tolerance(jc.get("trajectory", 0.0, kind=float)))
+            self.default_goal.append(Tolerance(jc.get("goal", 0.0, kind=float), self.stopped_velocity_tolerance))
+        self.stop_trajectory_duration = params.get("stop_trajectory_duration", 0.0, kind=float)
+        self.state_publish_rate = params.get("state_publish_rate", 50.0, kind=float)
+        self.action_monitor_rate = params.get("action_monitor_rate", 20.0, kind=float)
+        if self.state_publish_rate <= 0.0 or self.action_monitor_rate <= 0.0:
+            raise ControllerError("Parameters %s and %s must be > 0" % (params.path("state_publish_rate"),
+                                                                       params.path("action_monitor_rate")))
+        self.allow_partial = params.get("allow_partial_joints_goal", False, kind=bool)
+        self.trajectory = None
+        self.goal = None
+        self.events = []
+        self.pending_feedback = None
+        self.desired = ([0.0] * self.n, [0.0] * self.n, [0.0] * self.n)
+        self._next_state = None
+        self._next_feedback = None
+        self._now = 0.0
+
+    # -- state -----------------------------------------------------------------------------
+    def _actual(self):
+        return [j.position for j in self.joints], [j.velocity for j in self.joints]
+
+    def _errors(self, desired_pos, desired_vel):
+        pos, vel = self._actual()
+        ep = []
+        for j, d, a in zip(self.joints, desired_pos, pos):
+            ep.append(angles.shortest_angular_distance(a, d) if j.type == "continuous" else d - a)
+        return ep, [d - a for d, a in zip(desired_vel, vel)]
+
+    def _current_desired(self, t):
+        if self.trajectory is None:
+            pos, _ = self._actual()
+            return pos, [0.0] * self.n, [0.0] * self.n
+        return self.trajectory.sample(t)
+
+    def _hold(self, t):
+        pos, vel, _ = self._current_desired(t)
+        self.trajectory = hold_trajectory(t, pos, vel, self.stop_trajectory_duration)
+
+    def starting(self, t):
+        self.trajectory = None
+        pos, _ = self._actual()
+        self.trajectory = hold_trajectory(t, pos)
+        self._next_state = t
+        self._next_feedback = t
+        self._now = t
+        self._reset_pids()
+
+    def stopping(self, t):
+        if self.goal is not None:
+            self.events.append((self.goal.goal_id, "aborted", INVALID_GOAL,
+                                "controller '%s' was stopped while executing the goal" % self.name))
+            self.goal = None
+
+    def _reset_pids(self):
+        pass
+
+    # -- commands --------------------------------------------------------------------------
+    def submit(self, joint_names, points, start_time, now, goal_id=None, path_tolerance=None,
+               goal_tolerance=None, goal_time_tolerance=0.0):
+        """A new trajectory (from the ``command`` topic when goal_id is None, else an action goal).
+        Returns (accepted, error_code, error_string). Accepting an action goal preempts the
+        previous one (an event ('preempted') is queued for it)."""
+        if self.state != "running":
+            return False, INVALID_GOAL, "controller '%s' is not running (state: %s)" % (self.name, self.state)
+        unknown = [j for j in joint_names if j not in self.joint_names]
+        if unknown:
+            return False, INVALID_JOINTS, ("joint%s %s not controlled by '%s' (its joints: %s)"
+                                           % ("s" if len(unknown) > 1 else "",
+                                              ", ".join("'%s'" % u for u in unknown), self.name,
+                                              ", ".join(self.joint_names)))
+        if len(set(joint_names)) != len(joint_names):
+            return False, INVALID_JOINTS, "the goal names a joint twice: %s" % list(joint_names)
+        missing = [j for j in self.joint_names if j not in joint_names]
+        if missing and not self.allow_partial and points:
+            return False, INVALID_JOINTS, ("the goal does not name joint%s %s of '%s' (set allow_partial_joints_goal "
+                                           "to true to allow partial goals)"
+                                           % ("s" if len(missing) > 1 else "",
+                                              ", ".join("'%s'" % m for m in missing), self.name))
+        k = len(joint_names)
+        last_t = -1.0
+        for i, p in enumerate(points):
+            if len(p.positions) != k:
+                return False, INVALID_GOAL, ("point %d has %d positions for %d joints" % (i, len(p.positions), k))
+            if p.velocities and len(p.velocities) != k:
+                return False, INVALID_GOAL, ("point %d has %d velocities for %d joints" % (i, len(p.velocities), k))
+            if p.accelerations and len(p.accelerations) != k:
+                return False, INVALID_GOAL, ("point %d has %d accelerations for %d joints"
+                                             % (i, len(p.accelerations), k))
+            values = p.positions + p.velocities + p.accelerations + [p.time_from_start]
+            if not all(math.isfinite(v) for v in values):
+                return False, INVALID_GOAL, "point %d contains a NaN or infinite value" % i
+            if p.time_from_start <= last_t:
+                return False, INVALID_GOAL, ("time_from_start must increase strictly: point %d at %g s follows %g s"
+                                             % (i, p.time_from_start, last_t))
+            last_t = p.time_from_start
+        start = start_time if start_time and start_time > 0.0 else now
+        if points and start + points[-1].time_from_start < now:
+            return False, OLD_HEADER_TIMESTAMP, ("the trajectory ended %.3f s ago (header.stamp %.3f, now %.3f)"
+                                                 % (now - start - points[-1].time_from_start, start, now))
+        # accepted
+        if goal_id is not None or self.goal is not None:
+            if self.goal is not None:
+                self.events.append((self.goal.goal_id, "preempted", SUCCESSFUL,
+                                    "preempted by a new %s" % ("goal" if goal_id is not None else "command")))
+                self.goal = None
+        if not points:
+            self._hold(now)
+            if goal_id is not None:
+                self.events.append((goal_id, "succeeded", SUCCESSFUL, "empty trajectory: holding position"))
+            return True, SUCCESSFUL, ""
+        self.trajectory = self._build(joint_names, points, start, now)
+        if goal_id is not None:
+            path, goal = [], []
+            by_name_path = {t.name: t for t in (path_tolerance or [])}
+            by_name_goal = {t.name: t for t in (goal_tolerance or [])}
+            for i, j in enumerate(self.joint_names):
+                dp, dg = self.default_path[i], self.default_goal[i]
+                tp, tg = by_name_path.get(j), by_name_goal.get(j)
+                path.append(Tolerance(_merge(dp.position, tp and tp.position), _merge(dp.velocity, tp and tp.velocity)))
+                goal.append(Tolerance(_merge(dg.position, tg and tg.position), _merge(dg.velocity, tg and tg.velocity)))
+            gt = goal_time_tolerance if goal_time_tolerance and goal_time_tolerance > 0 else self.default_goal_time
+            self.goal = ActiveGoal(goal_id, path, goal, gt)
+            self.goal.end_time = self.trajectory.end_time
+        return True, SUCCESSFUL, ""
+
+    def cancel(self, goal_id, now):
+        """Cancel an action goal: hold (decelerating over stop_trajectory_duration)."""
+        if self.goal is not None and self.goal.goal_id == goal_id:
+            self.goal = None
+            self._hold(now)
+            self.events.append((goal_id, "canceled", SUCCESSFUL, "canceled"))
+            return True
+        return False
+
+    def _build(self, joint_names, points, start, now):
+        index = {j: i for i, j in enumerate(joint_names)}
+        cur_pos, cur_vel, cur_acc = self._current_desired(now)
+        # continuous joints: shift the whole joint trajectory by 2*pi*k so that it starts the short way
+        offsets = [0.0] * self.n
+        for c, j in enumerate(self.joints):
+            if j.type == "continuous" and j.name in index:
+                first = points[0].positions[index[j.name]]
+                offsets[c] = cur_pos[c] + angles.shortest_angular_distance(cur_pos[c], first) - first
+        out = []
+        for p in points:
+            t_abs = start + p.time_from_start
+            if t_abs <= now:
+                continue
+            pos, vel, acc = [], [], []
+            for c, j in enumerate(self.joint_names):
+                if j in index:
+                    i = index[j]
+                    pos.append(p.positions[i] + offsets[c])
+                    vel.append(p.velocities[i] if p.velocities else None)
+                    acc.append(p.accelerations[i] if p.accelerations else None)
+                else:  # partial goal: this joint holds its current desired position
+                    pos.append(cur_pos[c])
+                    vel.append(0.0 if p.velocities else None)
+                    acc.append(0.0 if p.accelerations else None)
+            out.append((t_abs, State(pos, None if vel[0] is None else vel, None if acc[0] is None else acc)))
+        if not out:  # every point is in the past but the last is 'now': jump to it
+            last = points[-1]
+            pos = [last.positions[index[j]] + offsets[c] if j in index else cur_pos[c]
+                   for c, j in enumerate(self.joint_names)]
+            return Trajectory(now, State(pos), [])
+        return Trajectory(now, State(cur_pos, cur_vel, cur_acc), out)
+
+    # -- loop ------------------------------------------------------------------------------
+    def update(self, t, dt):
+        self._now = t
+        if self.trajectory is None:
+            self._hold(t)
+        dpos, dvel, dacc = self.trajectory.sample(t)
+        self.desired = (dpos, dvel, dacc)
+        epos, evel = self._errors(dpos, dvel)
+        self._write(dpos, dvel, epos, evel, dt)
+        if self.goal is not None:
+            self._check_goal(t, epos, evel)
+        if self._next_state is None or t >= self._next_state - 1e-9:
+            self._next_state = (self._next_state or t) + 1.0 / self.state_publish_rate
+            if self._next_state < t:
+                self._next_state = t + 1.0 / self.state_publish_rate
+            apos, avel = self._actual()
+            self.pending = dict(stamp=t, joint_names=list(self.joint_names), desired=(dpos, dvel, dacc),
+                                actual=(apos, avel), error=(epos, evel))
+        if self.goal is not None and (self._next_feedback is None or t >= self._next_feedback - 1e-9):
+            self._next_feedback = t + 1.0 / self.action_monitor_rate
+            apos, avel = self._actual()
+            self.pending_feedback = (self.goal.goal_id, dict(stamp=t, joint_names=list(self.joint_names),
+                                                             desired=(dpos, dvel, dacc), actual=(apos, avel),
+                                                             error=(epos, evel)))
+
+    def _check_goal(self, t, epos, evel):
+        g = self.goal
+        if t < g.end_time:
+            for i, tol in enumerate(g.path):
+                if tol.position > 0.0 and abs(epos[i]) > tol.position:
+                    self._abort(t, PATH_TOLERANCE_VIOLATED,
+                                "path tolerance violated: joint '%s' is %.4g from the desired position "
+                                "(tolerance %.4g) at t=%.3f s" % (self.joint_names[i], epos[i], tol.position, t))
+                    return
+                if tol.velocity > 0.0 and abs(evel[i]) > tol.velocity:
+                    self._abort(t, PATH_TOLERANCE_VIOLATED,
+                                "path tolerance violated: joint '%s' velocity error %.4g (tolerance %.4g)"
+                                % (self.joint_names[i], evel[i], tol.velocity))
+                    return
+            return
+        bad = None
+        for i, tol in enumerate(g.goal):
+            if tol.position > 0.0 and abs(epos[i]) > tol.position:
+                bad = "joint '%s' is %.4g from its goal position (tolerance %.4g)" % (
+                    self.joint_names[i], epos[i], tol.position)
+                break
+            if tol.velocity > 0.0 and abs(evel[i]) > tol.velocity:
+                bad = "joint '%s' still moves at %.4g (stopped velocity tolerance %.4g)" % (
+                    self.joint_names[i], -evel[i], tol.velocity)
+                break
+        if bad is None:
+            self.events.append((g.goal_id, "succeeded", SUCCESSFUL, ""))
+            self.goal = None
+        elif t >= g.end_time + g.goal_time:
+            self._abort(t, GOAL_TOLERANCE_VIOLATED, "goal tolerance violated %.3f s after the trajectory's end: %s"
+                        % (t - g.end_time, bad))
+
+    def _abort(self, t, code, text):
+        self.events.append((self.goal.goal_id, "aborted", code, text))
+        self.goal = None
+        self._hold(t)
+
+    def _write(self, dpos, dvel, epos, evel, dt):
+        raise NotImplementedError
+
+
+class PositionJointTrajectoryController(JointTrajectoryControllerBase):
+    TYPE = "position_controllers/JointTrajectoryController"
+    INTERFACE = POSITION
+
+    def _write(self, dpos, dvel, epos, evel, dt):
+        for j, p in zip(self.joints, dpos):
+            j.command = p
+
+
+class EffortJointTrajectoryController(JointTrajectoryControllerBase):
+    TYPE = "effort_controllers/JointTrajectoryController"
+    INTERFACE = EFFORT
+
+    def __init__(self, name, hw, params):
+        super(EffortJointTrajectoryController, self).__init__(name, hw, params)
+        gains = params.child("gains", required=True)
+        ff = params.child("velocity_ff")
+        self.pids = [Pid(PidGains.from_params(gains.child(j, required=True))) for j in self.joint_names]
+        self.pid_namespaces = [gains.path(j) for j in self.joint_names]
+        self.velocity_ff = [ff.get(j, 0.0, kind=float) for j in self.joint_names]
+
+    def _reset_pids(self):
+        for p in self.pids:
+            p.reset()
+
+    def _write(self, dpos, dvel, epos, evel, dt):
+        for j, pid, ff, ep, ev, v in zip(self.joints, self.pids, self.velocity_ff, epos, evel, dvel):
+            j.command = pid.compute(ep, dt, ev) + ff * v

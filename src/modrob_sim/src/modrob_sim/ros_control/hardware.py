@@ -1,0 +1,216 @@
+"""RobotHWSim: gazebo_ros_control's DefaultRobotHWSim over the physics core's Joint handles.
+
+For each transmission joint it offers a joint state (position, velocity, effort) and ONE command
+interface (effort, position or velocity). ``write(dt)`` applies commands as Gazebo does:
+
+=============  ==========================================================================
+EFFORT         command clamped to +-effort limit, applied as joint effort
+POSITION       no ``pid_gains/<joint>``: the joint is set kinematically to the command
+               (rate-limited by the velocity limit, clamped to [lower, upper])
+POSITION_PID   with ``pid_gains/<joint>``: effort = clamp(PID(position error), +-effort limit);
+               continuous joints take the shortest angular way
+VELOCITY       no gains: ODE joint motor to the command with max force = effort limit
+VELOCITY_PID   with gains: effort = clamp(PID(velocity error), +-effort limit)
+=============  ==========================================================================
+
+Limits come from the URDF (through the Joint handle). Differences from Gazebo, on purpose: a
+position command starts at the joint's spawn position (Gazebo starts at 0 and snaps the joint
+there); non-finite commands are never passed to ODE (it would abort the process).
+"""
+import math
+
+from modrob_sim.errors import ControllerError
+from modrob_sim.ros_control import angles
+from modrob_sim.ros_control.pid import Pid, PidGains
+from modrob_sim.ros_control.params import Params
+from modrob_sim.ros_control.transmissions import (EFFORT, POSITION, VELOCITY, canonical_interface)
+
+POSITION_PID = "POSITION_PID"
+VELOCITY_PID = "VELOCITY_PID"
+
+
+def _limit(value):
+    return None if value is None else float(value)
+
+
+class JointResource(object):
+    """One simulated joint as ros_control sees it: state read each update, one command."""
+
+    def __init__(self, sim_joint, interface):
+        self.sim = sim_joint
+        self.name = sim_joint.name
+        self.type = sim_joint.type
+        self.interface = interface
+        self.lower = _limit(getattr(sim_joint, "lower", None))
+        self.upper = _limit(getattr(sim_joint, "upper", None))
+        if self.type == "continuous":
+            self.lower = self.upper = None
+        self.effort_limit = _limit(getattr(sim_joint, "effort_limit", None))
+        vl = _limit(getattr(sim_joint, "velocity_limit", None))
+        self.velocity_limit = vl if vl is not None and vl > 0.0 else None
+        self.position = float(sim_joint.position)
+        self.velocity = float(sim_joint.velocity)
+        self.effort = 0.0
+        self.command = self.position if interface == POSITION else 0.0
+        self.method = interface
+        self.pid = None
+        self.pid_source = None
+        self._prev_position_cmd = None
+
+    @property
+    def has_position_limits(self):
+        return self.lower is not None and self.upper is not None and self.type in ("revolute", "prismatic")
+
+    def clamp_position(self, q):
+        if self.has_position_limits:
+            return min(max(q, self.lower), self.upper)
+        return q
+
+    def clamp_effort(self, e):
+        if self.effort_limit is None:
+            return e
+        return min(max(e, -self.effort_limit), self.effort_limit)
+
+    def position_error(self, target):
+        if self.type == "continuous":
+            return angles.shortest_angular_distance(self.position, target)
+        if self.type == "revolute" and self.has_position_limits:
+            return angles.shortest_angular_distance_with_limits(self.position, target, self.lower, self.upper)
+        return target - self.position
+
+
+class RobotHWSim(object):
+    """The hardware of one model: ``joints`` (name -> JointResource) in transmission order."""
+
+    def __init__(self, model_joints, transmissions, pid_gains=None, warn=None):
+        """``model_joints``: name -> physics Joint. ``transmissions``: TransmissionInfo list.
+        ``pid_gains``: Params of the ``gazebo_ros_control/pid_gains`` namespace (or None).
+        ``warn(msg)``: where warnings go (deprecated syntax, skipped transmissions)."""
+        warn = warn or (lambda msg: None)
+        self.joints = {}
+        self.order = []
+        self.notes = []
+        for tr in transmissions:
+            if not tr.joints:
+                warn("Transmission %s has no associated joints: ignored." % tr.name)
+                continue
+            if len(tr.joints) > 1:
+                warn("Transmission %s has more than one joint; DefaultRobotHWSim supports one: ignored." % tr.name)
+                continue
+            tj = tr.joints[0]
+            ifaces = tj.interfaces
+            if not ifaces and tr.actuators and tr.actuators[0].interfaces:
+                ifaces = tr.actuators[0].interfaces
+                warn("The <hardwareInterface> element of transmission %s should be nested inside the <joint> "
+                     "element, not <actuator>; it is used anyway." % tr.name)
+            if not ifaces:
+                warn("Joint %s of transmission %s does not specify any hardware interface: not added to the "
+                     "robot hardware simulation." % (tj.name, tr.name))
+                continue
+            iface = canonical_interface(ifaces[0])
+            if iface is None:
+                raise ControllerError("Transmission %s: no matching hardware interface found for '%s' of joint "
+                                      "%s (use hardware_interface/EffortJointInterface, PositionJointInterface or "
+                                      "VelocityJointInterface)" % (tr.name, ifaces[0], tj.name))
+            if tj.name not in model_joints:
+                raise ControllerError("Transmission %s names joint '%s', which is not in the model (joints: %s)"
+                                      % (tr.name, tj.name, ", ".join(sorted(model_joints))))
+            if tj.name in self.joints:
+                warn("Joint %s appears in two transmissions; the second (%s) is ignored." % (tj.name, tr.name))
+                continue
+            res = JointResource(model_joints[tj.name], iface)
+            if iface in (POSITION, VELOCITY) and pid_gains is not None and pid_gains.has(tj.name):
+                gains = PidGains.from_params(pid_gains.child(tj.name))
+                res.pid = Pid(gains)
+                res.pid_source = pid_gains.path(tj.name)
+                res.method = POSITION_PID if iface == POSITION else VELOCITY_PID
+            self.joints[tj.name] = res
+            self.order.append(tj.name)
+            for act in tr.actuators:
+                if act.reduction != 1.0:
+                    self.notes.append("Transmission %s: mechanicalReduction %g is ignored, as "
+                                      "gazebo_ros_control's DefaultRobotHWSim does (commands are joint values)"
+                                      % (tr.name, act.reduction))
+
+    def joint(self, name, interface=None, controller=""):
+        """The JointResource for a controller; ControllerError naming the joint and interface."""
+        res = self.joints.get(name)
+        if res is None:
+            raise ControllerError("%sjoint '%s' is not a ros_control joint of this robot: it needs a "
+                                  "<transmission> (known joints: %s)"
+                                  % (("controller '%s': " % controller) if controller else "", name,
+                                     ", ".join(self.order) or "none"))
+        if interface is not None and res.interface != interface:
+            raise ControllerError("%sjoint '%s' offers hardware_interface/%s (from its <transmission>), "
+                                  "not hardware_interface/%s that this controller type needs"
+                                  % (("controller '%s': " % controller) if controller else "", name,
+                                     res.interface, interface))
+        return res
+
+    def read(self):
+        for name in self.order:
+            res = self.joints[name]
+            j = res.sim
+            res.position = float(j.position)
+            res.velocity = float(j.velocity)
+            res.effort = float(j.effort)
+
+    def reset_commands(self):
+        """After a reset: hold where the joints are now, PIDs cleared."""
+        self.read()
+        for res in self.joints.values():
+            res.command = res.position if res.interface == POSITION else 0.0
+            res._prev_position_cmd = None
+            if res.pid is not None:
+                res.pid.reset()
+
+    def write(self, dt):
+        for name in self.order:
+            res = self.joints[name]
+            cmd = res.command
+            if not math.isfinite(cmd):
+                cmd = res.position if res.interface == POSITION else 0.0
+            m = res.method
+            if m == EFFORT:
+                res.sim.set_effort(res.clamp_effort(cmd))
+            elif m in (POSITION, POSITION_PID):
+                cmd = self._saturate_position(res, cmd, dt)
+                if m == POSITION:
+                    res.sim.set_position(cmd)
+                else:
+                    effort = res.clamp_effort(res.pid.compute(res.position_error(cmd), dt))
+                    res.sim.set_effort(effort)
+            elif m == VELOCITY:
+                if res.velocity_limit is not None:
+                    cmd = min(max(cmd, -res.velocity_limit), res.velocity_limit)
+                fmax = res.effort_limit if res.effort_limit is not None else 1e6
+                res.sim.set_velocity_target(cmd, fmax)
+            elif m == VELOCITY_PID:
+                if res.velocity_limit is not None:
+                    cmd = min(max(cmd, -res.velocity_limit), res.velocity_limit)
+                effort = res.clamp_effort(res.pid.compute(cmd - res.velocity, dt))
+                res.sim.set_effort(effort)
+
+    @staticmethod
+    def _saturate_position(res, cmd, dt):
+        """joint_limits_interface::PositionJointSaturationHandle: rate limit by the velocity
+        limit relative to the previous command, clamp to the position limits."""
+        prev = res._prev_position_cmd
+        if prev is None:
+            prev = res.position
+        if res.type == "continuous":
+            cmd = prev + angles.shortest_angular_distance(prev, cmd)
+        if res.velocity_limit is not None and dt > 0.0:
+            step = res.velocity_limit * dt
+            cmd = min(max(cmd, prev - step), prev + step)
+        cmd = res.clamp_position(cmd)
+        res._prev_position_cmd = cmd
+        return cmd
+
+    def pid_joints(self):
+        """Joints driven by a pid_gains PID: name -> JointResource."""
+        return {n: r for n, r in self.joints.items() if r.pid is not None}
+
+
+def pid_gains_params(values, ns):
+    return Params(values, ns)

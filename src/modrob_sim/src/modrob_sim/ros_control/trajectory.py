@@ -1,0 +1,101 @@
+"""Joint trajectories as ros_controllers' joint_trajectory_controller samples them: between two
+points a per-joint polynomial whose order follows what both ends specify (QuinticSplineSegment):
+positions only -> linear, positions + velocities -> cubic, positions + velocities +
+accelerations -> quintic. Before the first segment the start state holds; after the last the
+final positions hold with zero velocity."""
+
+
+class State(object):
+    __slots__ = ("positions", "velocities", "accelerations")
+
+    def __init__(self, positions, velocities=None, accelerations=None):
+        self.positions = list(positions)
+        self.velocities = list(velocities) if velocities else None
+        self.accelerations = list(accelerations) if accelerations else None
+
+
+def _coefficients(p0, v0, a0, p1, v1, a1, T, order):
+    if T <= 0.0:
+        return [p1]
+    if order == 1:
+        return [p0, (p1 - p0) / T]
+    if order == 3:
+        return [p0, v0,
+                (3.0 * (p1 - p0) - (2.0 * v0 + v1) * T) / T ** 2,
+                (-2.0 * (p1 - p0) + (v0 + v1) * T) / T ** 3]
+    return [p0, v0, 0.5 * a0,
+            (20.0 * (p1 - p0) - (8.0 * v1 + 12.0 * v0) * T - (3.0 * a0 - a1) * T ** 2) / (2.0 * T ** 3),
+            (30.0 * (p0 - p1) + (14.0 * v1 + 16.0 * v0) * T + (3.0 * a0 - 2.0 * a1) * T ** 2) / (2.0 * T ** 4),
+            (12.0 * (p1 - p0) - 6.0 * (v1 + v0) * T - (a0 - a1) * T ** 2) / (2.0 * T ** 5)]
+
+
+def _eval(c, s):
+    pos = vel = acc = 0.0
+    for k, ck in enumerate(c):
+        pos += ck * s ** k
+        if k >= 1:
+            vel += k * ck * s ** (k - 1)
+        if k >= 2:
+            acc += k * (k - 1) * ck * s ** (k - 2)
+    return pos, vel, acc
+
+
+class Segment(object):
+    def __init__(self, t0, start, t1, end):
+        self.t0, self.t1 = t0, t1
+        if start.velocities is not None and end.velocities is not None:
+            order = 5 if (start.accelerations is not None and end.accelerations is not None) else 3
+        else:
+            order = 1
+        self.order = order
+        n = len(end.positions)
+        zeros = [0.0] * n
+        v0, v1 = start.velocities or zeros, end.velocities or zeros
+        a0, a1 = start.accelerations or zeros, end.accelerations or zeros
+        T = t1 - t0
+        self.coeffs = [_coefficients(start.positions[i], v0[i], a0[i], end.positions[i], v1[i], a1[i], T, order)
+                       for i in range(n)]
+
+    def sample(self, t):
+        s = min(max(t, self.t0), self.t1) - self.t0
+        out = [_eval(c, s) for c in self.coeffs]
+        return [o[0] for o in out], [o[1] for o in out], [o[2] for o in out]
+
+
+class Trajectory(object):
+    """Segments from ``start_state`` at ``t_start`` through ``points`` ((time, State) pairs with
+    absolute times, strictly increasing and > t_start or equal for a jump)."""
+
+    def __init__(self, t_start, start_state, points):
+        self.segments = []
+        prev_t, prev = t_start, start_state
+        for t, st in points:
+            self.segments.append(Segment(prev_t, prev, t, st))
+            prev_t, prev = t, st
+        self.start_time = t_start
+        self.end_time = prev_t
+        self.final = prev
+
+    def sample(self, t):
+        """(positions, velocities, accelerations) at absolute time t."""
+        if not self.segments:
+            n = len(self.final.positions)
+            return list(self.final.positions), [0.0] * n, [0.0] * n
+        if t >= self.end_time:
+            n = len(self.final.positions)
+            return list(self.final.positions), [0.0] * n, [0.0] * n
+        for seg in self.segments:
+            if t < seg.t1:
+                return seg.sample(t)
+        return self.segments[-1].sample(t)
+
+
+def hold_trajectory(t, positions, velocities=None, stop_duration=0.0):
+    """What ros_controllers' setHoldPosition builds: hold ``positions``; with a stop duration and
+    a moving state, decelerate smoothly to rest over that duration (cubic, ending at
+    p + v * d / 2 with zero velocity)."""
+    n = len(positions)
+    if stop_duration <= 0.0 or not velocities or not any(abs(v) > 0.0 for v in velocities):
+        return Trajectory(t, State(positions), [])
+    end = [p + v * stop_duration / 2.0 for p, v in zip(positions, velocities)]
+    return Trajectory(t, State(positions, velocities), [(t + stop_duration, State(end, [0.0] * n))])

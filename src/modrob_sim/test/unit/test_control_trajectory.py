@@ -1,0 +1,198 @@
+"""Trajectory sampling (ros_controllers' spline rules) and the trajectory controllers' goal
+handling: tolerances, unknown joints, preemption, cancel."""
+import math
+
+import pytest
+
+from modrob_sim.ros_control.controllers.joint_trajectory import (
+    GOAL_TOLERANCE_VIOLATED, INVALID_GOAL, INVALID_JOINTS, PATH_TOLERANCE_VIOLATED, Tolerance, TrajectoryPoint)
+from modrob_sim.ros_control.hardware import RobotHWSim
+from modrob_sim.ros_control.manager import ControllerManager
+from modrob_sim.ros_control.testing import IntegratorJoint, IntegratorModel, simple_transmissions
+from modrob_sim.ros_control.trajectory import State, Trajectory, hold_trajectory
+
+JOINTS = ["a", "b", "c"]
+
+
+def test_linear_cubic_quintic_hit_their_end_conditions():
+    lin = Trajectory(0.0, State([0.0]), [(2.0, State([1.0]))])
+    assert lin.segments[0].order == 1
+    assert lin.sample(1.0)[0][0] == pytest.approx(0.5) and lin.sample(1.0)[1][0] == pytest.approx(0.5)
+    cub = Trajectory(0.0, State([0.0], [0.0]), [(2.0, State([1.0], [0.0]))])
+    assert cub.segments[0].order == 3
+    p, v, a = cub.sample(1.0)
+    assert p[0] == pytest.approx(0.5) and v[0] == pytest.approx(0.75)
+    assert cub.sample(2.0 - 1e-9)[1][0] == pytest.approx(0.0, abs=1e-6)
+    qui = Trajectory(0.0, State([0.0], [1.0], [0.0]), [(1.0, State([2.0], [-1.0], [3.0]))])
+    assert qui.segments[0].order == 5
+    seg = qui.segments[0]
+    p, v, a = seg.sample(1.0)
+    assert (p[0], v[0], a[0]) == pytest.approx((2.0, -1.0, 3.0))
+    p, v, a = seg.sample(0.0)
+    assert (p[0], v[0], a[0]) == pytest.approx((0.0, 1.0, 0.0))
+
+
+def test_sampling_is_continuous_across_points_and_holds_after_the_end():
+    traj = Trajectory(0.0, State([0.0], [0.0]), [(1.0, State([1.0], [0.5])), (2.0, State([1.5], [0.0]))])
+    for t in (1.0, 2.0):
+        left, right = traj.sample(t - 1e-7), traj.sample(t + 1e-7)
+        assert left[0][0] == pytest.approx(right[0][0], abs=1e-5)
+    assert traj.sample(5.0) == ([1.5], [0.0], [0.0])
+    assert traj.sample(-1.0)[0] == [0.0]
+
+
+def test_hold_trajectory_decelerates_over_stop_duration():
+    h = hold_trajectory(0.0, [1.0], [2.0], stop_duration=0.5)
+    assert h.sample(0.5)[0][0] == pytest.approx(1.5) and h.sample(0.5)[1][0] == 0.0
+    assert hold_trajectory(0.0, [1.0], [2.0]).sample(1.0)[0] == [1.0]
+
+
+def rig(kind="position_controllers/JointTrajectoryController", extra=None, iface="PositionJointInterface"):
+    joints = [IntegratorJoint(name=n, inertia=0.05, damping=0.1, lower=-3.0, upper=3.0, effort_limit=50.0,
+                              velocity_limit=10.0) for n in JOINTS]
+    hw = RobotHWSim({j.name: j for j in joints}, simple_transmissions({n: iface for n in JOINTS}))
+    mgr = ControllerManager(hw, "/arm")
+    params = {"type": kind, "joints": JOINTS,
+              "constraints": {"goal_time": 0.5, "stopped_velocity_tolerance": 0.05,
+                              "a": {"trajectory": 0.2, "goal": 0.01}}}
+    params.update(extra or {})
+    ctl = mgr.load("arm_controller", params)
+    assert mgr.switch(["arm_controller"], [], 2)[0]
+    return joints, mgr, ctl, IntegratorModel(joints)
+
+
+def three_points():
+    return [TrajectoryPoint([0.2, -0.1, 0.3], time_from_start=0.5),
+            TrajectoryPoint([0.5, 0.2, 0.6], time_from_start=1.0),
+            TrajectoryPoint([0.4, 0.4, 0.8], [0.0, 0.0, 0.0], time_from_start=1.5)]
+
+
+def run_until_event(ctl, mgr, model, seconds):
+    events = []
+
+    def grab(t):
+        events.extend(ctl.events)
+        del ctl.events[:]
+    model.run(mgr, seconds, record=grab)
+    return events
+
+
+def test_position_goal_succeeds_and_ends_within_tolerance():
+    joints, mgr, ctl, model = rig()
+    ok, code, text = ctl.submit(JOINTS, three_points(), 0.0, model.time, goal_id="g1")
+    assert ok, text
+    events = run_until_event(ctl, mgr, model, 2.5)
+    assert events == [("g1", "succeeded", 0, "")]
+    for j, target in zip(joints, [0.4, 0.4, 0.8]):
+        assert j.position == pytest.approx(target, abs=0.01)
+    assert ctl.pending["joint_names"] == JOINTS
+
+
+def test_effort_trajectory_controller_tracks_with_gains():
+    gains = {n: {"p": 400.0, "d": 20.0} for n in JOINTS}
+    joints, mgr, ctl, model = rig("effort_controllers/JointTrajectoryController", {"gains": gains},
+                                  iface="EffortJointInterface")
+    ok, _, text = ctl.submit(JOINTS, three_points(), 0.0, model.time, goal_id="g1")
+    assert ok, text
+    events = run_until_event(ctl, mgr, model, 2.5)
+    assert events[0][:2] == ("g1", "succeeded")
+    assert joints[0].position == pytest.approx(0.4, abs=0.01)
+
+
+def test_unknown_joint_is_rejected_by_name():
+    joints, mgr, ctl, model = rig()
+    ok, code, text = ctl.submit(["a", "b", "wrist"], three_points(), 0.0, 0.0, goal_id="g")
+    assert not ok and code == INVALID_JOINTS and "'wrist'" in text and "arm_controller" in text
+    ok, code, text = ctl.submit(["a", "b"], [TrajectoryPoint([0, 0], time_from_start=1)], 0.0, 0.0, goal_id="g")
+    assert not ok and code == INVALID_JOINTS and "'c'" in text
+
+
+def test_malformed_points_are_invalid_goals():
+    joints, mgr, ctl, model = rig()
+    bad = [TrajectoryPoint([0.1, 0.2, 0.3], time_from_start=1.0), TrajectoryPoint([0.1, 0.2, 0.3], time_from_start=1.0)]
+    assert ctl.submit(JOINTS, bad, 0.0, 0.0, goal_id="g")[1] == INVALID_GOAL
+    assert ctl.submit(JOINTS, [TrajectoryPoint([0.1], time_from_start=1.0)], 0.0, 0.0, "g")[1] == INVALID_GOAL
+    nan = [TrajectoryPoint([0.1, float("nan"), 0.3], time_from_start=1.0)]
+    ok, code, text = ctl.submit(JOINTS, nan, 0.0, 0.0, goal_id="g")
+    assert code == INVALID_GOAL and "NaN" in text
+
+
+def test_new_goal_preempts_the_old_one():
+    joints, mgr, ctl, model = rig()
+    assert ctl.submit(JOINTS, three_points(), 0.0, model.time, goal_id="g1")[0]
+    model.run(mgr, 0.3)
+    assert ctl.submit(JOINTS, [TrajectoryPoint([0.0, 0.0, 0.0], time_from_start=0.5)], 0.0, model.time,
+                      goal_id="g2")[0]
+    events = run_until_event(ctl, mgr, model, 1.5)
+    assert ("g1", "preempted") == ctl_first(events, "g1")
+    assert ("g2", "succeeded") == ctl_first(events, "g2")
+
+
+def ctl_first(events, gid):
+    for e in events:
+        if e[0] == gid:
+            return e[:2]
+    return None
+
+
+def effort_rig():
+    gains = {n: {"p": 400.0, "d": 20.0} for n in JOINTS}
+    return rig("effort_controllers/JointTrajectoryController", {"gains": gains}, iface="EffortJointInterface")
+
+
+def test_path_tolerance_violation_aborts_and_holds():
+    joints, mgr, ctl, model = effort_rig()
+    mgr.hw.joints["a"].effort_limit = 0.01      # joint a is too weak to follow: path error grows
+    ok, _, _ = ctl.submit(JOINTS, three_points(), 0.0, model.time, goal_id="g1")
+    assert ok
+    events = run_until_event(ctl, mgr, model, 2.0)
+    assert events and events[0][1] == "aborted" and events[0][2] == PATH_TOLERANCE_VIOLATED
+    assert "'a'" in events[0][3] and "0.2" in events[0][3]
+
+
+def test_goal_tolerance_violation_after_goal_time():
+    joints, mgr, ctl, model = effort_rig()
+    mgr.hw.joints["c"].effort_limit = 0.02      # c lags far behind; c has no path tolerance
+    tol = [type("T", (), {"name": "c", "position": 0.02, "velocity": 0.0, "acceleration": 0.0})()]
+    ok, _, _ = ctl.submit(JOINTS, three_points(), 0.0, model.time, goal_id="g1", goal_tolerance=tol)
+    assert ok
+    events = run_until_event(ctl, mgr, model, 3.0)
+    assert events[0][1] == "aborted" and events[0][2] == GOAL_TOLERANCE_VIOLATED
+    assert "'c'" in events[0][3] and "after the trajectory's end" in events[0][3]
+
+
+def test_goal_time_tolerance_from_the_goal_overrides_the_default():
+    joints, mgr, ctl, model = effort_rig()
+    ok, _, _ = ctl.submit(JOINTS, three_points(), 0.0, 0.0, goal_id="g1", goal_time_tolerance=2.0)
+    assert ok and ctl.goal.goal_time == 2.0 and ctl.goal.goal[0].position == 0.01
+    assert ctl.goal.goal[1].velocity == 0.05 and ctl.goal.path[0].position == 0.2
+
+
+def test_cancel_holds_and_reports():
+    joints, mgr, ctl, model = rig()
+    ctl.submit(JOINTS, three_points(), 0.0, model.time, goal_id="g1")
+    model.run(mgr, 0.4)
+    assert ctl.cancel("g1", model.time)
+    held = [j.position for j in joints]
+    model.run(mgr, 0.5)
+    assert [j.position for j in joints] == pytest.approx(held, abs=0.02)
+    assert ctl.events[-1][:2] == ("g1", "canceled")
+
+
+def test_continuous_joint_trajectory_starts_the_short_way():
+    joints = [IntegratorJoint(name="w", type_="continuous", inertia=0.05, effort_limit=50.0, position=3.0)]
+    hw = RobotHWSim({"w": joints[0]}, simple_transmissions({"w": "PositionJointInterface"}))
+    mgr = ControllerManager(hw, "/r")
+    ctl = mgr.load("t", {"type": "position_controllers/JointTrajectoryController", "joints": ["w"]})
+    mgr.switch(["t"], [], 2)
+    model = IntegratorModel(joints)
+    ctl.submit(["w"], [TrajectoryPoint([-3.0], time_from_start=1.0)], 0.0, 0.0)
+    rec = []
+    model.run(mgr, 1.2, record=lambda t: rec.append(joints[0].position))
+    assert min(rec) > 2.99 and rec[-1] == pytest.approx(2 * math.pi - 3.0, abs=1e-6)
+
+
+def test_missing_gains_for_effort_type_names_the_path():
+    from modrob_sim.errors import ControllerError
+    with pytest.raises(ControllerError, match="/arm/arm_controller/gains"):
+        rig("effort_controllers/JointTrajectoryController", iface="EffortJointInterface")
