@@ -60,9 +60,10 @@ def _bases(specs):
 
 
 def build_robot_set(specs, gripper=False, grip_force=DEFAULT_GRIP_FORCE, safety_distance=0.0,
-                    db=None, out_dir=None):
-    """BuildResult for a list of RobotSpec. out_dir is where the files will live (the launch files
-    refer to the URDF and YAML by absolute path); default: the current directory."""
+                    db=None, out_dir=None, first_index=0):
+    """BuildResult for a list of RobotSpec, numbered modrob<first_index>, modrob<first_index+1> ...
+    out_dir is where the files will live (the launch files refer to the URDF and YAML by absolute
+    path); default: the current directory."""
     if not specs:
         raise BuildError("no robot: give at least one module order (e.g. --order 59,3,55,63,57,5)")
     db = db or load_database()
@@ -74,7 +75,7 @@ def build_robot_set(specs, gripper=False, grip_force=DEFAULT_GRIP_FORCE, safety_
             order = parse_order(spec.order)
             modules = validate_order(order, db)
         except BuildError as e:
-            raise type(e)("modrob%d: %s" % (n, e))
+            raise type(e)("modrob%d: %s" % (first_index + n, e))
         orders.append((order, modules))
     if gripper:
         grip_force, warning = check_grip_force(grip_force)
@@ -84,7 +85,7 @@ def build_robot_set(specs, gripper=False, grip_force=DEFAULT_GRIP_FORCE, safety_
     result.messages.extend(moved)
     spawn_entries, manifest = [], []
     for n, ((order, modules), base) in enumerate(zip(orders, bases)):
-        robot = build_robot_model(modules, order, index=n, base=base)
+        robot = build_robot_model(modules, order, index=first_index + n, base=base)
         result.robots.append(robot)
         root = robot_element(robot, default_comment(robot))
         if gripper:
