@@ -11,7 +11,8 @@ from modrob_sim.ros_control.testing import IntegratorJoint, IntegratorModel, sim
 
 
 def rig(iface="EffortJointInterface", pid_gains=None, **joint_kw):
-    kw = dict(name="j1", inertia=0.05, damping=0.05, lower=-2.0, upper=2.0, effort_limit=20.0, velocity_limit=5.0)
+    kw = dict(name="j1", inertia=0.05, damping=0.05, lower=-2.0, upper=2.0, effort_limit=20.0,
+              velocity_limit=5.0)
     kw.update(joint_kw)
     joint = IntegratorJoint(**kw)
     hw = RobotHWSim({joint.name: joint}, simple_transmissions({joint.name: iface}),
@@ -147,7 +148,8 @@ def test_position_interface_with_pid_gains_is_driven_by_effort():
 
 
 def test_velocity_interface_motor_and_pid():
-    joint, hw, mgr, model = rig("VelocityJointInterface", type_="continuous", lower=None, upper=None, damping=0.5)
+    joint, hw, mgr, model = rig("VelocityJointInterface", type_="continuous", lower=None, upper=None,
+                                damping=0.5)
     c = start(mgr, "vv", {"type": "velocity_controllers/JointVelocityController", "joint": "j1"})
     c.set_command(2.0)
     model.run(mgr, 0.5)
@@ -165,7 +167,8 @@ def test_velocity_interface_motor_and_pid():
 def test_wrong_interface_and_unknown_joint_are_named():
     joint, hw, mgr, model = rig("PositionJointInterface")
     with pytest.raises(ControllerError) as err:
-        mgr.load("pos", {"type": "effort_controllers/JointPositionController", "joint": "j1", "pid": {"p": 1}})
+        mgr.load("pos", {"type": "effort_controllers/JointPositionController", "joint": "j1",
+                         "pid": {"p": 1}})
     assert "j1" in str(err.value) and "EffortJointInterface" in str(err.value)
     with pytest.raises(ControllerError, match="joint 'elbow' is not a ros_control joint"):
         mgr.load("pos2", {"type": "position_controllers/JointPositionController", "joint": "elbow"})
@@ -178,7 +181,8 @@ def test_missing_joint_and_pid_parameters_name_the_full_path():
     with pytest.raises(ControllerError, match="/robot/pos/pid is missing"):
         mgr.load("pos", {"type": "effort_controllers/JointPositionController", "joint": "j1"})
     with pytest.raises(ControllerError, match="/robot/pos/pid/p"):
-        mgr.load("pos", {"type": "effort_controllers/JointPositionController", "joint": "j1", "pid": {"d": 1}})
+        mgr.load("pos", {"type": "effort_controllers/JointPositionController", "joint": "j1",
+                         "pid": {"d": 1}})
 
 
 def test_joint_state_controller_publishes_at_its_rate_and_requires_it():

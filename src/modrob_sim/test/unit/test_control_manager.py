@@ -14,7 +14,8 @@ JSC = {"type": "joint_state_controller/JointStateController", "publish_rate": 50
 @pytest.fixture
 def mgr():
     joints = {n: IntegratorJoint(name=n, effort_limit=5.0) for n in ("j1", "j2")}
-    hw = RobotHWSim(joints, simple_transmissions({"j1": "EffortJointInterface", "j2": "EffortJointInterface"}))
+    hw = RobotHWSim(joints, simple_transmissions({"j1": "EffortJointInterface",
+                                                  "j2": "EffortJointInterface"}))
     return ControllerManager(hw, "/robot")
 
 
@@ -84,7 +85,8 @@ def test_load_errors_say_what_to_do(mgr):
         mgr.load("arm", {"type": "effort_controllers/JointPositionControler", "joint": "j1"})
     text = str(err.value)
     assert "'effort_controllers/JointPositionControler'" in text and "does not exist" in text
-    assert "effort_controllers/JointPositionController" in text and "joint_state_controller/JointStateController" in text
+    assert "effort_controllers/JointPositionController" in text
+    assert "joint_state_controller/JointStateController" in text
     mgr.load("pos", POS)
     with pytest.raises(ControllerError, match="already loaded"):
         mgr.load("pos", POS)

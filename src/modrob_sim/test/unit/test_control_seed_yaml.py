@@ -29,8 +29,10 @@ def joints_from_urdf(xml):
             continue
         lim = j.find("limit")
         get = (lambda k: float(lim.get(k)) if lim is not None and lim.get(k) is not None else None)
-        out[j.get("name")] = IntegratorJoint(name=j.get("name"), type_=j.get("type"), inertia=0.05, damping=0.1,
-                                             lower=get("lower"), upper=get("upper"), effort_limit=get("effort"),
+        out[j.get("name")] = IntegratorJoint(name=j.get("name"), type_=j.get("type"), inertia=0.05,
+                                             damping=0.1,
+                                             lower=get("lower"), upper=get("upper"),
+                                             effort_limit=get("effort"),
                                              velocity_limit=get("velocity"))
     return out
 
@@ -98,7 +100,8 @@ def test_polaris_pid_gains_load_unchanged_and_steer():
     cfg = load_yaml("polaris_pid_gains_ok.yaml")
     steer, hw = polaris_rig(cfg["gazebo_ros_control"]["pid_gains"])
     res = hw.joints[steer.name]
-    assert res.method == POSITION_PID and (res.pid.gains.p, res.pid.gains.i, res.pid.gains.d) == (1000, 100, 10)
+    assert res.method == POSITION_PID and (res.pid.gains.p, res.pid.gains.i, res.pid.gains.d) == (1000,
+                                                                                                  100, 10)
     mgr = ControllerManager(hw, "/")
     c = mgr.load("front_left_steering_position_controller", cfg["front_left_steering_position_controller"])
     mgr.switch([c.name], [], STRICT)

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from modrob_sim.ros_control.controllers.joint_trajectory import (
-    GOAL_TOLERANCE_VIOLATED, INVALID_GOAL, INVALID_JOINTS, PATH_TOLERANCE_VIOLATED, Tolerance, TrajectoryPoint)
+    GOAL_TOLERANCE_VIOLATED, INVALID_GOAL, INVALID_JOINTS, PATH_TOLERANCE_VIOLATED, TrajectoryPoint)
 from modrob_sim.ros_control.hardware import RobotHWSim
 from modrob_sim.ros_control.manager import ControllerManager
 from modrob_sim.ros_control.testing import IntegratorJoint, IntegratorModel, simple_transmissions
@@ -103,13 +103,15 @@ def test_unknown_joint_is_rejected_by_name():
     joints, mgr, ctl, model = rig()
     ok, code, text = ctl.submit(["a", "b", "wrist"], three_points(), 0.0, 0.0, goal_id="g")
     assert not ok and code == INVALID_JOINTS and "'wrist'" in text and "arm_controller" in text
-    ok, code, text = ctl.submit(["a", "b"], [TrajectoryPoint([0, 0], time_from_start=1)], 0.0, 0.0, goal_id="g")
+    ok, code, text = ctl.submit(["a", "b"], [TrajectoryPoint([0, 0], time_from_start=1)], 0.0, 0.0,
+                                goal_id="g")
     assert not ok and code == INVALID_JOINTS and "'c'" in text
 
 
 def test_malformed_points_are_invalid_goals():
     joints, mgr, ctl, model = rig()
-    bad = [TrajectoryPoint([0.1, 0.2, 0.3], time_from_start=1.0), TrajectoryPoint([0.1, 0.2, 0.3], time_from_start=1.0)]
+    bad = [TrajectoryPoint([0.1, 0.2, 0.3], time_from_start=1.0), TrajectoryPoint([0.1, 0.2, 0.3],
+                                                                                  time_from_start=1.0)]
     assert ctl.submit(JOINTS, bad, 0.0, 0.0, goal_id="g")[1] == INVALID_GOAL
     assert ctl.submit(JOINTS, [TrajectoryPoint([0.1], time_from_start=1.0)], 0.0, 0.0, "g")[1] == INVALID_GOAL
     nan = [TrajectoryPoint([0.1, float("nan"), 0.3], time_from_start=1.0)]

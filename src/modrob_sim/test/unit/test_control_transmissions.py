@@ -5,7 +5,8 @@ import pytest
 
 from modrob_sim.errors import ModelError
 from modrob_sim.ros_control.plugin_config import PluginConfig
-from modrob_sim.ros_control.transmissions import (SimpleTransmission, canonical_interface, parse_transmissions)
+from modrob_sim.ros_control.transmissions import (SimpleTransmission, canonical_interface,
+                                                  parse_transmissions)
 import xml.etree.ElementTree as ET
 
 FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
@@ -57,7 +58,8 @@ def test_plugin_config_namespaces_and_legacy_mode():
     el = ET.fromstring(_read("ptrz_camera.urdf")).find("gazebo/plugin")
     cfg = PluginConfig.from_element(el, "pan")
     assert cfg.robot_namespace == "/ptrz" and cfg.legacy_mode_ns and not cfg.legacy_mode_given
-    assert cfg.pid_gains_namespaces() == ["/gazebo_ros_control/pid_gains", "/ptrz/gazebo_ros_control/pid_gains"]
+    assert cfg.pid_gains_namespaces() == ["/gazebo_ros_control/pid_gains",
+                                          "/ptrz/gazebo_ros_control/pid_gains"]
     el = ET.fromstring('<plugin filename="libgazebo_ros_control.so"><robotNamespace>modrob0</robotNamespace>'
                        '<legacyModeNS>false</legacyModeNS><controlPeriod>0.002</controlPeriod></plugin>')
     cfg = PluginConfig.from_element(el, "m")

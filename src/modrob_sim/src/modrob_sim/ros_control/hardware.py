@@ -95,7 +95,8 @@ class RobotHWSim(object):
                 warn("Transmission %s has no associated joints: ignored." % tr.name)
                 continue
             if len(tr.joints) > 1:
-                warn("Transmission %s has more than one joint; DefaultRobotHWSim supports one: ignored." % tr.name)
+                warn("Transmission %s has more than one joint; DefaultRobotHWSim supports one: ignored."
+                     % tr.name)
                 continue
             tj = tr.joints[0]
             ifaces = tj.interfaces
@@ -109,14 +110,18 @@ class RobotHWSim(object):
                 continue
             iface = canonical_interface(ifaces[0])
             if iface is None:
-                raise ControllerError("Transmission %s: no matching hardware interface found for '%s' of joint "
-                                      "%s (use hardware_interface/EffortJointInterface, PositionJointInterface or "
+                raise ControllerError("Transmission %s: no matching hardware interface found for '%s' "
+                                      "of joint "
+                                      "%s (use hardware_interface/EffortJointInterface, "
+                                      "PositionJointInterface or "
                                       "VelocityJointInterface)" % (tr.name, ifaces[0], tj.name))
             if tj.name not in model_joints:
-                raise ControllerError("Transmission %s names joint '%s', which is not in the model (joints: %s)"
+                raise ControllerError("Transmission %s names joint '%s', which is not in the model "
+                                      "(joints: %s)"
                                       % (tr.name, tj.name, ", ".join(sorted(model_joints))))
             if tj.name in self.joints:
-                warn("Joint %s appears in two transmissions; the second (%s) is ignored." % (tj.name, tr.name))
+                warn("Joint %s appears in two transmissions; the second (%s) is ignored." % (tj.name,
+                                                                                             tr.name))
                 continue
             res = JointResource(model_joints[tj.name], iface)
             if iface in (POSITION, VELOCITY) and pid_gains is not None and pid_gains.has(tj.name):
@@ -129,7 +134,8 @@ class RobotHWSim(object):
             for act in tr.actuators:
                 if act.reduction != 1.0:
                     self.notes.append("Transmission %s: mechanicalReduction %g is ignored, as "
-                                      "gazebo_ros_control's DefaultRobotHWSim does (commands are joint values)"
+                                      "gazebo_ros_control's DefaultRobotHWSim does (commands are joint "
+                                      "values)"
                                       % (tr.name, act.reduction))
 
     def joint(self, name, interface=None, controller=""):

@@ -39,15 +39,18 @@ class ControllerManager(object):
         namespace does not exist). Returns the controller; ControllerError says what is wrong."""
         ns = join(self.namespace, name)
         if name in self.controllers:
-            raise ControllerError("A controller named '%s' was already loaded inside the controller manager" % name)
+            raise ControllerError("A controller named '%s' was already loaded inside the controller "
+                                  "manager" % name)
         if not isinstance(params_values, dict) or "type" not in params_values:
-            raise ControllerError("Could not load controller '%s' because the type was not specified. Did you load "
+            raise ControllerError("Could not load controller '%s' because the type was not specified. "
+                                  "Did you load "
                                   "the controller configuration on the parameter server (namespace: '%s')?"
                                   % (name, ns))
         type_ = params_values["type"]
         cls = self.types.get(type_)
         if cls is None:
-            raise ControllerError("Could not load controller '%s' because controller type '%s' does not exist "
+            raise ControllerError("Could not load controller '%s' because controller type '%s' does not "
+                                  "exist "
                                   "(parameter %s/type). Known types: %s"
                                   % (name, type_, ns, ", ".join(self.list_types())))
         controller = cls(name, self.hw, Params(params_values, ns))
@@ -57,7 +60,8 @@ class ControllerManager(object):
     def unload(self, name):
         c = self.controllers.get(name)
         if c is None:
-            raise ControllerError("Could not unload controller with name '%s' because no controller with this "
+            raise ControllerError("Could not unload controller with name '%s' because no controller "
+                                  "with this "
                                   "name exists (loaded: %s)" % (name, ", ".join(self.controllers) or "none"))
         if c.state == "running":
             raise ControllerError("Could not unload controller with name '%s' because it is still running; "
@@ -69,8 +73,10 @@ class ControllerManager(object):
     def switch(self, start, stop, strictness=STRICT):
         """Stop ``stop`` and start ``start`` together. Returns (ok, message)."""
         if strictness not in (BEST_EFFORT, STRICT):
-            self.log("warn", "Controller Manager: To switch controllers you need to specify a strictness level of "
-                     "controller_manager_msgs::SwitchController::STRICT (2) or ::BEST_EFFORT (1). Defaulting to "
+            self.log("warn", "Controller Manager: To switch controllers you need to specify a "
+                             "strictness level of "
+                     "controller_manager_msgs::SwitchController::STRICT (2) or ::BEST_EFFORT (1). "
+                     "Defaulting to "
                      "::BEST_EFFORT.")
             strictness = BEST_EFFORT
         problems = []
@@ -78,7 +84,8 @@ class ControllerManager(object):
         for name in stop:
             c = self.controllers.get(name)
             if c is None:
-                problems.append("Could not stop controller with name '%s' because no controller with this name "
+                problems.append("Could not stop controller with name '%s' because no controller with "
+                                "this name "
                                 "exists" % name)
             elif c.state != "running":
                 problems.append("Could not stop controller '%s' since it is not running" % name)
@@ -87,7 +94,8 @@ class ControllerManager(object):
         for name in start:
             c = self.controllers.get(name)
             if c is None:
-                problems.append("Could not start controller with name '%s' because no controller with this name "
+                problems.append("Could not start controller with name '%s' because no controller with "
+                                "this name "
                                 "exists" % name)
             elif c.state == "running" and name not in to_stop:
                 problems.append("Could not start controller '%s' since it is already running" % name)
@@ -97,13 +105,15 @@ class ControllerManager(object):
             return False, "; ".join(problems)
         for p in problems:
             self.log("debug", p)
-        running = [n for n, c in self.controllers.items() if c.state == "running" and n not in to_stop] + to_start
+        running = [n for n, c in self.controllers.items()
+                   if c.state == "running" and n not in to_stop] + to_start
         claims = {}
         for n in running:
             for _iface, joints in self.controllers[n].claimed_resources:
                 for j in joints:
                     if j in claims and claims[j] != n:
-                        return False, ("Resource conflict for resource '%s' between controllers '%s' and '%s': "
+                        return False, ("Resource conflict for resource '%s' between controllers '%s' "
+                                       "and '%s': "
                                        "stop one of them in the same switch" % (j, claims[j], n))
                     claims[j] = n
         t = self.time

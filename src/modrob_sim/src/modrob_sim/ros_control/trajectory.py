@@ -25,7 +25,8 @@ def _coefficients(p0, v0, a0, p1, v1, a1, T, order):
                 (-2.0 * (p1 - p0) + (v0 + v1) * T) / T ** 3]
     return [p0, v0, 0.5 * a0,
             (20.0 * (p1 - p0) - (8.0 * v1 + 12.0 * v0) * T - (3.0 * a0 - a1) * T ** 2) / (2.0 * T ** 3),
-            (30.0 * (p0 - p1) + (14.0 * v1 + 16.0 * v0) * T + (3.0 * a0 - 2.0 * a1) * T ** 2) / (2.0 * T ** 4),
+            (30.0 * (p0 - p1) + (14.0 * v1 + 16.0 * v0) * T
+             + (3.0 * a0 - 2.0 * a1) * T ** 2) / (2.0 * T ** 4),
             (12.0 * (p1 - p0) - 6.0 * (v1 + v0) * T - (a0 - a1) * T ** 2) / (2.0 * T ** 5)]
 
 
@@ -53,7 +54,8 @@ class Segment(object):
         v0, v1 = start.velocities or zeros, end.velocities or zeros
         a0, a1 = start.accelerations or zeros, end.accelerations or zeros
         T = t1 - t0
-        self.coeffs = [_coefficients(start.positions[i], v0[i], a0[i], end.positions[i], v1[i], a1[i], T, order)
+        self.coeffs = [_coefficients(start.positions[i], v0[i], a0[i], end.positions[i], v1[i], a1[i], T,
+                                     order)
                        for i in range(n)]
 
     def sample(self, t):

@@ -66,14 +66,15 @@ def parse_transmissions(urdf_xml):
     for el in root.iter("transmission"):
         name = el.get("name")
         if not name:
-            raise ModelError("a <transmission> without a name attribute; give each transmission a unique name")
+            raise ModelError("a <transmission> without a name attribute; give each transmission a "
+                             "unique name")
         type_ = _text(el, "type") or el.get("type") or ""
         joints = []
         for j in el.findall("joint"):
             if not j.get("name"):
                 raise ModelError("transmission '%s': a <joint> without a name attribute" % name)
-            joints.append(TransmissionJoint(j.get("name"), [h.text.strip() for h in j.findall("hardwareInterface")
-                                                             if h.text and h.text.strip()]))
+            ifaces = [h.text.strip() for h in j.findall("hardwareInterface") if h.text and h.text.strip()]
+            joints.append(TransmissionJoint(j.get("name"), ifaces))
         actuators = []
         for a in el.findall("actuator"):
             red_text = _text(a, "mechanicalReduction")

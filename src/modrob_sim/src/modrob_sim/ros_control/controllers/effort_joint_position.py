@@ -34,7 +34,8 @@ class EffortJointPositionController(Controller):
             clamped = j.clamp_position(value)
             self.command.write(clamped)
             return CommandResult(True, clamped, clamped_from=value,
-                                 reason="outside the limits [%g, %g] of joint '%s'" % (j.lower, j.upper, j.name))
+                                 reason="outside the limits [%g, %g] of joint '%s'" % (j.lower, j.upper,
+                                                                                       j.name))
         self.command.write(value)
         return CommandResult(True, value)
 

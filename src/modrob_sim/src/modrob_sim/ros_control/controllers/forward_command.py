@@ -66,7 +66,8 @@ class PositionJointPositionController(_ForwardCommandController):
             clamped = j.clamp_position(value)
             self.command.write(clamped)
             return CommandResult(True, clamped, clamped_from=value,
-                                 reason="outside the limits [%g, %g] of joint '%s'" % (j.lower, j.upper, j.name))
+                                 reason="outside the limits [%g, %g] of joint '%s'" % (j.lower, j.upper,
+                                                                                       j.name))
         return super(PositionJointPositionController, self)._store(value)
 
 

@@ -15,8 +15,8 @@ class JointStateController(Controller):
                                   "(e.g. 'publish_rate: 50')" % params.path("publish_rate"))
         self.publish_rate = params.get("publish_rate", kind=float)
         if self.publish_rate <= 0.0:
-            raise ControllerError("Parameter %s must be > 0, got %g" % (params.path("publish_rate"),
-                                                                       self.publish_rate))
+            raise ControllerError("Parameter %s must be > 0, got %g"
+                                  % (params.path("publish_rate"), self.publish_rate))
         self.extra = []
         for i, extra in enumerate(params.values.get("extra_joints", []) or []):
             if not isinstance(extra, dict) or "name" not in extra:

@@ -90,13 +90,14 @@ class JointTrajectoryControllerBase(Controller):
         for j in joints:
             jc = c.child(j)
             self.default_path.append(Tolerance(jc.get("trajectory", 0.0, kind=float)))
-            self.default_goal.append(Tolerance(jc.get("goal", 0.0, kind=float), self.stopped_velocity_tolerance))
+            self.default_goal.append(Tolerance(jc.get("goal", 0.0, kind=float),
+                                               self.stopped_velocity_tolerance))
         self.stop_trajectory_duration = params.get("stop_trajectory_duration", 0.0, kind=float)
         self.state_publish_rate = params.get("state_publish_rate", 50.0, kind=float)
         self.action_monitor_rate = params.get("action_monitor_rate", 20.0, kind=float)
         if self.state_publish_rate <= 0.0 or self.action_monitor_rate <= 0.0:
-            raise ControllerError("Parameters %s and %s must be > 0" % (params.path("state_publish_rate"),
-                                                                       params.path("action_monitor_rate")))
+            raise ControllerError("Parameters %s and %s must be > 0"
+                                  % (params.path("state_publish_rate"), params.path("action_monitor_rate")))
         self.allow_partial = params.get("allow_partial_joints_goal", False, kind=bool)
         self.trajectory = None
         self.goal = None
@@ -164,30 +165,30 @@ class JointTrajectoryControllerBase(Controller):
             return False, INVALID_JOINTS, "the goal names a joint twice: %s" % list(joint_names)
         missing = [j for j in self.joint_names if j not in joint_names]
         if missing and not self.allow_partial and points:
-            return False, INVALID_JOINTS, ("the goal does not name joint%s %s of '%s' (set allow_partial_joints_goal "
+            return False, INVALID_JOINTS, ("the goal does not name joint%s %s of '%s' (set "
+                                           "allow_partial_joints_goal "
                                            "to true to allow partial goals)"
                                            % ("s" if len(missing) > 1 else "",
                                               ", ".join("'%s'" % m for m in missing), self.name))
         k = len(joint_names)
         last_t = -1.0
         for i, p in enumerate(points):
-            if len(p.positions) != k:
-                return False, INVALID_GOAL, ("point %d has %d positions for %d joints" % (i, len(p.positions), k))
-            if p.velocities and len(p.velocities) != k:
-                return False, INVALID_GOAL, ("point %d has %d velocities for %d joints" % (i, len(p.velocities), k))
-            if p.accelerations and len(p.accelerations) != k:
-                return False, INVALID_GOAL, ("point %d has %d accelerations for %d joints"
-                                             % (i, len(p.accelerations), k))
+            for what, values in (("positions", p.positions), ("velocities", p.velocities),
+                                 ("accelerations", p.accelerations)):
+                if (values or what == "positions") and len(values) != k:
+                    return False, INVALID_GOAL, "point %d has %d %s for %d joints" % (i, len(values), what, k)
             values = p.positions + p.velocities + p.accelerations + [p.time_from_start]
             if not all(math.isfinite(v) for v in values):
                 return False, INVALID_GOAL, "point %d contains a NaN or infinite value" % i
             if p.time_from_start <= last_t:
-                return False, INVALID_GOAL, ("time_from_start must increase strictly: point %d at %g s follows %g s"
+                return False, INVALID_GOAL, ("time_from_start must increase strictly: point %d at %g s "
+                                             "follows %g s"
                                              % (i, p.time_from_start, last_t))
             last_t = p.time_from_start
         start = start_time if start_time and start_time > 0.0 else now
         if points and start + points[-1].time_from_start < now:
-            return False, OLD_HEADER_TIMESTAMP, ("the trajectory ended %.3f s ago (header.stamp %.3f, now %.3f)"
+            return False, OLD_HEADER_TIMESTAMP, ("the trajectory ended %.3f s ago (header.stamp %.3f, "
+                                                 "now %.3f)"
                                                  % (now - start - points[-1].time_from_start, start, now))
         # accepted
         if goal_id is not None or self.goal is not None:
@@ -208,9 +209,12 @@ class JointTrajectoryControllerBase(Controller):
             for i, j in enumerate(self.joint_names):
                 dp, dg = self.default_path[i], self.default_goal[i]
                 tp, tg = by_name_path.get(j), by_name_goal.get(j)
-                path.append(Tolerance(_merge(dp.position, tp and tp.position), _merge(dp.velocity, tp and tp.velocity)))
-                goal.append(Tolerance(_merge(dg.position, tg and tg.position), _merge(dg.velocity, tg and tg.velocity)))
-            gt = goal_time_tolerance if goal_time_tolerance and goal_time_tolerance > 0 else self.default_goal_time
+                path.append(Tolerance(_merge(dp.position, tp and tp.position), _merge(dp.velocity,
+                                                                                      tp and tp.velocity)))
+                goal.append(Tolerance(_merge(dg.position, tg and tg.position), _merge(dg.velocity,
+                                                                                      tg and tg.velocity)))
+            gt = goal_time_tolerance if goal_time_tolerance and goal_time_tolerance > 0 \
+                else self.default_goal_time
             self.goal = ActiveGoal(goal_id, path, goal, gt)
             self.goal.end_time = self.trajectory.end_time
         return True, SUCCESSFUL, ""
@@ -289,7 +293,8 @@ class JointTrajectoryControllerBase(Controller):
                 if tol.position > 0.0 and abs(epos[i]) > tol.position:
                     self._abort(t, PATH_TOLERANCE_VIOLATED,
                                 "path tolerance violated: joint '%s' is %.4g from the desired position "
-                                "(tolerance %.4g) at t=%.3f s" % (self.joint_names[i], epos[i], tol.position, t))
+                                "(tolerance %.4g) at t=%.3f s" % (self.joint_names[i], epos[i],
+                                                                  tol.position, t))
                     return
                 if tol.velocity > 0.0 and abs(evel[i]) > tol.velocity:
                     self._abort(t, PATH_TOLERANCE_VIOLATED,
@@ -311,7 +316,8 @@ class JointTrajectoryControllerBase(Controller):
             self.events.append((g.goal_id, "succeeded", SUCCESSFUL, ""))
             self.goal = None
         elif t >= g.end_time + g.goal_time:
-            self._abort(t, GOAL_TOLERANCE_VIOLATED, "goal tolerance violated %.3f s after the trajectory's end: %s"
+            self._abort(t, GOAL_TOLERANCE_VIOLATED, "goal tolerance violated %.3f s after the "
+                                                    "trajectory's end: %s"
                         % (t - g.end_time, bad))
 
     def _abort(self, t, code, text):
