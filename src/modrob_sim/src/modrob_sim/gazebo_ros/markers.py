@@ -31,6 +31,20 @@ def _mesh_uri(filename):
     return "file://" + os.path.abspath(filename)
 
 
+def _from_core(link_name, link, g):
+    """description.Visual from the core's GeometryDesc (kind, size, origin, uri, color, material)."""
+    gz = description.GAZEBO_MATERIALS
+    rgba = gz.get(getattr(link, "material", None) or "") or g.color or gz.get(g.material or "")
+    if g.kind == "plane":
+        size, scale = (100.0, 100.0), (1.0, 1.0, 1.0)
+    elif g.kind == "mesh":
+        size, scale = (), tuple(g.size) if g.size else (1.0, 1.0, 1.0)
+    else:
+        size, scale = tuple(g.size), (1.0, 1.0, 1.0)
+    return description.Visual(link_name, g.origin, g.kind, size, g.uri, scale,
+                              tuple(rgba) if rgba else description.DEFAULT_RGBA)
+
+
 class WorldMarkers(object):
     def __init__(self, world, which="props"):
         if which not in ("props", "all", "none"):
@@ -44,8 +58,16 @@ class WorldMarkers(object):
     def _model_visuals(self, model):
         vis = self._visuals.get(model.name)
         if vis is None or vis[0] is not model:
-            info = description.parse_links(getattr(model, "source_xml", "") or "", model.name)
-            vis = (model, {lname: li.visuals for lname, li in info.items() if li.visuals})
+            per_link = {}
+            if all(hasattr(link, "visuals") for link in model.links.values()):
+                for lname, link in model.links.items():
+                    v = [_from_core(lname, link, g) for g in link.visuals]
+                    if v:
+                        per_link[lname] = v
+            else:   # a core without visuals on links: read the description text
+                info = description.parse_links(getattr(model, "source_xml", "") or "", model.name)
+                per_link = {lname: li.visuals for lname, li in info.items() if li.visuals}
+            vis = (model, per_link)
             self._visuals[model.name] = vis
         return vis[1]
 

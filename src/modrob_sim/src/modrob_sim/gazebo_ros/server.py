@@ -6,8 +6,9 @@ publishes from the after-step hook (decimated), and runs every request that ROS 
 it between two steps. Service callbacks never touch the World themselves.
 """
 import collections
-import sys
+import logging
 import math
+import sys
 import time
 import traceback
 
@@ -48,7 +49,7 @@ class Params(object):
     """The node's parameters (see docs/simulator.md)."""
 
     def __init__(self, time_step=None, real_time_factor=None, paused=False, seed=0, world_name="",
-                 pub_clock_frequency=0.0, publish_rate=100.0, marker_rate=10.0, marker_models="props",
+                 pub_clock_frequency=1000.0, publish_rate=100.0, marker_rate=10.0, marker_models="props",
                  rtf_log_period=5.0, plugin_modules=(), gravity=None):
         self.time_step = time_step
         self.real_time_factor = real_time_factor
@@ -64,20 +65,45 @@ class Params(object):
         self.gravity = gravity
 
     @classmethod
-    def from_ros(cls):
-        """Read ``~params``; an unset time_step / real_time_factor comes from the world file's
-        <physics> (else 0.001 s and 1.0), as Gazebo takes them from the world."""
+    def from_ros(cls, argv=()):
+        """Read ``~params`` and gzserver's arguments in ``argv`` (``-u`` start paused, ``--verbose``,
+        ``-e ode``, a world file). An unset time_step / real_time_factor comes from the world
+        file's <physics> (else 0.001 s and 1.0), as Gazebo takes them from the world."""
         def opt(name):
             return rospy.get_param("~" + name) if rospy.has_param("~" + name) else None
+        args = parse_server_args(argv)
+        engine = str(rospy.get_param("~physics", args["physics"] or "ode"))
+        if engine != "ode":
+            rospy.logwarn("physics engine '%s' requested; this simulator has only ode: using ode" % engine)
         return cls(time_step=opt("time_step"), real_time_factor=opt("real_time_factor"),
-                   paused=bool(rospy.get_param("~paused", False)), seed=int(rospy.get_param("~seed", 0)),
-                   world_name=str(rospy.get_param("~world_name", "")),
-                   pub_clock_frequency=float(rospy.get_param("~pub_clock_frequency", 0.0)),
+                   paused=bool(rospy.get_param("~paused", False)) or args["paused"],
+                   seed=int(rospy.get_param("~seed", 0)),
+                   world_name=str(rospy.get_param("~world_name", args["world"] or "")),
+                   pub_clock_frequency=float(rospy.get_param("~pub_clock_frequency", 1000.0)),
                    publish_rate=float(rospy.get_param("~publish_rate", 100.0)),
                    marker_rate=float(rospy.get_param("~marker_rate", 10.0)),
                    marker_models=str(rospy.get_param("~marker_models", "props")),
                    rtf_log_period=float(rospy.get_param("~rtf_log_period", 5.0)),
                    plugin_modules=rospy.get_param("~plugin_modules", []))
+
+
+def parse_server_args(argv):
+    """gzserver's command line as gazebo_ros's launch files pass it: -u, --verbose, -e ENGINE,
+    a world file; other flags are ignored (they are Gazebo's, without meaning here)."""
+    out = {"paused": False, "verbose": False, "physics": None, "world": None, "ignored": []}
+    it = iter(argv)
+    for a in it:
+        if a in ("-u", "--pause"):
+            out["paused"] = True
+        elif a == "--verbose":
+            out["verbose"] = True
+        elif a in ("-e", "--physics"):
+            out["physics"] = next(it, None)
+        elif a.startswith("-"):
+            out["ignored"].append(a)
+        elif a:
+            out["world"] = a
+    return out
 
 
 class RequestError(ModrobError):
@@ -180,6 +206,8 @@ class GazeboRosNode(object):
             def world_factory(time_step, gravity, seed, resolver):
                 return World(time_step=time_step, gravity=gravity, seed=seed, resource_resolver=resolver)
         self.world = world_factory(float(time_step), tuple(gravity), int(params.seed), self.resolve)
+        forward_python_logging("modrob_sim")
+        self._own_sim_time = take_over_sim_time()
         self._hook = self.world.add_step_hook(before=self._before_step, after=self._after_step)
 
         plugins.import_plugin_modules(plugins.PLUGIN_MODULES + list(params.plugin_modules),
@@ -262,6 +290,8 @@ class GazeboRosNode(object):
 
     # ---- the loop's hooks (loop thread) -----------------------------------------------------
     def _before_step(self, t, dt):
+        if self._own_sim_time:
+            rospy.rostime._set_rostime(ros_time(t))
         if self._wrench_jobs:
             self._activate_wrenches(t)
         for update in self._updates:
@@ -764,13 +794,15 @@ class GazeboRosNode(object):
             if req.duration.to_sec() == 0.0:
                 return "duration is 0: nothing applied"
             frame = self._frame(req.reference_frame)
+            link_pose = link.pose
             if frame is not None:     # wrench and point given in that frame: rotate / move to world
                 q = frame[0][1]
                 f, tq = tf.quat_rotate(q, f), tf.quat_rotate(q, tq)
-                p = tf.add(frame[0][0], tf.quat_rotate(q, p))
-            else:
-                # Gazebo: in the world frame the point is relative to the body's origin
-                p = tf.add(link.pose[0], p)
+                p_world = tf.add(frame[0][0], tf.quat_rotate(q, p))
+            else:                     # world axes, point relative to the body's origin
+                p_world = tf.add(link_pose[0], p)
+            # the core takes the point in the link frame (where the force acts on the link)
+            p = tf.quat_rotate(tf.quat_conj(link_pose[1]), tf.sub(p_world, link_pose[0]))
             start, duration = self._start_and_duration(req.start_time, req.duration)
             self._wrench_jobs.append(_WrenchJob(link, f, tq, p, start, duration))
             self._activate_wrenches(self.world.time)
@@ -818,7 +850,10 @@ class GazeboRosNode(object):
                 total[job.joint] = total.get(job.joint, 0.0) + job.effort
         self._effort_jobs = keep
         for joint, effort in total.items():
-            joint.set_effort(effort)
+            # Gazebo's SetForce adds up within a step: add to what a controller set this step
+            # (the core keeps only the last set_effort, so read its pending command)
+            pending = joint._cmd if getattr(joint, "_has_cmd", False) else 0.0
+            joint.set_effort(pending + effort)
 
     def _clear_body_wrenches(self, req):
         def do():
@@ -841,7 +876,10 @@ class GazeboRosNode(object):
 
     # ---- physics control --------------------------------------------------------------------------
     def _pause(self, req):
-        self.loop.set_paused(True)
+        def do():   # between two steps: the last /clock then tells the exact paused time
+            self.loop.set_paused(True)
+            self._publish_clock()
+        self.loop.call(do)
         return EmptyResponse()
 
     def _unpause(self, req):
@@ -928,6 +966,7 @@ class GazeboRosNode(object):
                                    "a paused simulation by exactly N steps)")
             if req.steps > 0:
                 self.world.step(int(req.steps))
+                self._publish_clock()   # the throttled clock may have skipped the last step
             resp.iterations = self.world.iterations
             resp.sim_time = self.world.time
             return "advanced %d steps to t=%.6f s" % (req.steps, self.world.time)
@@ -944,3 +983,40 @@ def ensure_use_sim_time():
             master.setParam("/use_sim_time", True)
     except Exception as exc:  # noqa: B902 - no master yet: init_node will report it
         sys.stderr.write("gazebo: could not check /use_sim_time: %s\n" % exc)
+
+
+class _RospyHandler(logging.Handler):
+    """Python logging of the pure libraries (modrob_sim.physics ...) to rosout."""
+
+    def emit(self, record):
+        text = self.format(record)
+        if record.levelno >= logging.ERROR:
+            rospy.logerr(text)
+        elif record.levelno >= logging.WARNING:
+            rospy.logwarn(text)
+        elif record.levelno >= logging.INFO:
+            rospy.loginfo(text)
+        else:
+            rospy.logdebug(text)
+
+
+def forward_python_logging(name):
+    logger = logging.getLogger(name)
+    if not any(isinstance(h, _RospyHandler) for h in logger.handlers):
+        logger.addHandler(_RospyHandler())
+        logger.setLevel(logging.INFO)
+        logger.propagate = False
+
+
+def take_over_sim_time():
+    """In this process rospy would follow /clock by subscribing to it: the node would send every
+    clock message to itself. Drop that subscription; the loop sets rospy's time directly before
+    each step instead (so rospy.Time.now() in plugins is the step's time). True when sim time is
+    in use here."""
+    from rospy.impl import simtime
+    sub = getattr(simtime, "_clock_sub", None)
+    if sub is None or rospy.rostime.is_wallclock():
+        return False
+    sub.unregister()
+    simtime._clock_sub = None
+    return True
