@@ -1,0 +1,202 @@
+"""The ``libgazebo_ros_control.so`` plugin of the /gazebo node (the ROS layer of the emulation).
+
+For each model with ``<plugin filename="libgazebo_ros_control.so">`` it builds the simulated
+hardware from the model's ``<transmission>`` tags and joints, reads the per-joint
+``gazebo_ros_control/pid_gains``, and serves controller_manager's services under the robot
+namespace. ``update(t, dt)`` runs in the simulation loop: queued goals in, read -> controllers ->
+write, outputs published.
+"""
+import threading
+
+import rospy
+from controller_manager_msgs.msg import ControllerState, HardwareInterfaceResources
+from controller_manager_msgs.srv import (ListControllers, ListControllersResponse, ListControllerTypes,
+                                         ListControllerTypesResponse, LoadController, LoadControllerResponse,
+                                         ReloadControllerLibraries, ReloadControllerLibrariesResponse,
+                                         SwitchController, SwitchControllerResponse, UnloadController,
+                                         UnloadControllerResponse)
+
+from modrob_sim.errors import ModrobError
+from modrob_sim.gazebo_ros.plugins import register_plugin
+from modrob_sim.ros_control.hardware import RobotHWSim
+from modrob_sim.ros_control.manager import BEST_EFFORT, ControllerManager
+from modrob_sim.ros_control.params import Params, join
+from modrob_sim.ros_control.plugin_config import DEFAULT_SIM_TYPE, PluginConfig
+from modrob_sim.ros_control.ros_adapters import adapter_for
+from modrob_sim.ros_control.ros_pid_reconfigure import PidReconfigure
+from modrob_sim.ros_control.transmissions import parse_transmissions
+
+FILENAME = "libgazebo_ros_control.so"
+BASE_CLASS = "controller_interface::ControllerBase"
+
+_LOG = {"debug": rospy.logdebug, "info": rospy.loginfo, "warn": rospy.logwarn, "error": rospy.logerr}
+
+
+def _get_param(name):
+    try:
+        return rospy.get_param(name)
+    except KeyError:
+        return None
+
+
+class GazeboRosControlPlugin(object):
+    def __init__(self, model, spec, context):
+        cfg = PluginConfig.from_element(spec.element, model.name,
+                                        spec.robot_namespace or getattr(context, "robot_namespace", ""))
+        self.config = cfg
+        self.model_name = model.name
+        self.namespace = cfg.robot_namespace
+        if cfg.sim_type != DEFAULT_SIM_TYPE:
+            rospy.logwarn("model '%s': robotSimType '%s' is not available here; using %s"
+                          % (model.name, cfg.sim_type, DEFAULT_SIM_TYPE))
+        pid_ns, pid_values = None, None
+        for ns in cfg.pid_gains_namespaces():
+            values = _get_param(ns)
+            if isinstance(values, dict) and values:
+                pid_ns, pid_values = ns, values
+                break
+        transmissions = parse_transmissions(model.source_xml)
+        self.hw = RobotHWSim(model.joints, transmissions,
+                             Params(pid_values, pid_ns) if pid_ns else None,
+                             warn=lambda m: rospy.logwarn("model '%s': %s" % (model.name, m)))
+        for note in self.hw.notes:
+            rospy.loginfo("model '%s': %s" % (model.name, note))
+        self.lock = threading.RLock()
+        self.manager = ControllerManager(self.hw, self.namespace,
+                                         log=lambda level, msg: _LOG[level]("%s: %s" % (self.namespace, msg)))
+        self.adapters = {}
+        self.reconfigure = [PidReconfigure(res.pid, res.pid_source) for res in self.hw.pid_joints().values()]
+        for name, res in self.hw.pid_joints().items():
+            rospy.loginfo("model '%s': joint %s driven by the PID at %s (%s)"
+                          % (model.name, name, res.pid_source, res.pid.gains))
+        self._last_update = None
+        cm = join(self.namespace, "controller_manager")
+        self.services = [
+            rospy.Service(cm + "/list_controllers", ListControllers, self._list),
+            rospy.Service(cm + "/list_controller_types", ListControllerTypes, self._types),
+            rospy.Service(cm + "/load_controller", LoadController, self._load),
+            rospy.Service(cm + "/unload_controller", UnloadController, self._unload),
+            rospy.Service(cm + "/switch_controller", SwitchController, self._switch),
+            rospy.Service(cm + "/reload_controller_libraries", ReloadControllerLibraries, self._reload),
+        ]
+        rospy.loginfo("model '%s': gazebo_ros_control in namespace %s, %d joints (%s)"
+                      % (model.name, self.namespace, len(self.hw.order),
+                         ", ".join("%s:%s" % (n, self.hw.joints[n].method) for n in self.hw.order)))
+
+    # ---- simulation loop ------------------------------------------------------------------
+    def update(self, t, dt):
+        period = self.config.control_period
+        if period is not None and self._last_update is not None and t - self._last_update < period - 1e-9:
+            return
+        step = dt if self._last_update is None or period is None else t - self._last_update
+        self._last_update = t
+        with self.lock:
+            adapters = list(self.adapters.values())
+            for a in adapters:
+                a.before_update(t)
+            self.manager.update(t, step)
+        for a in adapters:
+            a.after_update(t)
+
+    def reset(self):
+        with self.lock:
+            self._last_update = None
+            self.hw.reset_commands()
+            running = [c for c in self.manager.list_controllers() if c.state == "running"]
+            for c in running:
+                c.starting(0.0)
+
+    def shutdown(self):
+        with self.lock:
+            self.manager.stop_all()
+            for a in self.adapters.values():
+                a.shutdown()
+            self.adapters = {}
+        for s in self.services:
+            s.shutdown()
+        for r in self.reconfigure:
+            r.shutdown()
+
+    # ---- controller_manager services (service threads) -----------------------------------
+    def _list(self, req):
+        out = []
+        with self.lock:
+            for c in self.manager.list_controllers():
+                res = [HardwareInterfaceResources(hardware_interface=iface, resources=joints)
+                       for iface, joints in c.claimed_resources]
+                out.append(ControllerState(name=c.name, state=c.state, type=c.TYPE, claimed_resources=res))
+        return ListControllersResponse(controller=out)
+
+    def _types(self, req):
+        types = self.manager.list_types()
+        return ListControllerTypesResponse(types=types, base_classes=[BASE_CLASS] * len(types))
+
+    def _load(self, req):
+        name = req.name
+        params = _get_param(join(self.namespace, name))
+        try:
+            with self.lock:
+                controller = self.manager.load(name, params)
+            try:
+                adapter = adapter_for(self, controller)
+            except Exception:
+                with self.lock:
+                    self.manager.unload(name)
+                raise
+            with self.lock:
+                self.adapters[name] = adapter
+        except ModrobError as exc:
+            rospy.logerr("%s: %s" % (self.namespace, exc))
+            return LoadControllerResponse(ok=False)
+        rospy.loginfo("%s: loaded controller '%s' (%s)" % (self.namespace, name, controller.TYPE))
+        return LoadControllerResponse(ok=True)
+
+    def _unload(self, req):
+        try:
+            with self.lock:
+                self.manager.unload(req.name)
+                adapter = self.adapters.pop(req.name, None)
+        except ModrobError as exc:
+            rospy.logerr("%s: %s" % (self.namespace, exc))
+            return UnloadControllerResponse(ok=False)
+        if adapter is not None:
+            adapter.shutdown()
+        rospy.loginfo("%s: unloaded controller '%s'" % (self.namespace, req.name))
+        return UnloadControllerResponse(ok=True)
+
+    def _switch(self, req):
+        with self.lock:
+            ok, msg = self.manager.switch(list(req.start_controllers), list(req.stop_controllers),
+                                          req.strictness)
+        if not ok:
+            rospy.logerr("%s: switch_controller failed: %s" % (self.namespace, msg))
+        elif req.start_controllers or req.stop_controllers:
+            rospy.loginfo("%s: started [%s], stopped [%s]" % (self.namespace,
+                                                              ", ".join(req.start_controllers),
+                                                              ", ".join(req.stop_controllers)))
+        return SwitchControllerResponse(ok=ok)
+
+    def _reload(self, req):
+        with self.lock:
+            names = [c.name for c in self.manager.list_controllers()]
+            if names and not req.force_kill:
+                rospy.logerr("%s: Controller manager: Cannot reload controller libraries because there are "
+                             "still %d controllers loaded (%s); call with force_kill: true"
+                             % (self.namespace, len(names), ", ".join(names)))
+                return ReloadControllerLibrariesResponse(ok=False)
+            self.manager.switch([], [n for n in names if self.manager.get(n).state == "running"], BEST_EFFORT)
+            adapters = [self.adapters.pop(n) for n in names if n in self.adapters]
+            for n in names:
+                self.manager.unload(n)
+        for a in adapters:
+            a.shutdown()
+        rospy.loginfo("%s: controller types reloaded (%d controllers were killed)" % (self.namespace,
+                                                                                      len(names)))
+        return ReloadControllerLibrariesResponse(ok=True)
+
+
+def factory(model, spec, context):
+    return GazeboRosControlPlugin(model, spec, context)
+
+
+register_plugin(FILENAME, factory)

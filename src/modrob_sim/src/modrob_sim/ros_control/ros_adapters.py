@@ -1,0 +1,258 @@
+"""ROS interfaces of the controllers (thin): topics, the follow_joint_trajectory action and the
+PID reconfigure servers. Callbacks only store (commands go to the controller's lock-protected
+buffer, goals to a queue); the simulation loop calls ``before_update`` (hand goals to the core)
+and ``after_update`` (publish what the core produced)."""
+import collections
+import threading
+import time
+
+import actionlib
+import rospy
+from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryFeedback,
+                              FollowJointTrajectoryResult, JointControllerState,
+                              JointTrajectoryControllerState)
+from control_msgs.srv import QueryTrajectoryState, QueryTrajectoryStateResponse
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
+from modrob_sim.ros_control.params import join
+from modrob_sim.ros_control.ros_pid_reconfigure import PidReconfigure
+
+THROTTLE = 5.0   # seconds between two warnings about the same bad command
+
+
+def _stamp(t):
+    return rospy.Time.from_sec(max(0.0, t))
+
+
+class _Throttle(object):
+    def __init__(self):
+        self._last = {}
+
+    def warn(self, key, text):
+        wall = time.monotonic()
+        last = self._last.get(key)
+        if last is None or wall - last >= THROTTLE:
+            self._last[key] = wall
+            rospy.logwarn(text)
+
+
+class Adapter(object):
+    def __init__(self, plugin, controller):
+        self.plugin = plugin
+        self.c = controller
+        self.ns = join(plugin.namespace, controller.name)
+        self.handles = []
+
+    def before_update(self, t):
+        pass
+
+    def after_update(self, t):
+        pass
+
+    def shutdown(self):
+        for h in self.handles:
+            try:
+                h.shutdown() if hasattr(h, "shutdown") else h.unregister()
+            except Exception as exc:  # noqa: B902 - shutdown must go on for the other handles
+                rospy.logdebug("shutting down %s: %s" % (h, exc))
+        self.handles = []
+
+
+class JointStateAdapter(Adapter):
+    def __init__(self, plugin, controller):
+        super(JointStateAdapter, self).__init__(plugin, controller)
+        self.pub = rospy.Publisher(join(plugin.namespace, "joint_states"), JointState, queue_size=10)
+        self.handles.append(self.pub)
+
+    def after_update(self, t):
+        data, self.c.pending = self.c.pending, None
+        if data is None:
+            return
+        stamp, names, pos, vel, eff = data
+        msg = JointState(name=names, position=pos, velocity=vel, effort=eff)
+        msg.header.stamp = _stamp(stamp)
+        self.pub.publish(msg)
+
+
+class SingleJointAdapter(Adapter):
+    """``command`` (std_msgs/Float64); with a PID also ``state`` (JointControllerState) and the
+    reconfigure server at ``<controller>/pid``."""
+
+    def __init__(self, plugin, controller):
+        super(SingleJointAdapter, self).__init__(plugin, controller)
+        self.throttle = _Throttle()
+        self.handles.append(rospy.Subscriber(self.ns + "/command", Float64, self._on_command, queue_size=10))
+        self.state_pub = None
+        if hasattr(controller, "pid"):
+            self.state_pub = rospy.Publisher(self.ns + "/state", JointControllerState, queue_size=10)
+            self.handles.append(self.state_pub)
+            self.handles.append(PidReconfigure(controller.pid, controller.pid_namespace,
+                                               on_change=self._gains_changed))
+
+    def _gains_changed(self, gains):
+        rospy.loginfo("%s: new PID gains %s" % (self.ns, gains))
+
+    def _on_command(self, msg):
+        res = self.c.set_command(msg.data)
+        if not res.accepted:
+            self.throttle.warn("nan", "%s/command: %s (the controller keeps its last command)"
+                               % (self.ns, res.reason))
+        elif res.clamped_from is not None:
+            self.throttle.warn("clamp", "%s/command: %g is %s: clamped to %g"
+                               % (self.ns, res.clamped_from, res.reason, res.value))
+
+    def after_update(self, t):
+        data, self.c.pending = self.c.pending, None
+        if data is None or self.state_pub is None:
+            return
+        msg = JointControllerState(set_point=data["set_point"], process_value=data["process_value"],
+                                   process_value_dot=data["process_value_dot"], error=data["error"],
+                                   time_step=data["time_step"], command=data["command"], p=data["p"],
+                                   i=data["i"], d=data["d"], i_clamp=data["i_clamp"],
+                                   antiwindup=data["antiwindup"])
+        msg.header.stamp = _stamp(data["stamp"])
+        self.state_pub.publish(msg)
+
+
+def _point(pos, vel, acc=None):
+    p = JointTrajectoryPoint(positions=list(pos), velocities=list(vel))
+    if acc is not None:
+        p.accelerations = list(acc)
+    return p
+
+
+def _points_from_msg(points):
+    return [TrajectoryPoint(p.positions, p.velocities, p.accelerations,
+                            p.time_from_start.to_sec()) for p in points]
+
+
+class TrajectoryAdapter(Adapter):
+    """``command`` (trajectory_msgs/JointTrajectory), ``state`` (JointTrajectoryControllerState),
+    ``follow_joint_trajectory`` (control_msgs/FollowJointTrajectory action), ``query_state``."""
+
+    def __init__(self, plugin, controller):
+        super(TrajectoryAdapter, self).__init__(plugin, controller)
+        self.lock = threading.Lock()
+        self.inbox = collections.deque()
+        self.goals = {}
+        self.state_pub = rospy.Publisher(self.ns + "/state", JointTrajectoryControllerState, queue_size=10)
+        self.handles.append(self.state_pub)
+        self.handles.append(rospy.Subscriber(self.ns + "/command", JointTrajectory, self._on_command,
+                                             queue_size=10))
+        self.handles.append(rospy.Service(self.ns + "/query_state", QueryTrajectoryState, self._on_query))
+        self.server = actionlib.ActionServer(self.ns + "/follow_joint_trajectory",
+                                             FollowJointTrajectoryAction,
+                                             self._on_goal, self._on_cancel, auto_start=False)
+        self.server.start()
+        for name in ("pid_namespaces",):
+            for pid, ns in zip(getattr(controller, "pids", []), getattr(controller, name, [])):
+                self.handles.append(PidReconfigure(pid, ns))
+
+    # callbacks: store only
+    def _on_command(self, msg):
+        with self.lock:
+            self.inbox.append(("command", msg))
+
+    def _on_goal(self, gh):
+        with self.lock:
+            self.inbox.append(("goal", gh))
+
+    def _on_cancel(self, gh):
+        with self.lock:
+            self.inbox.append(("cancel", gh))
+
+    def _on_query(self, req):
+        with self.plugin.lock:
+            traj = self.c.trajectory
+            t = req.time.to_sec() if req.time.to_sec() > 0 else self.plugin.manager.time
+            if traj is None:
+                pos, vel, acc = [j.position for j in self.c.joints], [0.0] * self.c.n, [0.0] * self.c.n
+            else:
+                pos, vel, acc = traj.sample(t)
+        return QueryTrajectoryStateResponse(name=list(self.c.joint_names), position=pos, velocity=vel,
+                                            acceleration=acc)
+
+    # loop
+    def before_update(self, t):
+        with self.lock:
+            items = list(self.inbox)
+            self.inbox.clear()
+        for kind, obj in items:
+            if kind == "command":
+                ok, code, text = self.c.submit(list(obj.joint_names), _points_from_msg(obj.points),
+                                               obj.header.stamp.to_sec(), t)
+                if not ok:
+                    rospy.logerr("%s/command rejected: %s" % (self.ns, text))
+            elif kind == "goal":
+                self._accept_or_reject(obj, t)
+            elif kind == "cancel":
+                gid = obj.get_goal_id().id
+                if not self.c.cancel(gid, t) and gid in self.goals:
+                    self.goals.pop(gid).set_canceled(text="canceled before it became active")
+
+    def _accept_or_reject(self, gh, t):
+        goal = gh.get_goal()
+        gid = gh.get_goal_id().id
+        traj = goal.trajectory
+        ok, code, text = self.c.submit(list(traj.joint_names), _points_from_msg(traj.points),
+                                       traj.header.stamp.to_sec(), t, goal_id=gid,
+                                       path_tolerance=goal.path_tolerance, goal_tolerance=goal.goal_tolerance,
+                                       goal_time_tolerance=goal.goal_time_tolerance.to_sec())
+        if not ok:
+            rospy.logerr("%s/follow_joint_trajectory: goal rejected: %s" % (self.ns, text))
+            gh.set_rejected(FollowJointTrajectoryResult(error_code=code, error_string=text), text)
+            return
+        gh.set_accepted("accepted by %s" % self.c.name)
+        self.goals[gid] = gh
+
+    def after_update(self, t):
+        for gid, outcome, code, text in self.c.events:
+            gh = self.goals.pop(gid, None)
+            if gh is None:
+                continue
+            result = FollowJointTrajectoryResult(error_code=code, error_string=text)
+            if outcome == "succeeded":
+                gh.set_succeeded(result, text)
+            elif outcome == "aborted":
+                rospy.logwarn("%s: goal aborted: %s" % (self.ns, text))
+                gh.set_aborted(result, text)
+            else:
+                gh.set_canceled(result, text)
+        del self.c.events[:]
+        fb, self.c.pending_feedback = self.c.pending_feedback, None
+        if fb is not None and fb[0] in self.goals:
+            data = fb[1]
+            msg = FollowJointTrajectoryFeedback(joint_names=data["joint_names"],
+                                                desired=_point(*data["desired"]),
+                                                actual=_point(*data["actual"]),
+                                                error=_point(*data["error"]))
+            msg.header.stamp = _stamp(data["stamp"])
+            self.goals[fb[0]].publish_feedback(msg)
+        data, self.c.pending = self.c.pending, None
+        if data is not None:
+            msg = JointTrajectoryControllerState(joint_names=data["joint_names"],
+                                                 desired=_point(*data["desired"]),
+                                                 actual=_point(*data["actual"]), error=_point(*data["error"]))
+            msg.header.stamp = _stamp(data["stamp"])
+            self.state_pub.publish(msg)
+
+    def shutdown(self):
+        for gh in self.goals.values():
+            gh.set_aborted(FollowJointTrajectoryResult(error_code=-1, error_string="controller unloaded"),
+                           "controller unloaded")
+        self.goals = {}
+        self.server.stop()
+        super(TrajectoryAdapter, self).shutdown()
+
+
+def adapter_for(plugin, controller):
+    from modrob_sim.ros_control.controllers.joint_state import JointStateController
+    from modrob_sim.ros_control.controllers.joint_trajectory import JointTrajectoryControllerBase
+    if isinstance(controller, JointStateController):
+        return JointStateAdapter(plugin, controller)
+    if isinstance(controller, JointTrajectoryControllerBase):
+        return TrajectoryAdapter(plugin, controller)
+    return SingleJointAdapter(plugin, controller)

@@ -1,0 +1,126 @@
+"""The controllers on the real physics core (modrob_sim.physics.World, ODE): the same checks as
+the rostests, without ROS: step response of a gravity-loaded arm, wheel speed, the seed's PTRZ
+gains, a trajectory on a 3-joint arm with pid_gains."""
+import os
+
+import pytest
+import yaml
+
+from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
+from modrob_sim.ros_control.hardware import RobotHWSim
+from modrob_sim.ros_control.manager import STRICT, ControllerManager
+from modrob_sim.ros_control.params import Params, nest_slash_keys
+from modrob_sim.ros_control.transmissions import parse_transmissions
+
+physics = pytest.importorskip("modrob_sim.physics")
+FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
+
+
+def sim(urdf_name, pid_gains=None, ns="/r"):
+    with open(os.path.join(FIX, urdf_name)) as f:
+        xml = f.read()
+    world = physics.World(time_step=0.001)
+    model = world.add_urdf("robot", xml)
+    hw = RobotHWSim(model.joints, parse_transmissions(model.source_xml),
+                    Params(pid_gains, ns + "/gazebo_ros_control/pid_gains") if pid_gains else None)
+    mgr = ControllerManager(hw, ns)
+    world.add_step_hook(before=mgr.update)
+    return world, model, mgr
+
+
+def start(mgr, name, params):
+    c = mgr.load(name, params)
+    assert mgr.switch([name], [], STRICT)[0]
+    return c
+
+
+def step_response(p):
+    world, model, mgr = sim("arm_1dof_effort.urdf")
+    params = {"type": "effort_controllers/JointPositionController", "joint": "shoulder",
+              "pid": {"p": p, "i": 40.0, "d": 6.0, "i_clamp": 10.0}}
+    c = start(mgr, "shoulder_controller", params)
+    world.step(200)                      # hold the start position against gravity
+    c.set_command(0.5)
+    t0, rec = world.time, []
+    for _ in range(3000):
+        world.step(1)
+        rec.append((world.time - t0, model.joints["shoulder"].position))
+    return rec
+
+
+def test_gravity_loaded_arm_settles_on_a_half_radian_step():
+    rec = step_response(100.0)
+    assert abs(rec[-1][1] - 0.5) < 0.01
+    assert all(abs(q - 0.5) < 0.01 for t, q in rec if t > 2.5)
+
+
+def test_higher_p_shortens_the_rise_time_on_ode():
+    def rise(rec):
+        return next(t for t, q in rec if q >= 0.45)
+    assert rise(step_response(200.0)) < 0.9 * rise(step_response(60.0))
+
+
+def test_velocity_interface_wheel_holds_two_rad_per_s():
+    world, model, mgr = sim("wheels.urdf")
+    c = start(mgr, "wheel_v_controller", {"type": "velocity_controllers/JointVelocityController",
+                                          "joint": "wheel_v"})
+    c.set_command(2.0)
+    world.step(2000)
+    assert model.joints["wheel_v"].velocity == pytest.approx(2.0, rel=0.02)
+
+
+def test_effort_velocity_controller_wheel_holds_two_rad_per_s():
+    world, model, mgr = sim("wheels.urdf")
+    c = start(mgr, "wheel_e_controller", {"type": "effort_controllers/JointVelocityController",
+                                          "joint": "wheel_e", "pid": {"p": 20.0, "i": 40.0, "i_clamp": 20.0}})
+    c.set_command(2.0)
+    world.step(4000)
+    assert model.joints["wheel_e"].velocity == pytest.approx(2.0, rel=0.02)
+
+
+def test_ptrz_seed_gains_on_ode_including_the_short_way_across_pi():
+    with open(os.path.join(FIX, "ptrz_ok.yaml")) as f:
+        cfg = nest_slash_keys(yaml.safe_load(f))["ptrz"]
+    world, model, mgr = sim("ptrz_camera.urdf", ns="/ptrz")
+    names = list(cfg)
+    for n in names:
+        mgr.load(n, cfg[n])
+    assert mgr.switch(names, [], STRICT)[0]
+    mgr.get("pan_position_controller").set_command(3.0)
+    mgr.get("tilt_position_controller").set_command(0.3)
+    world.step(4000)
+    assert model.joints["pan"].position == pytest.approx(3.0, abs=0.02)
+    assert model.joints["tilt"].position == pytest.approx(0.3, abs=0.02)
+    mgr.get("pan_position_controller").set_command(-3.0)       # +0.28 rad the short way
+    track = []
+    for _ in range(4000):
+        world.step(1)
+        track.append(model.joints["pan"].position)
+    assert min(track) > 2.9
+    assert track[-1] == pytest.approx(2 * 3.141592653589793 - 3.0, abs=0.02)
+
+
+def test_position_interface_with_pid_gains_and_trajectory_on_three_joints():
+    gains = {j: {"p": 400.0, "i": 600.0, "d": 4.0, "i_clamp": 10.0} for j in ("yaw", "shoulder", "elbow")}
+    world, model, mgr = sim("arm_3dof.urdf", pid_gains=gains, ns="/arm3")
+    assert {r.method for r in mgr.hw.joints.values()} == {"POSITION_PID"}
+    c = start(mgr, "arm_controller", {"type": "position_controllers/JointTrajectoryController",
+                                      "joints": ["yaw", "shoulder", "elbow"],
+                                      "constraints": {"goal_time": 1.0, "stopped_velocity_tolerance": 0.05,
+                                                      "yaw": {"goal": 0.02}, "shoulder": {"goal": 0.02},
+                                                      "elbow": {"goal": 0.02}}})
+    pts = [TrajectoryPoint([0.3, 0.2, -0.3], time_from_start=1.0),
+           TrajectoryPoint([0.6, 0.5, -0.6], time_from_start=2.0),
+           TrajectoryPoint([0.4, 0.3, -0.2], [0, 0, 0], time_from_start=3.0)]
+    ok, code, text = c.submit(["yaw", "shoulder", "elbow"], pts, 0.0, world.time, goal_id="g")
+    assert ok, text
+    events = []
+    for _ in range(5000):
+        world.step(1)
+        events.extend(c.events)
+        del c.events[:]
+        if events:
+            break
+    assert events and events[0][:2] == ("g", "succeeded"), events
+    for j, q in zip(("yaw", "shoulder", "elbow"), (0.4, 0.3, -0.2)):
+        assert model.joints[j].position == pytest.approx(q, abs=0.02)
