@@ -1,0 +1,86 @@
+"""The seed's method (section IV-F): command a sinusoid, compare measured with commanded, and adjust
+the gains until they align. ``sine_response`` measures; ``tune_by_sine`` does the adjusting as a
+coordinate search over log(p), log(d) (and log(i) when present), minimising the RMS tracking error
+with penalties on effort saturation, step overshoot, step IAE and steady-state error."""
+import math
+
+import numpy as np
+
+from modrob_sim.errors import ModrobError
+
+from modrob_sim.tuning.experiments import run_pid, sine_setpoint, step_setpoint
+from modrob_sim.tuning.metrics import sine_fit, step_metrics
+
+
+class SineResult(object):
+    def __init__(self, rms_error, amplitude_ratio, phase_lag, saturation, trace):
+        self.rms_error = rms_error            # rad, after the first period
+        self.amplitude_ratio = amplitude_ratio
+        self.phase_lag = phase_lag            # rad (positive = measured lags)
+        self.saturation = saturation          # fraction of samples at the effort limit
+        self.trace = trace
+
+    def __repr__(self):
+        return ("SineResult(rms %.4g rad, gain %.3f, lag %.1f deg, saturated %.0f %%)"
+                % (self.rms_error, self.amplitude_ratio, math.degrees(self.phase_lag), 100 * self.saturation))
+
+
+def sine_response(loop, gains, centre, amplitude=0.2, freq=0.5, periods=3):
+    duration = periods / freq
+    trace = run_pid(loop, gains, sine_setpoint(centre, amplitude, freq), duration, centre)
+    m = trace.t >= 1.0 / freq
+    t, r, q = trace.t[m], trace.setpoint[m], trace.position[m]
+    rms = float(np.sqrt(np.mean((r - q) ** 2)))
+    ar, pr, _ = sine_fit(t, r, freq)
+    aq, pq, _ = sine_fit(t, q, freq)
+    lag = (pr - pq + math.pi) % (2 * math.pi) - math.pi
+    lim = loop.effort_limit
+    sat = float(np.mean(np.abs(trace.effort) >= 0.999 * lim)) if lim else 0.0
+    return SineResult(rms, aq / ar if ar > 0 else 0.0, lag, sat, trace)
+
+
+def cost(loop, gains, centre, amplitude, freq, step=0.1):
+    """Sine RMS error (normalised by the amplitude) + saturation + step overshoot penalties."""
+    s = sine_response(loop, gains, centre, amplitude, freq)
+    tr = run_pid(loop, gains, step_setpoint(centre, centre + step, 0.2), 2.0, centre)
+    sm = step_metrics(tr, 0.2, centre, centre + step)
+    c = (s.rms_error / amplitude + 0.5 * s.saturation + 2.0 * max(0.0, sm.overshoot - 0.05)
+         + 0.2 * sm.iae / step + 10.0 * sm.steady_state_error / step)
+    if not math.isfinite(c):
+        c = 1e9
+    return c, s, sm
+
+
+def tune_by_sine(loop, gains, centre, amplitude=0.2, freq=0.5, rounds=3, log=None, bounds=None):
+    """Coordinate search from ``gains``: each key (p, d, then i if non-zero) is scaled by factors
+    0.5 .. 2 (narrowing each round) while the cost falls, within ``bounds`` {key: (lo, hi)}
+    (without bounds an effort-limited loop would only ever ask for more gain).
+    Returns (best gains, best cost)."""
+    bounds = bounds or {}
+    best = dict(gains)
+    best_c = cost(loop, best, centre, amplitude, freq)[0]
+    keys = ["p", "d"] + (["i"] if best.get("i", 0.0) > 0 else [])
+    for rnd in range(rounds):
+        factors = [2.0 ** (-1.0 / (rnd + 1)), 2.0 ** (1.0 / (rnd + 1))]
+        for key in keys:
+            improved = True
+            while improved:
+                improved = False
+                for fct in factors:
+                    trial = dict(best)
+                    trial[key] = best[key] * fct
+                    lo, hi = bounds.get(key, (0.0, float("inf")))
+                    if not (lo <= trial[key] <= hi):
+                        continue
+                    try:
+                        c = cost(loop, trial, centre, amplitude, freq)[0]
+                    except (ModrobError, ValueError) as exc:   # a blow-up with these gains: reject them
+                        if log:
+                            log("  %s x%.2f rejected: %s" % (key, fct, exc))
+                        continue
+                    if c < best_c * 0.995:
+                        best, best_c, improved = trial, c, True
+                        if log:
+                            log("  round %d: %s -> %.4g (cost %.4g)" % (rnd + 1, key, trial[key], c))
+                        break
+    return best, best_c
