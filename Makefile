@@ -31,7 +31,7 @@ build-colcon:
 	@$(ROOT)/scripts/setup.sh --no-build >/dev/null
 	@cd $(ROOT) && export PATH=$(ROOT)/.venv/bin:/usr/bin:$$PATH && \
 	  colcon --log-base log_colcon build --base-paths src --build-base build_colcon \
-	    --install-base install_colcon --cmake-args -DPYTHON_EXECUTABLE=/usr/bin/python3
+	    --install-base install_colcon --cmake-args -DPYTHON_EXECUTABLE=$(ROOT)/.venv/bin/python3
 
 test:
 	@$(ROOT)/scripts/setup.sh
