@@ -1,0 +1,51 @@
+#!/usr/bin/env python3
+"""rostest node for control_spawner.test: runs ``rosrun modrob_sim spawner`` as a user would."""
+import os
+import signal
+import subprocess
+import sys
+import unittest
+
+import rospy
+import rostest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from control_common import controller_states, wait_until  # noqa: E402
+
+NS = "/arm1"
+
+
+class Spawner(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("control_spawner_check")
+        cls.yaml = rospy.get_param("~yaml")
+
+    def test_1_yaml_controllers_come_up_and_go_away_on_sigint(self):
+        proc = subprocess.Popen(["rosrun", "modrob_sim", "spawner", self.yaml, "__ns:=" + NS,
+                                 "__name:=spawner_yaml"],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            wait_until(lambda: controller_states(NS) == {"joint_state_controller": "running",
+                                                         "shoulder_controller": "running"},
+                       60, "the YAML's controllers running", period=0.2)
+            self.assertEqual(rospy.get_param(NS + "/shoulder_controller/pid/p"), 60.0)
+            proc.send_signal(signal.SIGINT)
+            out, _ = proc.communicate(timeout=40)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+        self.assertEqual(controller_states(NS), {}, out)
+        self.assertIn("Stopping and unloading controllers", out)
+
+    def test_2_missing_manager_times_out_with_a_hint(self):
+        out = subprocess.run(["rosrun", "modrob_sim", "spawner", "--timeout", "2", "--namespace", "/nowhere",
+                              "some_controller", "__name:=spawner_nowhere"],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+        self.assertEqual(out.returncode, 1, out.stdout)
+        self.assertIn("/nowhere/controller_manager/load_controller", out.stdout)
+        self.assertIn("gazebo_ros_control", out.stdout)
+
+
+if __name__ == "__main__":
+    rostest.rosrun("modrob_sim", "control_spawner", Spawner)

@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""rostest node for control_trajectory.test: the FollowJointTrajectory action as a MoveIt-style
+client uses it (actionlib.SimpleActionClient, control_msgs.msg.FollowJointTrajectoryAction)."""
+import os
+import sys
+import unittest
+
+import actionlib
+import rospy
+import rostest
+from actionlib_msgs.msg import GoalStatus
+from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryGoal,
+                              FollowJointTrajectoryResult,
+                              JointTrajectoryControllerState)
+from trajectory_msgs.msg import JointTrajectoryPoint
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from control_common import Latest, wait_running, wait_until  # noqa: E402
+
+NS = "/arm3"
+JOINTS = ["yaw", "shoulder", "elbow"]
+
+
+def goal(points, joints=JOINTS):
+    g = FollowJointTrajectoryGoal()
+    g.trajectory.joint_names = list(joints)
+    for positions, t in points:
+        p = JointTrajectoryPoint(positions=positions, time_from_start=rospy.Duration(t))
+        g.trajectory.points.append(p)
+    return g
+
+
+class FollowJointTrajectory(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("control_trajectory_check")
+        wait_running(NS, ["joint_state_controller", "arm_controller"])
+        cls.client = actionlib.SimpleActionClient(NS + "/arm_controller/follow_joint_trajectory",
+                                                  FollowJointTrajectoryAction)
+        assert cls.client.wait_for_server(rospy.Duration(30)), "no follow_joint_trajectory action server"
+        cls.state = Latest(NS + "/arm_controller/state", JointTrajectoryControllerState)
+        wait_until(lambda: cls.state.msg is not None, 30, "the controller state")
+
+    def test_1_three_point_goal_succeeds_within_tolerance(self):
+        g = goal([([0.3, 0.2, -0.3], 1.0), ([0.6, 0.5, -0.6], 2.0), ([0.4, 0.3, -0.2], 3.0)])
+        self.client.send_goal(g)
+        self.assertTrue(self.client.wait_for_result(rospy.Duration(60)), "no result")
+        res = self.client.get_result()
+        self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED, res.error_string)
+        self.assertEqual(res.error_code, FollowJointTrajectoryResult.SUCCESSFUL)
+        wait_until(lambda: self.state.msg.header.stamp.to_sec() > rospy.get_time() - 0.2, 10, "a fresh state")
+        for name, target, actual in zip(self.state.msg.joint_names, [0.4, 0.3, -0.2],
+                                        self.state.msg.actual.positions):
+            self.assertLess(abs(actual - target), 0.02, "%s at %.4f, goal %.4f" % (name, actual, target))
+
+    def test_2_unknown_joint_is_rejected_by_name(self):
+        self.client.send_goal(goal([([0.1, 0.1, 0.1], 1.0)], joints=["yaw", "shoulder", "wrist_roll"]))
+        self.assertTrue(self.client.wait_for_result(rospy.Duration(30)))
+        self.assertEqual(self.client.get_state(), GoalStatus.REJECTED)
+        res = self.client.get_result()
+        self.assertEqual(res.error_code, FollowJointTrajectoryResult.INVALID_JOINTS)
+        self.assertIn("wrist_roll", res.error_string)
+
+    def test_3_new_goal_preempts_the_old(self):
+        first = actionlib.SimpleActionClient(NS + "/arm_controller/follow_joint_trajectory",
+                                             FollowJointTrajectoryAction)
+        self.assertTrue(first.wait_for_server(rospy.Duration(30)))
+        first.send_goal(goal([([-0.5, 0.4, -0.4], 3.0)]))
+        wait_until(lambda: first.get_state() == GoalStatus.ACTIVE, 30, "the first goal to be active")
+        self.client.send_goal(goal([([0.0, 0.1, 0.0], 1.5)]))
+        self.assertTrue(first.wait_for_result(rospy.Duration(30)))
+        self.assertEqual(first.get_state(), GoalStatus.PREEMPTED)
+        self.assertTrue(self.client.wait_for_result(rospy.Duration(60)))
+        self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED, self.client.get_result().error_string)
+
+
+if __name__ == "__main__":
+    rostest.rosrun("modrob_sim", "control_trajectory", FollowJointTrajectory)
