@@ -16,6 +16,7 @@ import numpy as np
 import ode
 
 from ..errors import ModelError
+from . import odelib
 from .description import PluginSpec
 from .model import Group, Joint, Link, Model
 from .transforms import (IDENTITY_POSE, pose_inv, pose_mul, quat_rotate,
@@ -56,7 +57,8 @@ def joint_order(desc):
 
 def zero_configuration_poses(desc, order, pose):
     """World poses of every link (and 'world') with all joints at zero."""
-    poses = {desc.root: pose}
+    root_offset = getattr(desc, "root_offset", IDENTITY_POSE)
+    poses = {desc.root: pose_mul(pose, root_offset)}
     if desc.root != "world":
         poses["world"] = pose
     for j in order:
@@ -243,19 +245,22 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
                 link._geoms.append((geom, gd.origin))
                 continue
             space = world._dyn_space if body is not None else world._static_space
+            origin = gd.origin
             if gd.kind == "mesh":
-                geom = world._make_mesh_geom(prepared_meshes[id(gd)], space, what, gd)
+                geom, local = world._make_mesh_geom(prepared_meshes[id(gd)], body is not None, what)
+                if local is not IDENTITY_POSE:
+                    origin = pose_mul(gd.origin, local)
             else:
                 geom = _make_geom(gd, space, gd.size, what)
             if body is not None:
-                rel = pose_mul(link._T, gd.origin)
+                rel = pose_mul(link._T, origin)
                 geom.setBody(body)
                 geom.setOffsetPosition(rel[0])
                 geom.setOffsetQuaternion(to_ode_quat(rel[1]))
             else:
-                world._place_static_geom(geom, pose_mul(link._static_pose, gd.origin))
+                world._place_static_geom(geom, pose_mul(link._static_pose, origin))
             world._register_geom(geom, model, link, surface, body)
-            link._geoms.append((geom, gd.origin))
+            link._geoms.append((geom, origin))
 
     # ---- joints -----------------------------------------------------------------------------
     for j in model._joint_order:
@@ -281,8 +286,8 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
             lo, hi = j.lower, j.upper
             if j.type == "revolute" and lo is not None:
                 if lo >= -math.pi and hi <= math.pi:
-                    oj.setParam(ode.ParamLoStop, lo)
-                    oj.setParam(ode.ParamHiStop, hi)
+                    oj.setParam(odelib.PARAM_LO_STOP, lo)
+                    oj.setParam(odelib.PARAM_HI_STOP, hi)
                 else:
                     j._soft_limits = True
             j._unwrap = not (j.type == "revolute" and lo is not None and lo > -3.0 and hi < 3.0)
@@ -291,8 +296,8 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
             oj.attach(child._body, parent_body)
             oj.setAxis(axis)
             if j.lower is not None:
-                oj.setParam(ode.ParamLoStop, j.lower)
-                oj.setParam(ode.ParamHiStop, j.upper)
+                oj.setParam(odelib.PARAM_LO_STOP, j.lower)
+                oj.setParam(odelib.PARAM_HI_STOP, j.upper)
         j._ode = oj
         model._ode_joints.append(oj)
         # inertia the joint moves directly (lower bound of the subtree's): for stable damping

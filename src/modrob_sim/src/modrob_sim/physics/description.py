@@ -107,3 +107,4 @@ class ModelDesc(object):
         self.self_collide = False
         self.pose = None  # SDF <model><pose>, used when no spawn pose is given
         self.root = None  # root link name (may be "world")
+        self.root_offset = IDENTITY_POSE  # SDF: root link pose in the model frame

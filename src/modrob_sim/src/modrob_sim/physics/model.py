@@ -7,8 +7,10 @@ link frame in its body frame, so link poses go both ways without loss (also for 
 fixed joints, which Gazebo loses).
 """
 import math
+import weakref
 
 from ..errors import SimulationError
+from . import odelib
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, pose_inv, pose_mul,
                          quat_from_axis_angle, quat_rotate, from_ode_quat, to_ode_quat)
 
@@ -77,10 +79,16 @@ class Link(object):
     def is_static(self):
         return self._body is None
 
+    def _gone(self):
+        return SimulationError("link '%s': model '%s' is no longer in the world"
+                               % (self.name, self.model.name))
+
     @property
     def pose(self):
         b = self._body
         if b is None:
+            if self._static_pose is None:
+                raise self._gone()
             return self._static_pose
         return pose_mul(_body_pose(b), self._T)
 
@@ -88,6 +96,8 @@ class Link(object):
     def twist(self):
         b = self._body
         if b is None:
+            if self._static_pose is None:
+                raise self._gone()
             return ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
         q = b.getQuaternion()
         r = quat_rotate((q[1], q[2], q[3], q[0]), self._T[0])
@@ -268,13 +278,12 @@ class Joint(object):
         j = self._ode
         if j is None or self.mimic is not None:
             return
-        import ode
         if self._vel_target is not None:
-            j.setParam(ode.ParamVel, self._vel_target[0])
-            j.setParam(ode.ParamFMax, self._vel_target[1])
+            j.setParam(odelib.PARAM_VEL, self._vel_target[0])
+            j.setParam(odelib.PARAM_FMAX, self._vel_target[1])
         else:
-            j.setParam(ode.ParamVel, 0.0)
-            j.setParam(ode.ParamFMax, self.friction)
+            j.setParam(odelib.PARAM_VEL, 0.0)
+            j.setParam(odelib.PARAM_FMAX, self.friction)
         b = j.getBody(0)
         if b is not None:
             b.enable()
@@ -291,7 +300,7 @@ class Model(object):
     """A spawned model. Built by :func:`builder.build_model`; see the contract for the API."""
 
     def __init__(self, world, desc, robot_namespace):
-        self._world = world
+        self._world = weakref.proxy(world)  # weak: see World._finalizer
         self.name = desc.name
         self.kind = desc.kind
         self.source_xml = desc.source_xml
@@ -317,6 +326,8 @@ class Model(object):
         self._root_name = None
         self._adjacent = frozenset()  # (group index, group index) pairs joined by a joint
         self._ncontacts = 0
+        self._uid = None      # native loop: unique model id
+        self._cindex = None   # native loop: compact index (contact counters)
 
     def __repr__(self):
         return "<Model %s>" % self.name
@@ -451,7 +462,7 @@ class Model(object):
             if j.child not in moved and not rigid_velocity:
                 continue
             child = self.links[j.child]
-            if child._group.root is not child:
+            if child._group.root is not child or child._body is None:
                 continue
             pl = self.links.get(j.parent)
             body = child._body

@@ -83,6 +83,35 @@ def _verify():
 
 
 AVAILABLE = _verify()
+
+
+def _param_layout():
+    """Joint parameter numbers of the libode in use. PyODE's ode.ParamFMax etc. were compiled
+    against an older ODE: ODE 0.16 inserted dParamLoVel/dParamHiVel after dParamVel, so
+    ode.ParamFMax (3) is really dParamLoVel there and setting it does nothing. Detect the layout
+    from the defaults (FudgeFactor 1, StopERP = world ERP 0.2)."""
+    w = ode.World()
+    b = ode.Body(w)
+    h = ode.HingeJoint(w)
+    h.attach(b, None)
+    new = h.getParam(6) == 1.0 and abs(h.getParam(9) - 0.2) < 1e-12
+    del h, b, w
+    if new:
+        return dict(LoStop=0, HiStop=1, Vel=2, FMax=5, FudgeFactor=6, Bounce=7, CFM=8, StopERP=9,
+                    StopCFM=10)
+    return dict(LoStop=ode.ParamLoStop, HiStop=ode.ParamHiStop, Vel=ode.ParamVel, FMax=ode.ParamFMax,
+                FudgeFactor=ode.ParamFudgeFactor, Bounce=ode.ParamBounce, CFM=ode.ParamCFM,
+                StopERP=ode.ParamStopERP, StopCFM=ode.ParamStopCFM)
+
+
+_P = _param_layout()
+PARAM_LO_STOP = _P["LoStop"]
+PARAM_HI_STOP = _P["HiStop"]
+PARAM_VEL = _P["Vel"]
+PARAM_FMAX = _P["FMax"]
+PARAM_CFM = _P["CFM"]
+PARAM_STOP_ERP = _P["StopERP"]
+PARAM_STOP_CFM = _P["StopCFM"]
 if LIB is not None and not AVAILABLE:
     LOG.warning("PyODE object layout not as expected: SOR parameter and native collision disabled")
 

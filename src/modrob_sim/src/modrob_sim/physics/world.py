@@ -1,19 +1,25 @@
 """The World: an ODE world stepped in simulated time, with Gazebo-like contacts, step hooks and a
 blow-up guard. See docs/physics.md for the design and sim_core_api.md for the contract."""
+import ctypes
 import hashlib
 import logging
 import math
+import os
 import random
 import struct
+import weakref
 from collections import OrderedDict, namedtuple
 
 import ode
 
 from ..errors import ModelError, SimulationError
+from . import meshes as meshlib
+from . import native as native_mod
 from . import odelib
 from .builder import build_model
 from .model import FORCE_CAP, TWO_PI
-from .transforms import IDENTITY_POSE, check_pose, check_vec3, dot, to_ode_quat
+from .transforms import (IDENTITY_POSE, check_pose, check_vec3, dot, normalized, pose_mul,
+                         quat_rotate, to_ode_quat, transform_point)
 from .urdf_reader import read_urdf
 
 LOG = logging.getLogger("modrob_sim.physics")
@@ -62,7 +68,10 @@ class _PairParams(object):
 class World(object):
     """An ODE world. All times are simulated; nothing here reads the wall clock."""
 
-    def __init__(self, time_step=0.001, gravity=(0.0, 0.0, -9.81), seed=0, resource_resolver=None):
+    def __init__(self, time_step=0.001, gravity=(0.0, 0.0, -9.81), seed=0, resource_resolver=None,
+                 native=None):
+        """``native`` (addition): None = use the C hot loop when it is available, False = the
+        pure-Python path, True = require the C loop (SimulationError if it cannot be built)."""
         self._dt = self._check_dt(time_step)
         self._gravity = check_vec3(gravity, "World gravity")
         try:
@@ -75,6 +84,19 @@ class World(object):
         self._static_space = ode.HashSpace()
         self._dyn_space = ode.HashSpace()
         self._contact_group = ode.JointGroup()
+        if native and native_mod.LIB is None:
+            raise SimulationError("the native physics loop is not available: %s" % native_mod.REASON)
+        self._nat = native_mod.LIB if native is not False else None
+        self._ctx = None
+        self._surface_index = {}
+        self._model_slots = []
+        self._next_uid = 1
+        self._body_array = None
+        self._body_owner = []
+        self._damp_arrays = None
+        if self._nat is not None:
+            self._ctx = self._nat.mr_ctx_new(odelib.raw_pointer(self._ode_world),
+                                             self._static_space._id(), self._dyn_space._id())
         self._params = OrderedDict(DEFAULT_PARAMS)
         self.models = OrderedDict()
         self._geom_info = {}
@@ -92,6 +114,13 @@ class World(object):
         self._mesh_cache = {}
         self.time = 0.0
         self.iterations = 0
+        self._ncontacts = 0
+        # Tear the ODE objects down in a safe order when the World goes (or on close()): PyODE
+        # objects freed by the cycle collector in arbitrary order crash (a space or world freed
+        # before its geoms/bodies). Models refer to the World only weakly, so this runs first.
+        self._finalizer = weakref.finalize(self, _teardown, self.models, self._geom_info, self._nat,
+                                           self._ctx, self._ode_world, self._static_space,
+                                           self._dyn_space, self._contact_group)
         self._reseed()
         self._apply_params()
         self._rebuild_caches()
@@ -174,6 +203,7 @@ class World(object):
         if odelib.AVAILABLE:
             odelib.LIB.dWorldSetQuickStepW(odelib.raw_pointer(w), p["sor"])
         self._max_contacts = int(p["max_contacts"])
+        self._layer = float(p["contact_surface_layer"])
         self._vmax2 = p["guard_max_linear_velocity"] ** 2
         self._wmax2 = p["guard_max_angular_velocity"] ** 2
         self._pair_cache.clear()
@@ -190,6 +220,20 @@ class World(object):
     def _reseed(self):
         self._rng = random.Random(self._seed)
         self._ode_seed = self._seed & 0xFFFFFFFF
+        if self._ctx is not None:
+            self._nat.mr_set_seed(self._ctx, self._ode_seed)
+
+    @property
+    def native(self):
+        """True when the C hot loop steps this world (addition)."""
+        return self._ctx is not None
+
+    def close(self):
+        """Free the ODE objects now (addition; otherwise when the World is collected). The World
+        cannot be used afterwards."""
+        self._finalizer()
+        self._ctx = None
+        self._nat = None
 
     # ---- hooks -------------------------------------------------------------------------------
     def add_step_hook(self, before=None, after=None):
@@ -242,7 +286,7 @@ class World(object):
         """Spawn every model of an SDF <world> (or one <model>); returns the list of Models.
         All-or-nothing: on any ModelError no model of the file stays in the world."""
         from .sdf_reader import read_sdf
-        descs = read_sdf(sdf_xml, name, self._warn_once)
+        descs, settings = read_sdf(sdf_xml, name, self._warn_once, self._resolver)
         seen = set()
         for d in descs:
             self._check_new_name(d.name)
@@ -254,6 +298,14 @@ class World(object):
                 pose = check_pose(pose, "SDF spawn pose")
             except ValueError as e:
                 raise ModelError(str(e))
+        if settings:
+            # a <world>'s <gravity> and <physics> apply to this World, as when Gazebo loads it
+            if "time_step" in settings:
+                self.time_step = settings["time_step"]
+            if "gravity" in settings:
+                self.gravity = settings["gravity"]
+            if settings.get("params"):
+                self.set_physics_params(**settings["params"])
         made = []
         try:
             for d in descs:
@@ -297,6 +349,9 @@ class World(object):
         self.models[model.name] = model
         self._rebuild_caches()
         model._spawn_state = model._capture()
+        # ODE renormalises quaternions on every set (not idempotent to the last bit): restore the
+        # captured state once so that the live state is exactly what reset() will produce
+        model._restore(model._spawn_state, zero_velocity=False)
         model._snapshot_state = model._spawn_state
         self._check_spawn_overlap(model)
         LOG.info("spawned model '%s': %d links, %d joints, %d bodies%s", model.name, len(model.links),
@@ -328,10 +383,12 @@ class World(object):
             info.self_collide = info.link.self_collide
             geom.setCategoryBits(cat)
             geom.setCollideBits(col)
+            if self._ctx is not None:
+                self._native_set_geom(info)
         adj = set()
         for j in model._joint_order:
-            if j.type == "fixed":
-                continue
+            if j.type in ("fixed", "floating"):
+                continue  # floating: no constraint, the links are independent bodies
             cg = model.links[j.child]._group.index
             if j.parent == "world":
                 pg = model.links[model.canonical_link.name]._group.index if \
@@ -354,29 +411,13 @@ class World(object):
         LOG.info("removed model '%s'", name)
 
     def _destroy_model_objects(self, model):
-        for geom in model._geoms:
-            self._geom_info.pop(geom, None)
-            sp = geom.getSpace()
-            if sp is not None:
-                sp.remove(geom)
-        for ln in model.links.values():
-            ln._geoms = []
-            ln._body = None
-            ln._wrenches = []
-            self._wrench_links.discard(ln)
-        for j in model.joints.values():
-            if j._ode is not None:
-                j._ode.attach(None, None)
-            j._ode = None
+        _destroy_objects(model, self._geom_info, self._nat, self._ctx, self._wrench_links)
         self._effort_joints = [j for j in self._effort_joints if j.model is not model]
         self._last_effort_joints = [j for j in self._last_effort_joints if j.model is not model]
         self._contact_group.empty()
-        model._geoms = []
-        model._ode_joints = []
-        for g in model._groups:
-            g.body = None
-        model._bodies = []
-        model._dyn_groups = []
+        if self._ctx is not None and getattr(model, "_cindex", None) is not None:
+            if model._cindex < len(self._model_slots) and self._model_slots[model._cindex] is model:
+                self._model_slots[model._cindex] = None
 
     def _rebuild_caches(self):
         ms = list(self.models.values())
@@ -390,16 +431,60 @@ class World(object):
         self._anti_gravity = [g for m in ms for g in m._dyn_groups if g.anti_gravity]
         for j in self._damped:
             j._damping_eff = min(j.damping, j._child_inertia / self._dt)
+        if self._ctx is not None:
+            nat, ctx = self._nat, self._ctx
+            nat.mr_clear_adjacency(ctx)
+            for m in ms:
+                for a, b in m._adjacent:
+                    nat.mr_add_adjacent(ctx, m._uid or 0, a, b)
+            nat.mr_set_model_count(ctx, len(self._model_slots))
+            owners = [(m, g) for m in self._dynamic_models for g in m._dyn_groups]
+            self._body_owner = owners
+            self._body_array = (ctypes.c_void_p * max(1, len(owners)))(
+                *[odelib.raw_pointer(g.body) for _, g in owners])
+            n = len(self._damped)
+            ptrs = [odelib.raw_pointer(j._ode) for j in self._damped]
+            kinds = [0 if j._angular else 1 for j in self._damped]
+            coefs = [j._damping_eff for j in self._damped]
+            self._damp_arrays = (n, (ctypes.c_void_p * max(1, n))(*ptrs),
+                                 (ctypes.c_int * max(1, n))(*kinds),
+                                 (ctypes.c_double * max(1, n))(*coefs))
 
     def _register_geom(self, geom, model, link, surface, body):
         model._geoms.append(geom)
-        self._geom_info[geom] = _GeomInfo(geom, model, link, surface, body)
+        info = _GeomInfo(geom, model, link, surface, body)
+        self._geom_info[geom] = info
+        if self._ctx is not None:
+            if model._uid is None:
+                model._uid = self._next_uid
+                self._next_uid += 1
+                free = [i for i, m in enumerate(self._model_slots) if m is None]
+                if free:
+                    model._cindex = free[0]
+                    self._model_slots[free[0]] = model
+                else:
+                    model._cindex = len(self._model_slots)
+                    self._model_slots.append(model)
+            self._native_set_geom(info)
+
+    def _surface_idx(self, s):
+        key = s.key()
+        idx = self._surface_index.get(key)
+        if idx is None:
+            idx = len(self._surface_index)
+            self._surface_index[key] = idx
+            self._nat.mr_set_surface(self._ctx, idx, *key)
+        return idx
+
+    def _native_set_geom(self, info):
+        m = info.model
+        self._nat.mr_set_geom(self._ctx, _geom_ptr(info.geom), m._cindex, m._uid, info.group,
+                              1 if info.self_collide else 0, self._surface_idx(info.surface))
 
     def _place_static_geom(self, geom, pose):
         if isinstance(geom, ode.GeomPlane):
-            n = geom.attribs.get("local_normal") if hasattr(geom, "attribs") else None
+            n = geom.attribs.get("local_normal")
             if n is not None:
-                from .transforms import quat_rotate
                 nw = quat_rotate(pose[1], n)
                 geom.setParams(nw, dot(nw, pose[0]))
             return
@@ -407,7 +492,6 @@ class World(object):
         geom.setQuaternion(to_ode_quat(pose[1]))
 
     def _make_plane(self, normal, pose):
-        from .transforms import normalized, quat_rotate
         n = normalized(normal)
         nw = quat_rotate(pose[1], n)
         geom = ode.GeomPlane(self._static_space, nw, dot(nw, pose[0]))
@@ -428,7 +512,6 @@ class World(object):
         else:
             body.setGravityMode(True)
             anti = []
-            from .transforms import pose_mul
             for ln in group.links:
                 if not ln._gravity and ln.mass > 0:
                     anti.append((ln.mass, pose_mul(ln._T, ln.inertial_origin)[0]))
@@ -438,17 +521,62 @@ class World(object):
             self._rebuild_caches()
 
     # ---- meshes ------------------------------------------------------------------------------
+    def _resolve(self, uri):
+        if self._resolver is not None and (uri.startswith("package://") or uri.startswith("file://")
+                                           or uri.startswith("model://")):
+            path = self._resolver(uri)
+            if not path:
+                raise meshlib.MeshError("the resource resolver returned nothing")
+            return path
+        return meshlib.default_resolver(uri)
+
     def _prepare_meshes(self, desc):
+        """Resolve and load every collision mesh of ``desc`` before any ODE object is made."""
         out = {}
         for ld in desc.links.values():
             for gd in ld.collisions:
-                if gd.kind == "mesh":
-                    raise ModelError("model '%s' link '%s': mesh collision '%s' is not supported yet"
-                                     % (desc.name, ld.name, gd.uri))
+                if gd.kind != "mesh":
+                    continue
+                where = "model '%s' link '%s'" % (desc.name, ld.name)
+                try:
+                    path = self._resolve(gd.uri)
+                except meshlib.MeshError as e:
+                    raise ModelError("%s: cannot resolve mesh URI '%s': %s" % (where, gd.uri, e))
+                except Exception as e:  # a user resolver may raise anything: report it
+                    raise ModelError("%s: cannot resolve mesh URI '%s': %s: %s"
+                                     % (where, gd.uri, type(e).__name__, e))
+                if not os.path.isfile(path):
+                    raise ModelError("%s: mesh file for '%s' not found (looked at '%s')"
+                                     % (where, gd.uri, path))
+                try:
+                    st = os.stat(path)
+                    key = (path, st.st_mtime_ns, st.st_size)
+                    mesh = self._mesh_cache.get(key)
+                    if mesh is None:
+                        mesh = meshlib.load_mesh(path)
+                        self._mesh_cache[key] = mesh
+                except meshlib.MeshError as e:
+                    raise ModelError("%s: mesh '%s': %s" % (where, gd.uri, e))
+                verts, tris = mesh
+                verts = meshlib.scaled(verts, gd.size)
+                tris = meshlib.flip_if_mirrored(tris, gd.size)
+                out[id(gd)] = (verts, tris)
         return out
 
-    def _make_mesh_geom(self, mesh, space, what, gd):
-        raise ModelError("%s: mesh collisions are not supported yet" % what)
+    def _make_mesh_geom(self, mesh, dynamic, what):
+        """A triangle-mesh geom (native) or, on the pure-Python path (PyODE on Debian has no
+        trimesh), its bounding box. Returns (geom, pose of the geom in the mesh frame)."""
+        verts, tris = mesh
+        if self._ctx is not None:
+            return NativeMesh(self, verts, tris, dynamic), IDENTITY_POSE
+        self._warn_once("mesh-as-box", "%s: triangle meshes collide as their bounding boxes on the "
+                        "pure-Python path (%s)" % (what, native_mod.REASON or "native loop off for "
+                                                   "this World"))
+        lo, hi = meshlib.bounds(verts)
+        size = tuple(max(b - a, 1e-4) for a, b in zip(lo, hi))
+        center = tuple(0.5 * (a + b) for a, b in zip(lo, hi))
+        space = self._dyn_space if dynamic else self._static_space
+        return ode.GeomBox(space, lengths=size), (center, (0.0, 0.0, 0.0, 1.0))
 
     # ---- stepping ----------------------------------------------------------------------------
     def step(self, n=1):
@@ -466,11 +594,17 @@ class World(object):
         for h in self._before:
             h(t, dt)
         self._apply_forces(dt)
-        self._contact_group.empty()
-        self._collide()
-        odelib.set_seed(self._ode_seed)
-        self._ode_world.quickStep(dt)
-        self._ode_seed = odelib.get_seed()
+        if self._ctx is not None:
+            g = self._gravity
+            self._ncontacts = self._nat.mr_step(self._ctx, dt, g[0], g[1], g[2], self._layer,
+                                                self._max_contacts)
+        else:
+            self._contact_group.empty()
+            self._ncontacts = 0
+            self._collide()
+            odelib.set_seed(self._ode_seed)
+            self._ode_world.quickStep(dt)
+            self._ode_seed = odelib.get_seed()
         self.iterations += 1
         self.time = t + dt
         for j in self._unwrap:
@@ -502,12 +636,17 @@ class World(object):
             self._effort_joints = []
         else:
             self._last_effort_joints = []
-        for j in self._damped:
-            o = j._ode
-            if j._angular:
-                o.addTorque(-j._damping_eff * o.getAngleRate())
-            else:
-                o.addForce(-j._damping_eff * o.getPositionRate())
+        if self._damp_arrays is not None:
+            n, jp, kinds, coef = self._damp_arrays
+            if n:
+                self._nat.mr_apply_damping(jp, kinds, coef, n)
+        else:
+            for j in self._damped:
+                o = j._ode
+                if j._angular:
+                    o.addTorque(-j._damping_eff * o.getAngleRate())
+                else:
+                    o.addForce(-j._damping_eff * o.getPositionRate())
         for j, m in self._mimics:
             self._drive_mimic(j, m, dt)
         for j in self._soft:
@@ -520,7 +659,6 @@ class World(object):
                     f, tq, p, remaining = w
                     if b is not None:
                         q = b.getQuaternion()
-                        from .transforms import transform_point
                         bp = b.getPosition()
                         pw = transform_point(((bp[0], bp[1], bp[2]), (q[1], q[2], q[3], q[0])),
                                              transform_point(ln._T, p))
@@ -548,8 +686,8 @@ class World(object):
         err = target - j.position
         v = master.velocity * mult + 0.2 * err / dt
         fmax = j.effort_limit if (j.effort_limit is not None and j.effort_limit > 0) else 1e4
-        j._ode.setParam(ode.ParamVel, v)
-        j._ode.setParam(ode.ParamFMax, fmax)
+        j._ode.setParam(odelib.PARAM_VEL, v)
+        j._ode.setParam(odelib.PARAM_FMAX, fmax)
 
     def _update_soft_limits(self, j):
         """Revolute limits beyond +-pi: ODE stops only work on the raw angle in (-pi, pi], so move
@@ -557,8 +695,8 @@ class World(object):
         k = TWO_PI * j._turns
         lo, hi = j.lower - k, j.upper - k
         o = j._ode
-        o.setParam(ode.ParamLoStop, lo if lo > -math.pi else -ode.Infinity)
-        o.setParam(ode.ParamHiStop, hi if hi < math.pi else ode.Infinity)
+        o.setParam(odelib.PARAM_LO_STOP, lo if lo > -math.pi else -ode.Infinity)
+        o.setParam(odelib.PARAM_HI_STOP, hi if hi < math.pi else ode.Infinity)
 
     # ---- collision ---------------------------------------------------------------------------
     def _collide(self):
@@ -571,8 +709,10 @@ class World(object):
         else:
             self._near(None, g1, g2)
 
-    def _pair(self, s1, s2):
-        key = (s1, s2)
+    def _pair(self, s1, s2, static1, static2):
+        """Contact parameters of a surface pair, as Gazebo: kp in series, kd summed, the smaller
+        mu; maxVel and minDepth are per BODY in Gazebo, so a static side does not count."""
+        key = (s1, s2, static1, static2)
         pp = self._pair_cache.get(key)
         if pp is not None:
             return pp
@@ -587,9 +727,10 @@ class World(object):
         pp.isotropic = pp.mu == pp.mu2
         pp.mode = _BASE_MODE | (0 if pp.isotropic else ode.ContactMu2)
         layer = self._params["contact_surface_layer"]
-        min_depth = max(s1.min_depth, s2.min_depth)
+        sides = [s for s, st in ((s1, static1), (s2, static2)) if not st] or [s1, s2]
+        min_depth = max(s.min_depth for s in sides)
         pp.shift = max(0.0, min_depth - layer)
-        max_vel = min(s1.max_vel, s2.max_vel)
+        max_vel = min(s.max_vel for s in sides)
         pp.cap = layer + max_vel * dt / pp.erp if pp.erp > 0 else float("inf")
         self._pair_cache[key] = pp
         return pp
@@ -606,7 +747,7 @@ class World(object):
                     (i1.group, i2.group) in m._adjacent:
                 return
         b1, b2 = i1.body, i2.body
-        if b1 is None and b2 is None:
+        if (b1 is None or not b1.isEnabled()) and (b2 is None or not b2.isEnabled()):
             return
         contacts = ode.collide(g1, g2)
         if not contacts:
@@ -614,11 +755,12 @@ class World(object):
         n = len(contacts)
         cap = self._max_contacts
         if n > cap:
-            contacts = [contacts[(i * n) // cap] for i in range(cap)]
+            contacts = _select_spread(contacts, cap)
             n = cap
+        self._ncontacts += n
         m._ncontacts += n
         i2.model._ncontacts += n
-        pp = self._pair(i1.surface, i2.surface)
+        pp = self._pair(i1.surface, i2.surface, b1 is None, b2 is None)
         mode = pp.mode
         fdir = None
         world = self._ode_world
@@ -675,6 +817,8 @@ class World(object):
 
     # ---- guard -------------------------------------------------------------------------------
     def _guard(self):
+        if self._ctx is not None:
+            return self._guard_native()
         vmax2, wmax2 = self._vmax2, self._wmax2
         cmax = self._params["guard_max_contacts"]
         snap = self.iterations % int(self._params["snapshot_interval"]) == 0
@@ -704,6 +848,47 @@ class World(object):
                 self._restore_after_blowup(m, bad[0].root.name, bad[1])
             elif snap:
                 m._snapshot_state = m._capture()
+
+    def _guard_native(self):
+        nat = self._nat
+        owners = self._body_owner
+        nb = len(owners)
+        flagged = []
+        i = nat.mr_check_bodies(self._body_array, 0, nb, self._vmax2, self._wmax2) if nb else -1
+        while i >= 0:
+            m, g = owners[i]
+            flagged.append((m, g, self._velocity_reason(g.body)))
+            k = i + 1
+            while k < nb and owners[k][0] is m:
+                k += 1
+            i = nat.mr_check_bodies(self._body_array, k, nb, self._vmax2, self._wmax2) if k < nb else -1
+        cmax = self._params["guard_max_contacts"]
+        if self._ncontacts > cmax:
+            which = ctypes.c_int(-1)
+            worst = nat.mr_max_model_contacts(self._ctx, ctypes.byref(which))
+            if worst > cmax and 0 <= which.value < len(self._model_slots):
+                m = self._model_slots[which.value]
+                if m is not None and m._bodies and all(f[0] is not m for f in flagged):
+                    flagged.append((m, m._dyn_groups[0], "contact explosion: %d contacts in one step "
+                                    "(limit %d)" % (worst, cmax)))
+        for m, g, reason in flagged:
+            self._restore_after_blowup(m, g.root.name, reason)
+        if self.iterations % int(self._params["snapshot_interval"]) == 0:
+            bad = set(id(f[0]) for f in flagged)
+            for m in self._dynamic_models:
+                if id(m) not in bad:
+                    m._snapshot_state = m._capture()
+
+    def _velocity_reason(self, b):
+        v = b.getLinearVel()
+        w = b.getAngularVel()
+        v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+        w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+        if not (math.isfinite(v2) and math.isfinite(w2)):
+            return "non-finite velocity (NaN/inf)"
+        if not v2 < self._vmax2:
+            return "runaway linear velocity %.3g m/s (limit %.3g)" % (math.sqrt(v2), math.sqrt(self._vmax2))
+        return "runaway angular velocity %.3g rad/s (limit %.3g)" % (math.sqrt(w2), math.sqrt(self._wmax2))
 
     def _restore_after_blowup(self, model, link, reason):
         ev = GuardEvent(model.name, link, reason, self.time)
@@ -776,7 +961,7 @@ class World(object):
                     found[key] = d
 
         for geom in model._geoms:
-            if isinstance(geom, ode.GeomPlane):
+            if isinstance(geom, (ode.GeomPlane, NativeMesh)):
                 continue
             for sp in (self._static_space, self._dyn_space):
                 ode.collide2(geom, sp, None, cb)
@@ -785,6 +970,130 @@ class World(object):
                 LOG.warning("spawn overlap: model '%s' link '%s' penetrates model '%s' link '%s' "
                             "by %.1f mm; contacts push them apart at most at maxVel", m1, l1, m2,
                             l2, d * 1000.0)
+
+
+def _select_spread(contacts, k):
+    """k of the contacts: the deepest, then repeatedly the one farthest from those chosen (the
+    same rule as the C loop), so that a resting face keeps a wide support."""
+    pts = [c.getContactGeomParams() for c in contacts]
+    n = len(pts)
+    best = max(range(n), key=lambda i: pts[i][2])
+    chosen = [best]
+    p0 = pts[best][0]
+    dmin = [(p[0][0] - p0[0]) ** 2 + (p[0][1] - p0[1]) ** 2 + (p[0][2] - p0[2]) ** 2 for p in pts]
+    used = set(chosen)
+    while len(chosen) < k:
+        far = max((i for i in range(n) if i not in used), key=lambda i: dmin[i])
+        chosen.append(far)
+        used.add(far)
+        pf = pts[far][0]
+        for i in range(n):
+            d = (pts[i][0][0] - pf[0]) ** 2 + (pts[i][0][1] - pf[1]) ** 2 + (pts[i][0][2] - pf[2]) ** 2
+            if d < dmin[i]:
+                dmin[i] = d
+    return [contacts[i] for i in chosen]
+
+
+def _geom_ptr(geom):
+    return geom.ptr if isinstance(geom, NativeMesh) else geom._id()
+
+
+def _destroy_objects(model, geom_info, nat, ctx, wrench_links=None):
+    """Drop every ODE object of ``model`` in a safe order: geoms out of their spaces first."""
+    for geom in model._geoms:
+        geom_info.pop(geom, None)
+        if isinstance(geom, NativeMesh):
+            geom.destroy()
+            continue
+        if ctx is not None:
+            nat.mr_remove_geom(ctx, geom._id())
+        sp = geom.getSpace()
+        if sp is not None:
+            sp.remove(geom)
+    for ln in model.links.values():
+        ln._geoms = []
+        ln._body = None
+        ln._wrenches = []
+        if wrench_links is not None:
+            wrench_links.discard(ln)
+    for j in model.joints.values():
+        if j._ode is not None:
+            j._ode.attach(None, None)
+        j._ode = None
+    model._geoms = []
+    model._ode_joints = []
+    model._removed = True
+    for g in model._groups:
+        g.body = None
+    model._bodies = []
+    model._dyn_groups = []
+
+
+def _teardown(models, geom_info, nat, ctx, ode_world, static_space, dyn_space, contact_group):
+    for m in list(models.values()):
+        _destroy_objects(m, geom_info, nat, ctx)
+    models.clear()
+    geom_info.clear()
+    contact_group.empty()
+    if ctx is not None:
+        nat.mr_ctx_free(ctx)
+    # ode_world, the spaces and the group are released when this returns (after their contents)
+
+
+class NativeMesh(object):
+    """A triangle-mesh geom made by the C loop (no PyODE object exists for it); implements the
+    few geom methods the builder and the World use."""
+
+    def __init__(self, world, verts, tris, dynamic):
+        import array
+        va = array.array("d", [c for v in verts for c in v])
+        ta = array.array("i", [i for t in tris for i in t])
+        self._nat = world._nat
+        self._ctx = world._ctx
+        self.ptr = self._nat.mr_mesh_create(self._ctx, va.buffer_info()[0], len(verts),
+                                            ta.buffer_info()[0], len(tris), 1 if dynamic else 0)
+        self._pos = (0.0, 0.0, 0.0)
+        self._quat = (1.0, 0.0, 0.0, 0.0)
+        self._body = None
+
+    def setBody(self, body):
+        self._body = body  # keeps the PyODE body alive as long as the geom
+        self._nat.mr_geom_set_body(self.ptr, odelib.raw_pointer(body) if body is not None else None)
+
+    def setOffsetPosition(self, p):
+        self._pos = tuple(p)
+        self._nat.mr_geom_set_offset(self.ptr, *(self._pos + self._quat))
+
+    def setOffsetQuaternion(self, q):
+        self._quat = tuple(q)
+        self._nat.mr_geom_set_offset(self.ptr, *(self._pos + self._quat))
+
+    def setPosition(self, p):
+        self._pos = tuple(p)
+        self._nat.mr_geom_set_pose(self.ptr, *(self._pos + self._quat))
+
+    def setQuaternion(self, q):
+        self._quat = tuple(q)
+        self._nat.mr_geom_set_pose(self.ptr, *(self._pos + self._quat))
+
+    def setCategoryBits(self, bits):
+        self._cat = bits
+        self._nat.mr_geom_set_bits(self.ptr, bits, getattr(self, "_col", bits))
+
+    def setCollideBits(self, bits):
+        self._col = bits
+        self._nat.mr_geom_set_bits(self.ptr, getattr(self, "_cat", bits), bits)
+
+    def getAABB(self):
+        out = (ctypes.c_double * 6)()
+        self._nat.mr_geom_aabb(self.ptr, out)
+        return tuple(out)
+
+    def destroy(self):
+        if self.ptr:
+            self._nat.mr_mesh_destroy(self._ctx, self.ptr)
+            self.ptr = None
+            self._body = None
 
 
 class _OrderedSet(object):

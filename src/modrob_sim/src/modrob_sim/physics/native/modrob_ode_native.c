@@ -1,0 +1,567 @@
+/* modrob_ode_native: the per-step hot loop of modrob_sim.physics in C, on the same libode that
+ * PyODE uses. Loaded with ctypes (see native.py); every function here mirrors the Python
+ * fallback in world.py, which stays the reference for the semantics:
+ *   - near callback with Gazebo contact parameters (min mu, kp/kd -> soft ERP/CFM, maxVel and
+ *     minDepth emulated on the contact depth), same-model / adjacent-link filtering, a cap of
+ *     contacts per pair chosen as spread points, friction direction along the slip;
+ *   - collide + quickStep with a per-world ODE random seed;
+ *   - the velocity part of the blow-up guard;
+ *   - triangle meshes (PyODE on Debian is built without trimesh support) in spaces of their own.
+ * No Python API: plain C, so it builds with nothing but libode-dev.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <ode/ode.h>
+
+#define MR_MAX_GEN 64          /* contacts generated per pair before selection */
+
+typedef struct {
+    double mu1, mu2, kp, kd, max_vel, min_depth;
+} MrSurface;
+
+typedef struct {
+    dGeomID geom;              /* key (NULL = empty, (dGeomID)1 = deleted) */
+    int model;                 /* compact model index (contact counters) */
+    int model_uid;             /* unique model id (same-model test) */
+    int group;                 /* body group inside the model */
+    int self_collide;
+    int surface;
+} MrGeomRec;
+
+typedef struct {
+    dTriMeshDataID data;
+    double *verts;
+    int *tris;
+    dGeomID geom;
+} MrMesh;
+
+typedef struct {
+    dWorldID world;
+    dSpaceID static_space, dyn_space;     /* PyODE's spaces */
+    dSpaceID mesh_static, mesh_dyn;       /* ours, for triangle meshes */
+    dJointGroupID contacts;
+    /* geom map: open addressing on the pointer */
+    MrGeomRec *recs;
+    size_t nrec, caprec;
+    /* adjacency set of (model_uid, group a, group b) keys */
+    uint64_t *adj;
+    size_t nadj, capadj;
+    MrSurface *surf;
+    int nsurf, capsurf;
+    int *model_contacts;
+    int nmodels;
+    MrMesh *meshes;
+    int nmesh, capmesh;
+    /* per-step settings */
+    double dt, layer, gravity[3];
+    int max_contacts;
+    int ncontacts;
+    unsigned long seed;        /* this world's ODE random seed */
+    dContactGeom gen[MR_MAX_GEN];
+} MrCtx;
+
+/* ---- hashing ------------------------------------------------------------------------------ */
+static inline size_t mr_hash_ptr(const void *p, size_t cap)
+{
+    uint64_t x = (uint64_t)(uintptr_t)p;
+    x ^= x >> 33; x *= 0xff51afd7ed558ccdULL; x ^= x >> 33;
+    return (size_t)(x & (cap - 1));
+}
+
+static inline size_t mr_hash_u64(uint64_t x, size_t cap)
+{
+    x ^= x >> 31; x *= 0x9e3779b97f4a7c15ULL; x ^= x >> 29;
+    return (size_t)(x & (cap - 1));
+}
+
+#define MR_DELETED ((dGeomID)(uintptr_t)1)
+
+static MrGeomRec *mr_find(MrCtx *c, dGeomID g)
+{
+    size_t i = mr_hash_ptr(g, c->caprec);
+    for (;;) {
+        MrGeomRec *r = &c->recs[i];
+        if (r->geom == g) return r;
+        if (r->geom == NULL) return NULL;
+        i = (i + 1) & (c->caprec - 1);
+    }
+}
+
+static void mr_rehash(MrCtx *c, size_t newcap)
+{
+    MrGeomRec *old = c->recs;
+    size_t oldcap = c->caprec, i;
+    c->recs = (MrGeomRec *)calloc(newcap, sizeof(MrGeomRec));
+    c->caprec = newcap;
+    c->nrec = 0;
+    for (i = 0; i < oldcap; ++i) {
+        if (old[i].geom != NULL && old[i].geom != MR_DELETED) {
+            size_t j = mr_hash_ptr(old[i].geom, newcap);
+            while (c->recs[j].geom != NULL) j = (j + 1) & (newcap - 1);
+            c->recs[j] = old[i];
+            c->nrec++;
+        }
+    }
+    free(old);
+}
+
+static int mr_adj_has(MrCtx *c, uint64_t key)
+{
+    size_t i;
+    if (c->capadj == 0) return 0;
+    i = mr_hash_u64(key, c->capadj);
+    for (;;) {
+        if (c->adj[i] == key) return 1;
+        if (c->adj[i] == 0) return 0;
+        i = (i + 1) & (c->capadj - 1);
+    }
+}
+
+static inline uint64_t mr_adj_key(int model_uid, int a, int b)
+{
+    /* +1 so that no key is 0 (the empty marker); group -1 (world) maps to 0 */
+    return ((uint64_t)(uint32_t)(model_uid + 1) << 40) | ((uint64_t)(uint32_t)(a + 1) << 20) |
+           (uint64_t)(uint32_t)(b + 1);
+}
+
+/* ---- context ------------------------------------------------------------------------------ */
+MrCtx *mr_ctx_new(dWorldID world, dSpaceID static_space, dSpaceID dyn_space)
+{
+    MrCtx *c = (MrCtx *)calloc(1, sizeof(MrCtx));
+    c->world = world;
+    c->static_space = static_space;
+    c->dyn_space = dyn_space;
+    c->mesh_static = dHashSpaceCreate(0);
+    c->mesh_dyn = dHashSpaceCreate(0);
+    dSpaceSetCleanup(c->mesh_static, 0);
+    dSpaceSetCleanup(c->mesh_dyn, 0);
+    c->contacts = dJointGroupCreate(0);
+    c->caprec = 256;
+    c->recs = (MrGeomRec *)calloc(c->caprec, sizeof(MrGeomRec));
+    c->max_contacts = 4;
+    c->dt = 0.001;
+    c->layer = 0.001;
+    return c;
+}
+
+void mr_mesh_destroy_all(MrCtx *c);
+
+void mr_ctx_free(MrCtx *c)
+{
+    if (!c) return;
+    dJointGroupDestroy(c->contacts);
+    mr_mesh_destroy_all(c);
+    dSpaceDestroy(c->mesh_static);
+    dSpaceDestroy(c->mesh_dyn);
+    free(c->recs);
+    free(c->adj);
+    free(c->surf);
+    free(c->model_contacts);
+    free(c->meshes);
+    free(c);
+}
+
+void mr_set_geom(MrCtx *c, dGeomID g, int model, int model_uid, int group, int self_collide, int surface)
+{
+    MrGeomRec *r;
+    size_t i;
+    if ((c->nrec + 1) * 2 > c->caprec) mr_rehash(c, c->caprec * 2);
+    r = mr_find(c, g);
+    if (!r) {
+        i = mr_hash_ptr(g, c->caprec);
+        while (c->recs[i].geom != NULL && c->recs[i].geom != MR_DELETED) i = (i + 1) & (c->caprec - 1);
+        r = &c->recs[i];
+        r->geom = g;
+        c->nrec++;
+    }
+    r->model = model;
+    r->model_uid = model_uid;
+    r->group = group;
+    r->self_collide = self_collide;
+    r->surface = surface;
+}
+
+void mr_remove_geom(MrCtx *c, dGeomID g)
+{
+    MrGeomRec *r = mr_find(c, g);
+    if (r) {
+        r->geom = MR_DELETED;
+        /* rebuild to keep probe chains short and reclaim deleted slots */
+        mr_rehash(c, c->caprec);
+    }
+}
+
+void mr_set_surface(MrCtx *c, int idx, double mu1, double mu2, double kp, double kd, double max_vel,
+                    double min_depth)
+{
+    if (idx >= c->capsurf) {
+        int n = c->capsurf ? c->capsurf : 16;
+        while (n <= idx) n *= 2;
+        c->surf = (MrSurface *)realloc(c->surf, n * sizeof(MrSurface));
+        c->capsurf = n;
+    }
+    if (idx >= c->nsurf) c->nsurf = idx + 1;
+    c->surf[idx].mu1 = mu1; c->surf[idx].mu2 = mu2; c->surf[idx].kp = kp; c->surf[idx].kd = kd;
+    c->surf[idx].max_vel = max_vel; c->surf[idx].min_depth = min_depth;
+}
+
+void mr_clear_adjacency(MrCtx *c)
+{
+    free(c->adj);
+    c->adj = NULL;
+    c->nadj = c->capadj = 0;
+}
+
+void mr_add_adjacent(MrCtx *c, int model_uid, int a, int b)
+{
+    uint64_t key = mr_adj_key(model_uid, a, b);
+    size_t i;
+    if ((c->nadj + 1) * 2 > c->capadj) {
+        uint64_t *old = c->adj;
+        size_t oldcap = c->capadj, k;
+        size_t n = c->capadj ? c->capadj * 2 : 64;
+        c->adj = (uint64_t *)calloc(n, sizeof(uint64_t));
+        c->capadj = n;
+        c->nadj = 0;
+        for (k = 0; k < oldcap; ++k) {
+            if (old[k]) {
+                size_t j = mr_hash_u64(old[k], n);
+                while (c->adj[j]) j = (j + 1) & (n - 1);
+                c->adj[j] = old[k];
+                c->nadj++;
+            }
+        }
+        free(old);
+    }
+    if (mr_adj_has(c, key)) return;
+    i = mr_hash_u64(key, c->capadj);
+    while (c->adj[i]) i = (i + 1) & (c->capadj - 1);
+    c->adj[i] = key;
+    c->nadj++;
+}
+
+void mr_set_model_count(MrCtx *c, int n)
+{
+    free(c->model_contacts);
+    c->model_contacts = (int *)calloc(n > 0 ? n : 1, sizeof(int));
+    c->nmodels = n;
+}
+
+int mr_model_contacts(MrCtx *c, int model)
+{
+    return (model >= 0 && model < c->nmodels) ? c->model_contacts[model] : 0;
+}
+
+int mr_last_contacts(MrCtx *c) { return c->ncontacts; }
+
+/* ---- contact selection -------------------------------------------------------------------- */
+/* choose k of n contacts: the deepest, then repeatedly the one farthest from those chosen */
+static int mr_select(const dContactGeom *gen, int n, int k, int *out)
+{
+    int used[MR_MAX_GEN];
+    double dmin[MR_MAX_GEN];
+    int i, m, best = 0;
+    if (n <= k) {
+        for (i = 0; i < n; ++i) out[i] = i;
+        return n;
+    }
+    memset(used, 0, sizeof(used));
+    for (i = 1; i < n; ++i) if (gen[i].depth > gen[best].depth) best = i;
+    out[0] = best;
+    used[best] = 1;
+    for (i = 0; i < n; ++i) {
+        double dx = gen[i].pos[0] - gen[best].pos[0], dy = gen[i].pos[1] - gen[best].pos[1],
+               dz = gen[i].pos[2] - gen[best].pos[2];
+        dmin[i] = dx * dx + dy * dy + dz * dz;
+    }
+    for (m = 1; m < k; ++m) {
+        int far = -1;
+        double fd = -1.0;
+        for (i = 0; i < n; ++i) {
+            if (!used[i] && dmin[i] > fd) { fd = dmin[i]; far = i; }
+        }
+        out[m] = far;
+        used[far] = 1;
+        for (i = 0; i < n; ++i) {
+            double dx = gen[i].pos[0] - gen[far].pos[0], dy = gen[i].pos[1] - gen[far].pos[1],
+                   dz = gen[i].pos[2] - gen[far].pos[2];
+            double d = dx * dx + dy * dy + dz * dz;
+            if (d < dmin[i]) dmin[i] = d;
+        }
+    }
+    return k;
+}
+
+/* friction direction: along the relative tangential velocity, or at rest along gravity's
+ * tangential part; 0 if neither defines one */
+static int mr_fdir(MrCtx *c, dBodyID b1, dBodyID b2, const dReal *pos, const dReal *n, dVector3 out)
+{
+    dVector3 v1 = {0, 0, 0, 0}, v2 = {0, 0, 0, 0};
+    double vx, vy, vz, vn, tx, ty, tz, t2, s;
+    if (b1) dBodyGetPointVel(b1, pos[0], pos[1], pos[2], v1);
+    if (b2) dBodyGetPointVel(b2, pos[0], pos[1], pos[2], v2);
+    vx = v1[0] - v2[0]; vy = v1[1] - v2[1]; vz = v1[2] - v2[2];
+    vn = vx * n[0] + vy * n[1] + vz * n[2];
+    tx = vx - vn * n[0]; ty = vy - vn * n[1]; tz = vz - vn * n[2];
+    t2 = tx * tx + ty * ty + tz * tz;
+    if (t2 < 1e-10) {
+        const double *g = c->gravity;
+        double gn = g[0] * n[0] + g[1] * n[1] + g[2] * n[2];
+        tx = g[0] - gn * n[0]; ty = g[1] - gn * n[1]; tz = g[2] - gn * n[2];
+        t2 = tx * tx + ty * ty + tz * tz;
+        if (t2 < 1e-12 * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2] + 1e-30)) return 0;
+    }
+    s = 1.0 / sqrt(t2);
+    out[0] = tx * s; out[1] = ty * s; out[2] = tz * s;
+    return 1;
+}
+
+static void mr_near(void *data, dGeomID o1, dGeomID o2)
+{
+    MrCtx *c = (MrCtx *)data;
+    MrGeomRec *r1, *r2;
+    dBodyID b1, b2;
+    const MrSurface *s1, *s2;
+    int n, k, i, sel[MR_MAX_GEN], isotropic, has_fdir = 0, mode;
+    double kp, kd, erp, cfm, mu, mu2, shift, cap, max_vel;
+    dVector3 fdir;
+
+    if (dGeomIsSpace(o1) || dGeomIsSpace(o2)) {
+        dSpaceCollide2(o1, o2, data, &mr_near);
+        return;
+    }
+    r1 = mr_find(c, o1);
+    r2 = mr_find(c, o2);
+    if (!r1 || !r2) return;
+    if (r1->model_uid == r2->model_uid) {
+        if (!(r1->self_collide || r2->self_collide) || r1->group == r2->group ||
+            mr_adj_has(c, mr_adj_key(r1->model_uid, r1->group, r2->group)))
+            return;
+    }
+    b1 = dGeomGetBody(o1);
+    b2 = dGeomGetBody(o2);
+    if (!b1 && !b2) return;
+    if ((!b1 || !dBodyIsEnabled(b1)) && (!b2 || !dBodyIsEnabled(b2))) return;
+    n = dCollide(o1, o2, MR_MAX_GEN, c->gen, sizeof(dContactGeom));
+    if (n <= 0) return;
+    k = mr_select(c->gen, n, c->max_contacts, sel);
+
+    s1 = &c->surf[r1->surface];
+    s2 = &c->surf[r2->surface];
+    kp = 1.0 / (1.0 / s1->kp + 1.0 / s2->kp);
+    kd = s1->kd + s2->kd;
+    erp = c->dt * kp / (c->dt * kp + kd);
+    cfm = 1.0 / (c->dt * kp + kd);
+    mu = s1->mu1 < s2->mu1 ? s1->mu1 : s2->mu1;
+    mu2 = s1->mu2 < s2->mu2 ? s1->mu2 : s2->mu2;
+    isotropic = (mu == mu2);
+    /* maxVel and minDepth are per body in Gazebo: a static side does not count */
+    if (!b1) {
+        shift = s2->min_depth; max_vel = s2->max_vel;
+    } else if (!b2) {
+        shift = s1->min_depth; max_vel = s1->max_vel;
+    } else {
+        shift = s1->min_depth > s2->min_depth ? s1->min_depth : s2->min_depth;
+        max_vel = s1->max_vel < s2->max_vel ? s1->max_vel : s2->max_vel;
+    }
+    shift -= c->layer;
+    if (shift < 0) shift = 0;
+    cap = erp > 0 ? c->layer + max_vel * c->dt / erp : INFINITY;
+    mode = dContactApprox1_1 | dContactApprox1_2 | dContactSoftERP | dContactSoftCFM;
+    if (!isotropic) mode |= dContactMu2;
+    if (isotropic) {
+        const dContactGeom *g0 = &c->gen[sel[0]];
+        has_fdir = mr_fdir(c, b1, b2, g0->pos, g0->normal, fdir);
+        if (has_fdir) mode |= dContactFDir1;
+    }
+    for (i = 0; i < k; ++i) {
+        dContact ct;
+        double d;
+        dJointID j;
+        memset(&ct, 0, sizeof(ct));
+        ct.geom = c->gen[sel[i]];
+        d = ct.geom.depth - shift;
+        if (d > cap) d = cap;
+        if (d < 0) d = 0;
+        ct.geom.depth = d;
+        ct.surface.mode = mode;
+        ct.surface.mu = mu;
+        ct.surface.mu2 = mu2;
+        ct.surface.soft_erp = erp;
+        ct.surface.soft_cfm = cfm;
+        if (has_fdir) { ct.fdir1[0] = fdir[0]; ct.fdir1[1] = fdir[1]; ct.fdir1[2] = fdir[2]; }
+        j = dJointCreateContact(c->world, c->contacts, &ct);
+        dJointAttach(j, b1, b2);
+    }
+    c->ncontacts += k;
+    if (r1->model >= 0 && r1->model < c->nmodels) c->model_contacts[r1->model] += k;
+    if (r2->model != r1->model && r2->model >= 0 && r2->model < c->nmodels) c->model_contacts[r2->model] += k;
+}
+
+static inline int mr_space_nonempty(dSpaceID s) { return dSpaceGetNumGeoms(s) > 0; }
+
+/* collide everything; returns the number of contact joints made */
+int mr_collide(MrCtx *c, double dt, double gx, double gy, double gz, double layer, int max_contacts)
+{
+    c->dt = dt;
+    c->gravity[0] = gx; c->gravity[1] = gy; c->gravity[2] = gz;
+    c->layer = layer;
+    c->max_contacts = max_contacts < 1 ? 1 : (max_contacts > MR_MAX_GEN ? MR_MAX_GEN : max_contacts);
+    c->ncontacts = 0;
+    if (c->nmodels) memset(c->model_contacts, 0, c->nmodels * sizeof(int));
+    dJointGroupEmpty(c->contacts);
+    dSpaceCollide(c->dyn_space, c, &mr_near);
+    if (mr_space_nonempty(c->static_space) && mr_space_nonempty(c->dyn_space))
+        dSpaceCollide2((dGeomID)c->static_space, (dGeomID)c->dyn_space, c, &mr_near);
+    if (mr_space_nonempty(c->mesh_dyn)) {
+        dSpaceCollide(c->mesh_dyn, c, &mr_near);
+        if (mr_space_nonempty(c->dyn_space))
+            dSpaceCollide2((dGeomID)c->mesh_dyn, (dGeomID)c->dyn_space, c, &mr_near);
+        if (mr_space_nonempty(c->static_space))
+            dSpaceCollide2((dGeomID)c->mesh_dyn, (dGeomID)c->static_space, c, &mr_near);
+        if (mr_space_nonempty(c->mesh_static))
+            dSpaceCollide2((dGeomID)c->mesh_static, (dGeomID)c->mesh_dyn, c, &mr_near);
+    }
+    if (mr_space_nonempty(c->mesh_static) && mr_space_nonempty(c->dyn_space))
+        dSpaceCollide2((dGeomID)c->mesh_static, (dGeomID)c->dyn_space, c, &mr_near);
+    return c->ncontacts;
+}
+
+/* quickStep with this world's own random seed (quickStep reorders constraints randomly) */
+unsigned long mr_quickstep(dWorldID w, double dt, unsigned long seed)
+{
+    dRandSetSeed(seed);
+    dWorldQuickStep(w, dt);
+    return dRandGetSeed();
+}
+
+void mr_set_seed(MrCtx *c, unsigned long seed) { c->seed = seed; }
+unsigned long mr_get_seed(MrCtx *c) { return c->seed; }
+
+/* collide + quickStep (with this world's seed) in one call; returns the number of contacts */
+int mr_step(MrCtx *c, double dt, double gx, double gy, double gz, double layer, int max_contacts)
+{
+    int n = mr_collide(c, dt, gx, gy, gz, layer, max_contacts);
+    c->seed = mr_quickstep(c->world, dt, c->seed);
+    return n;
+}
+
+/* the largest per-model contact count of the last step, and which model (compact index) */
+int mr_max_model_contacts(MrCtx *c, int *which)
+{
+    int i, best = 0, bi = -1;
+    for (i = 0; i < c->nmodels; ++i)
+        if (c->model_contacts[i] > best) { best = c->model_contacts[i]; bi = i; }
+    *which = bi;
+    return best;
+}
+
+/* blow-up guard, velocity part: the index of the first body (from `start`) whose linear speed^2
+ * or angular speed^2 is not below the limits (NaN fails too), or -1 */
+int mr_check_bodies(dBodyID *bodies, int start, int n, double vmax2, double wmax2)
+{
+    int i;
+    for (i = start; i < n; ++i) {
+        const dReal *v = dBodyGetLinearVel(bodies[i]);
+        const dReal *w = dBodyGetAngularVel(bodies[i]);
+        double v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+        double w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+        if (!(v2 < vmax2 && w2 < wmax2)) return i;
+    }
+    return -1;
+}
+
+/* explicit joint damping: torque/force -d*v on hinges (kind 0) and sliders (kind 1) */
+void mr_apply_damping(dJointID *joints, const int *kinds, const double *coef, int n)
+{
+    int i;
+    for (i = 0; i < n; ++i) {
+        if (kinds[i] == 0)
+            dJointAddHingeTorque(joints[i], -coef[i] * dJointGetHingeAngleRate(joints[i]));
+        else
+            dJointAddSliderForce(joints[i], -coef[i] * dJointGetSliderPositionRate(joints[i]));
+    }
+}
+
+/* ---- triangle meshes ---------------------------------------------------------------------- */
+/* verts: nv*3 doubles, tris: nt*3 ints (copied); is_dynamic picks the space */
+dGeomID mr_mesh_create(MrCtx *c, const double *verts, int nv, const int *tris, int nt, int is_dynamic)
+{
+    MrMesh *m;
+    if (c->nmesh == c->capmesh) {
+        c->capmesh = c->capmesh ? c->capmesh * 2 : 16;
+        c->meshes = (MrMesh *)realloc(c->meshes, c->capmesh * sizeof(MrMesh));
+    }
+    m = &c->meshes[c->nmesh++];
+    m->verts = (double *)malloc(sizeof(double) * 3 * (size_t)nv);
+    m->tris = (int *)malloc(sizeof(int) * 3 * (size_t)nt);
+    memcpy(m->verts, verts, sizeof(double) * 3 * (size_t)nv);
+    memcpy(m->tris, tris, sizeof(int) * 3 * (size_t)nt);
+    m->data = dGeomTriMeshDataCreate();
+    dGeomTriMeshDataBuildDouble(m->data, m->verts, 3 * sizeof(double), nv, m->tris, 3 * nt, 3 * sizeof(int));
+    dGeomTriMeshDataPreprocess2(m->data, (1U << dTRIDATAPREPROCESS_BUILD_FACE_ANGLES), NULL);
+    m->geom = dCreateTriMesh(is_dynamic ? c->mesh_dyn : c->mesh_static, m->data, NULL, NULL, NULL);
+    return m->geom;
+}
+
+void mr_mesh_destroy(MrCtx *c, dGeomID g)
+{
+    int i;
+    for (i = 0; i < c->nmesh; ++i) {
+        if (c->meshes[i].geom == g) {
+            MrMesh *m = &c->meshes[i];
+            mr_remove_geom(c, g);
+            dGeomDestroy(m->geom);
+            dGeomTriMeshDataDestroy(m->data);
+            free(m->verts);
+            free(m->tris);
+            c->meshes[i] = c->meshes[--c->nmesh];
+            return;
+        }
+    }
+}
+
+void mr_mesh_destroy_all(MrCtx *c)
+{
+    while (c->nmesh > 0) mr_mesh_destroy(c, c->meshes[c->nmesh - 1].geom);
+}
+
+/* small geom helpers for meshes (no PyODE object exists for them) */
+void mr_geom_set_body(dGeomID g, dBodyID b) { dGeomSetBody(g, b); }
+void mr_geom_set_offset(dGeomID g, double x, double y, double z, double qw, double qx, double qy, double qz)
+{
+    dQuaternion q;
+    q[0] = qw; q[1] = qx; q[2] = qy; q[3] = qz;
+    dGeomSetOffsetPosition(g, x, y, z);
+    dGeomSetOffsetQuaternion(g, q);
+}
+void mr_geom_set_pose(dGeomID g, double x, double y, double z, double qw, double qx, double qy, double qz)
+{
+    dQuaternion q;
+    q[0] = qw; q[1] = qx; q[2] = qy; q[3] = qz;
+    dGeomSetPosition(g, x, y, z);
+    dGeomSetQuaternion(g, q);
+}
+void mr_geom_set_bits(dGeomID g, unsigned long cat, unsigned long col)
+{
+    dGeomSetCategoryBits(g, cat);
+    dGeomSetCollideBits(g, col);
+}
+void mr_geom_aabb(dGeomID g, double *out6)
+{
+    dReal a[6];
+    int i;
+    dGeomGetAABB(g, a);
+    for (i = 0; i < 6; ++i) out6[i] = a[i];
+}
+/* depth of the deepest contact between two geoms (spawn overlap check), 0 if none */
+double mr_max_depth(dGeomID a, dGeomID b)
+{
+    dContactGeom gen[MR_MAX_GEN];
+    int n = dCollide(a, b, MR_MAX_GEN, gen, sizeof(dContactGeom)), i;
+    double d = 0;
+    for (i = 0; i < n; ++i) if (gen[i].depth > d) d = gen[i].depth;
+    return d;
+}

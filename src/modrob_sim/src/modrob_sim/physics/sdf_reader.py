@@ -1,0 +1,420 @@
+"""A documented SDF subset -> ModelDesc list (see docs/physics.md, "SDF subset").
+
+<sdf><world> with <include> of model://ground_plane and model://sun (built in; other model://
+includes are read from <dir>/model.sdf found through the resolver or GAZEBO_MODEL_PATH), <gravity>
+and <physics> (applied to the World by add_sdf), and <model>s; or one <model> alone.
+<model>: <static>, <pose>, <self_collide>, <plugin>, <link> (<pose>, <inertial> with <mass>,
+<pose>, <inertia>, <collision>/<visual> with <pose> and box, cylinder, sphere, plane, mesh
+(<uri>, <scale>) geometry, <surface><friction><ode><mu><mu2>, <surface><contact><ode><kp><kd>
+<max_vel><min_depth>, <gravity>, <self_collide>, <sensor>), <joint> revolute, continuous,
+prismatic, fixed (<parent>, <child>, <pose> in the child frame, <axis><xyz> in the joint frame
+or the model frame with <use_parent_model_frame>/expressed_in="__model__", <limit>, <dynamics>).
+Links not connected by joints are free bodies. Poses are "x y z roll pitch yaw"; `relative_to`
+other than the defaults is not supported and is refused.
+"""
+import os
+
+from ..errors import ModelError
+from .description import (GeometryDesc, JointDesc, LinkDesc, ModelDesc, PluginSpec, Surface)
+from .transforms import IDENTITY_POSE, pose_inv, pose_mul, quat_from_rpy, quat_rotate
+from .xml_util import Reader, local, parse_xml
+
+SDF_JOINT_TYPES = {"revolute": "revolute", "continuous": "continuous", "prismatic": "prismatic",
+                   "fixed": "fixed"}
+GROUND_PLANE = """<model name="ground_plane"><static>true</static><link name="link">
+  <collision name="collision"><geometry><plane><normal>0 0 1</normal><size>100 100</size></plane>
+  </geometry><surface><friction><ode><mu>100</mu><mu2>50</mu2></ode></friction></surface></collision>
+  <visual name="visual"><geometry><plane><normal>0 0 1</normal><size>100 100</size></plane></geometry>
+  <material><ambient>0.8 0.8 0.8 1</ambient><diffuse>0.8 0.8 0.8 1</diffuse></material></visual>
+</link></model>"""
+
+
+def _child(elem, tag):
+    for c in elem:
+        if local(c.tag) == tag:
+            return c
+    return None
+
+
+def _children(elem, tag):
+    return [c for c in elem if local(c.tag) == tag]
+
+
+def _text(elem, tag, default=None):
+    c = _child(elem, tag) if elem is not None else None
+    if c is None or c.text is None:
+        return default
+    return c.text.strip()
+
+
+def _pose(rd, elem, where):
+    pe = _child(elem, "pose") if elem is not None else None
+    if pe is None:
+        return IDENTITY_POSE
+    rel = pe.get("relative_to")
+    if rel:
+        rd.fail(where, "<pose relative_to='%s'> is not supported (poses are relative to the default "
+                "frame)" % rel)
+    v = rd.floats((pe.text or "0 0 0 0 0 0").strip(), 6, where, "<pose>")
+    return (v[:3], quat_from_rpy(*v[3:]))
+
+
+def _geometry(rd, elem, where):
+    geo = _child(elem, "geometry")
+    if geo is None or len(geo) == 0:
+        rd.fail(where, "<%s> has no <geometry>" % local(elem.tag))
+    g = geo[0]
+    kind = local(g.tag)
+    origin = _pose(rd, elem, where)
+    name = elem.get("name")
+    if kind == "box":
+        size = rd.floats(_text(g, "size"), 3, where, "<box><size>")
+        if min(size) <= 0:
+            rd.fail(where, "<box><size> must be positive")
+        return GeometryDesc("box", size, origin, name=name)
+    if kind == "cylinder":
+        r = rd.float(_text(g, "radius"), where, "<cylinder><radius>")
+        length = rd.float(_text(g, "length"), where, "<cylinder><length>")
+        if r <= 0 or length <= 0:
+            rd.fail(where, "<cylinder> radius and length must be positive")
+        return GeometryDesc("cylinder", (r, length), origin, name=name)
+    if kind == "sphere":
+        r = rd.float(_text(g, "radius"), where, "<sphere><radius>")
+        if r <= 0:
+            rd.fail(where, "<sphere><radius> must be positive")
+        return GeometryDesc("sphere", (r,), origin, name=name)
+    if kind == "plane":
+        n = rd.floats(_text(g, "normal", "0 0 1"), 3, where, "<plane><normal>")
+        if sum(x * x for x in n) < 1e-12:
+            rd.fail(where, "<plane><normal> has zero length")
+        gd = GeometryDesc("plane", n, origin, name=name)
+        gd.extent = rd.floats(_text(g, "size", "100 100"), 2, where, "<plane><size>")
+        return gd
+    if kind == "mesh":
+        uri = _text(g, "uri")
+        if not uri:
+            rd.fail(where, "<mesh> needs a <uri>")
+        scale = rd.floats(_text(g, "scale", "1 1 1"), 3, where, "<mesh><scale>")
+        return GeometryDesc("mesh", scale, origin, uri=uri, name=name)
+    rd.fail(where, "unsupported geometry <%s> (box, cylinder, sphere, plane, mesh)" % kind)
+
+
+def _surface(rd, ce, where):
+    s = Surface()
+    se = _child(ce, "surface")
+    if se is None:
+        return s
+    fo = _child(_child(se, "friction") if _child(se, "friction") is not None else se, "ode")
+    if fo is not None and _child(se, "friction") is not None:
+        s.mu1 = rd.float(_text(fo, "mu"), where, "<mu>", s.mu1)
+        s.mu2 = rd.float(_text(fo, "mu2"), where, "<mu2>", s.mu2)
+    ce2 = _child(se, "contact")
+    co = _child(ce2, "ode") if ce2 is not None else None
+    if co is not None:
+        s.kp = rd.float(_text(co, "kp"), where, "<kp>", s.kp)
+        s.kd = rd.float(_text(co, "kd"), where, "<kd>", s.kd)
+        s.max_vel = rd.float(_text(co, "max_vel"), where, "<max_vel>", s.max_vel)
+        s.min_depth = rd.float(_text(co, "min_depth"), where, "<min_depth>", s.min_depth)
+    if min(s.mu1, s.mu2, s.kd, s.max_vel, s.min_depth) < 0 or s.kp <= 0:
+        rd.fail(where, "surface parameters must not be negative (kp positive)")
+    return s
+
+
+def _color(ve):
+    m = _child(ve, "material")
+    if m is None:
+        return None, None
+    script = _child(m, "script")
+    name = _text(script, "name") if script is not None else None
+    for tag in ("diffuse", "ambient"):
+        t = _text(m, tag)
+        if t:
+            try:
+                vals = tuple(float(x) for x in t.split())
+                if len(vals) in (3, 4):
+                    return name, vals + (1.0,) * (4 - len(vals))
+            except ValueError:
+                pass
+    return name, None
+
+
+def _plugin(pe, link=None, sensor=None):
+    ns = _text(pe, "robotNamespace")
+    return PluginSpec(pe.get("name", ""), pe.get("filename", ""), pe, ns, link, sensor)
+
+
+def _model(rd, me, name, warn):
+    desc = ModelDesc(name, "sdf", None)
+    desc.static = rd.bool(_text(me, "static", "false"), "<static>", "static")
+    desc.self_collide = rd.bool(_text(me, "self_collide", "false"), "<self_collide>", "self_collide")
+    desc.pose = _pose(rd, me, "model pose")
+    for pe in _children(me, "plugin"):
+        desc.plugins.append(_plugin(pe))
+    for le in _children(me, "link"):
+        lname = le.get("name")
+        if not lname:
+            rd.fail("<link>", "a <link> has no name")
+        if lname in desc.links:
+            rd.fail("link '%s'" % lname, "two links are named '%s'" % lname)
+        where = "link '%s'" % lname
+        ld = LinkDesc(lname)
+        ld.pose = _pose(rd, le, where)
+        ie = _child(le, "inertial")
+        if ie is not None:
+            ld.has_inertial = True
+            ld.mass = rd.float(_text(ie, "mass"), where, "<mass>", 1.0)
+            if ld.mass < 0:
+                rd.fail(where, "<mass> is negative")
+            ld.inertial_origin = _pose(rd, ie, where)
+            it = _child(ie, "inertia")
+            if it is not None:
+                ld.inertia = tuple(rd.float(_text(it, k), where, "<%s>" % k, 0.0)
+                                   for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
+            else:
+                ld.inertia = (1.0, 0.0, 0.0, 1.0, 0.0, 1.0)
+        elif not desc.static:
+            ld.mass = 1.0  # SDF's defaults: 1 kg, unit inertia
+            ld.inertia = (1.0, 0.0, 0.0, 1.0, 0.0, 1.0)
+        ld.gravity = rd.bool(_text(le, "gravity", "true"), where, "<gravity>")
+        ld.self_collide = rd.bool(_text(le, "self_collide", "false"), where, "<self_collide>")
+        for ce in _children(le, "collision"):
+            cw = "%s collision '%s'" % (where, ce.get("name", ""))
+            gd = _geometry(rd, ce, cw)
+            gd.surface = _surface(rd, ce, cw)
+            ld.collisions.append(gd)
+        for ve in _children(le, "visual"):
+            gd = _geometry(rd, ve, "%s visual '%s'" % (where, ve.get("name", "")))
+            gd.material, gd.color = _color(ve)
+            ld.visuals.append(gd)
+        for se in _children(le, "sensor"):
+            ld.sensors.append(se)
+            for pe in _children(se, "plugin"):
+                desc.plugins.append(_plugin(pe, lname, se))
+        for c in le:
+            t = local(c.tag)
+            if t not in ("pose", "inertial", "collision", "visual", "sensor", "gravity",
+                         "self_collide", "kinematic", "velocity_decay", "must_be_base_link",
+                         "enable_wind"):
+                warn("sdf-link-tag:" + t, "model '%s' link '%s': SDF <%s> is not supported; ignored"
+                     % (name, lname, t))
+        desc.links[lname] = ld
+    if not desc.links:
+        rd.fail("<model name='%s'>" % name, "the model has no <link>")
+
+    parents = {}
+    for je in _children(me, "joint"):
+        jname = je.get("name")
+        where = "joint '%s'" % jname
+        if not jname:
+            rd.fail("<joint>", "a <joint> has no name")
+        if jname in desc.joints:
+            rd.fail(where, "two joints are named '%s'" % jname)
+        stype = je.get("type")
+        if stype not in SDF_JOINT_TYPES:
+            rd.fail(where, "type '%s' is not supported (revolute, continuous, prismatic, fixed)" % stype)
+        parent, child = _text(je, "parent"), _text(je, "child")
+        if parent not in desc.links and parent != "world":
+            rd.fail(where, "parent link '%s' does not exist" % parent)
+        if child not in desc.links:
+            rd.fail(where, "child link '%s' does not exist" % child)
+        if child in parents:
+            rd.fail(where, "link '%s' is the child of two joints" % child)
+        parents[child] = jname
+        j = JointDesc(jname, SDF_JOINT_TYPES[stype], parent, child)
+        jpose = _pose(rd, je, where)  # joint frame in the child link frame
+        child_pose = desc.links[child].pose
+        parent_pose = IDENTITY_POSE if parent == "world" else desc.links[parent].pose
+        frame = pose_mul(child_pose, jpose)  # joint frame in the model frame
+        j.origin = pose_mul(pose_inv(parent_pose), frame)
+        j.child_offset = pose_inv(jpose)
+        ae = _child(je, "axis")
+        if ae is not None:
+            xyz_e = _child(ae, "xyz")
+            axis = rd.floats(_text(ae, "xyz", "0 0 1"), 3, where, "<axis><xyz>")
+            n = sum(a * a for a in axis) ** 0.5
+            if n < 1e-9:
+                rd.fail(where, "<axis><xyz> has zero length")
+            axis = tuple(a / n for a in axis)
+            in_model = rd.bool(_text(ae, "use_parent_model_frame", "false"), where,
+                               "<use_parent_model_frame>") or \
+                (xyz_e is not None and xyz_e.get("expressed_in") == "__model__")
+            if in_model:
+                axis = quat_rotate((-frame[1][0], -frame[1][1], -frame[1][2], frame[1][3]), axis)
+            j.axis = axis
+            le = _child(ae, "limit")
+            if le is not None:
+                lo = rd.float(_text(le, "lower"), where, "<lower>", -1e16)
+                hi = rd.float(_text(le, "upper"), where, "<upper>", 1e16)
+                if j.type in ("revolute", "prismatic") and hi < 1e15 and lo > -1e15:
+                    if lo > hi:
+                        rd.fail(where, "<limit> lower %g is above upper %g" % (lo, hi))
+                    j.lower, j.upper = lo, hi
+                j.effort_limit = rd.float(_text(le, "effort"), where, "<effort>", -1.0)
+                j.velocity_limit = rd.float(_text(le, "velocity"), where, "<velocity>", -1.0)
+                if j.effort_limit < 0:
+                    j.effort_limit = None
+                if j.velocity_limit < 0:
+                    j.velocity_limit = None
+            de = _child(ae, "dynamics")
+            if de is not None:
+                j.damping = rd.float(_text(de, "damping"), where, "<damping>", 0.0)
+                j.friction = rd.float(_text(de, "friction"), where, "<friction>", 0.0)
+        if j.type == "revolute" and j.lower is None:
+            j.type = "continuous"  # SDF revolute without limits turns freely
+        desc.joints[jname] = j
+
+    # root, and free links as floating children of the root
+    first = next(iter(desc.links))
+    world_joints = [j for j in desc.joints.values() if j.parent == "world"]
+    desc.root = "world" if world_joints else first
+    children = {}
+    for j in desc.joints.values():
+        children.setdefault(j.parent, []).append(j.child)
+    reached = set()
+    stack = [desc.root]
+    while stack:
+        ln = stack.pop()
+        if ln in reached:
+            rd.fail("tree", "the joints form a cycle at link '%s'" % ln)
+        reached.add(ln)
+        stack.extend(children.get(ln, ()))
+    for ln, ld in desc.links.items():
+        if ln in reached:
+            continue
+        if ln in parents:
+            rd.fail("tree", "link '%s' hangs in a joint cycle not connected to '%s'" % (ln, desc.root))
+        j = JointDesc("%s__free" % ln, "floating", desc.root, ln)
+        rp = IDENTITY_POSE if desc.root == "world" else desc.links[desc.root].pose
+        j.origin = pose_mul(pose_inv(rp), ld.pose)
+        desc.joints[j.name] = j
+        stack = [ln]
+        while stack:
+            x = stack.pop()
+            if x in reached:
+                rd.fail("tree", "the joints form a cycle at link '%s'" % x)
+            reached.add(x)
+            stack.extend(children.get(x, ()))
+    # the model frame is the spawn frame: the root link sits at its own pose in it
+    if desc.root != "world":
+        rp = desc.links[desc.root].pose
+        desc.root_offset = rp
+    else:
+        desc.root_offset = IDENTITY_POSE
+    return desc
+
+
+def read_sdf(xml_text, name, warn, resolver=None):
+    """Parse SDF text; returns (list of ModelDesc, world settings dict or None)."""
+    label = name or "sdf"
+    rd = Reader(label, "SDF")
+    root = parse_xml(xml_text, label, "SDF")
+    tag = local(root.tag)
+    if tag == "sdf":
+        worlds = _children(root, "world")
+        models = _children(root, "model")
+        if worlds:
+            return _world(rd, worlds[0], warn, resolver, xml_text)
+        if len(models) != 1:
+            rd.fail("<sdf>", "expected one <world> or one <model>, found %d models" % len(models))
+        me = models[0]
+    elif tag == "model":
+        me = root
+    elif tag == "world":
+        return _world(rd, root, warn, resolver, xml_text)
+    else:
+        rd.fail("root element", "expected <sdf>, <world> or <model>, found <%s>" % tag)
+    mname = name or me.get("name")
+    if not mname:
+        rd.fail("<model>", "the model has no name and none was given")
+    rd = Reader(mname, "SDF")
+    d = _model(rd, me, mname, warn)
+    d.source_xml = xml_text
+    return [d], None
+
+
+def _world(rd, we, warn, resolver, xml_text):
+    settings = {}
+    g = _text(we, "gravity")
+    if g:
+        settings["gravity"] = rd.floats(g, 3, "<world><gravity>", "gravity")
+    ph = _child(we, "physics")
+    if ph is not None:
+        if _text(ph, "max_step_size"):
+            settings["time_step"] = rd.float(_text(ph, "max_step_size"), "<physics>", "<max_step_size>")
+        if _text(ph, "gravity"):
+            settings["gravity"] = rd.floats(_text(ph, "gravity"), 3, "<physics>", "gravity")
+        ode_e = _child(ph, "ode")
+        if ode_e is not None:
+            solver = _child(ode_e, "solver")
+            cons = _child(ode_e, "constraints")
+            params = {}
+            for parent, tag, key in ((solver, "iters", "iters"), (solver, "sor", "sor"),
+                                     (cons, "cfm", "cfm"), (cons, "erp", "erp"),
+                                     (cons, "contact_max_correcting_vel", "contact_max_correcting_vel"),
+                                     (cons, "contact_surface_layer", "contact_surface_layer")):
+                if parent is not None and _text(parent, tag) is not None:
+                    params[key] = rd.float(_text(parent, tag), "<physics><ode>", "<%s>" % tag)
+            settings["params"] = params
+    descs = []
+    for c in we:
+        t = local(c.tag)
+        if t == "include":
+            uri = _text(c, "uri", "")
+            nm = _text(c, "name")
+            if uri in ("model://sun",) or uri.endswith("/sun"):
+                continue  # a light: nothing to simulate
+            if uri == "model://ground_plane":
+                me = parse_xml(GROUND_PLANE, "ground_plane", "SDF")
+            else:
+                me = _included_model(rd, uri, resolver)
+            mname = nm or me.get("name")
+            mrd = Reader(mname, "SDF")
+            d = _model(mrd, me, mname, warn)
+            if _child(c, "pose") is not None:
+                d.pose = _pose(mrd, c, "<include><pose>")
+            if _text(c, "static") is not None:
+                d.static = mrd.bool(_text(c, "static"), "<include><static>", "static")
+            d.source_xml = xml_text
+            descs.append(d)
+        elif t == "model":
+            mname = c.get("name")
+            if not mname:
+                rd.fail("<world>", "a <model> has no name")
+            d = _model(Reader(mname, "SDF"), c, mname, warn)
+            d.source_xml = xml_text
+            descs.append(d)
+        elif t not in ("physics", "gravity", "light", "scene", "gui", "plugin", "magnetic_field",
+                       "atmosphere", "spherical_coordinates", "state", "wind"):
+            warn("sdf-world-tag:" + t, "SDF world <%s> is not supported; ignored" % t)
+    return descs, settings
+
+
+def _included_model(rd, uri, resolver):
+    path = None
+    try:
+        if resolver is not None:
+            path = resolver(uri)
+        elif uri.startswith("model://"):
+            rel = uri[len("model://"):]
+            for d in os.environ.get("GAZEBO_MODEL_PATH", "").split(os.pathsep):
+                if d and os.path.isdir(os.path.join(d, rel)):
+                    path = os.path.join(d, rel)
+                    break
+    except Exception as e:  # a user resolver may raise anything: report it
+        raise ModelError("SDF <include><uri>%s</uri>: cannot resolve: %s" % (uri, e))
+    if not path:
+        raise ModelError("SDF <include><uri>%s</uri>: not found (built in: model://ground_plane, "
+                         "model://sun; others through GAZEBO_MODEL_PATH or the resolver)" % uri)
+    f = os.path.join(path, "model.sdf") if os.path.isdir(path) else path
+    try:
+        with open(f) as fh:
+            text = fh.read()
+    except OSError as e:
+        raise ModelError("SDF <include><uri>%s</uri>: cannot read '%s': %s" % (uri, f, e))
+    root = parse_xml(text, uri, "SDF")
+    if local(root.tag) == "sdf":
+        ms = _children(root, "model")
+        if not ms:
+            raise ModelError("SDF <include><uri>%s</uri>: '%s' has no <model>" % (uri, f))
+        return ms[0]
+    return root

@@ -1,0 +1,160 @@
+"""Tier 1: contacts of the physics core: friction on a ramp, meshes, SDF worlds, collision
+filtering inside a model."""
+import importlib.util
+import math
+import os
+
+import pytest
+
+from modrob_sim.physics import World
+
+_FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "physics")
+_spec = importlib.util.spec_from_file_location("physics_helpers", os.path.join(_FIX, "physics_helpers.py"))
+H = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(H)
+
+
+def box_on_ramp(angle, mu, native=None, yaw=0.0):
+    world = World(native=native)
+    world.add_urdf("ramp", H.ramp(angle, mu))
+    box = H.robot("box", H.box_link("box", 1.0, (0.2, 0.2, 0.1), mu))
+    # resting on the slope: rotated with it, centre 0.05 m above the surface
+    n = (math.sin(angle), 0.0, math.cos(angle))
+    cy, sy = math.cos(yaw / 2), math.sin(yaw / 2)
+    qp = (0.0, math.sin(angle / 2), 0.0, math.cos(angle / 2))
+    # pitch (slope) then yaw about the slope normal
+    from modrob_sim.physics.transforms import quat_from_axis_angle, quat_mul
+    q = quat_mul(quat_from_axis_angle(n, yaw), qp)
+    del cy, sy
+    model = world.add_urdf("box", box, pose=((0.0501 * n[0], 0.0, 0.0501 * n[2]), q))
+    return world, model
+
+
+@pytest.mark.parametrize("yaw", [0.0, 0.6])
+def test_box_with_mu_07_stays_on_a_30_degree_ramp(yaw):
+    world, box = box_on_ramp(math.radians(30), 0.7, yaw=yaw)
+    start = box.pose[0]
+    world.step(2000)
+    end = box.pose[0]
+    assert math.dist(start, end) < 0.005
+    assert world.pop_events() == []
+
+
+@pytest.mark.parametrize("yaw", [0.0, 0.6])
+def test_box_with_mu_07_slides_down_a_40_degree_ramp(yaw):
+    angle = math.radians(40)
+    world, box = box_on_ramp(angle, 0.7, yaw=yaw)
+    start = box.pose[0]
+    world.step(1000)
+    end = box.pose[0]
+    travelled = math.dist(start, end)
+    # a = g (sin - mu cos) = 1.05 m/s^2 -> 0.53 m in 1 s
+    expected = 0.5 * 9.81 * (math.sin(angle) - 0.7 * math.cos(angle)) * 1.0 ** 2
+    assert travelled == pytest.approx(expected, rel=0.15)
+    assert end[2] < start[2]
+
+
+def test_ramp_on_the_python_path_too():
+    world, box = box_on_ramp(math.radians(40), 0.7, native=False)
+    z0 = box.pose[0][2]
+    world.step(500)
+    assert box.pose[0][2] < z0 - 0.05
+    world, box = box_on_ramp(math.radians(30), 0.7, native=False)
+    p0 = box.pose[0]
+    world.step(500)
+    assert math.dist(p0, box.pose[0]) < 0.005
+
+
+def mesh_urdf(filename, scale="1 1 1"):
+    return H.robot("m", '<link name="m">%s<collision><geometry><mesh filename="%s" scale="%s"/>'
+                   '</geometry></collision></link>' % (H.inertial(0.5, 8e-4, 8e-4, 8e-4), filename, scale))
+
+
+@pytest.mark.parametrize("name", ["cube_binary.stl", "cube_ascii.stl", "cube.obj", "cube.dae"])
+def test_mesh_cube_rests_on_the_ground(name):
+    world = World()
+    world.add_sdf(H.fixture("table_world.sdf").split("<model name=\"table\">")[0] + "</world></sdf>")
+    m = world.add_urdf("cube", mesh_urdf("file://" + os.path.join(_FIX, name)),
+                       pose=((0.0, 0.0, 0.3), (0.0, 0.0, 0.0, 1.0)))
+    world.step(1500)
+    assert m.pose[0][2] == pytest.approx(0.05, abs=0.002)
+    assert world.pop_events() == []
+
+
+def test_mesh_scale_and_resolver():
+    calls = []
+
+    def resolver(uri):
+        calls.append(uri)
+        assert uri == "package://fake_pkg/meshes/cube.obj"
+        return os.path.join(_FIX, "cube.obj")
+
+    world = World(resource_resolver=resolver)
+    world.add_sdf(H.fixture("table_world.sdf").split("<model name=\"table\">")[0] + "</world></sdf>")
+    m = world.add_urdf("cube", mesh_urdf("package://fake_pkg/meshes/cube.obj", "2 2 3"),
+                       pose=((0.0, 0.0, 0.5), (0.0, 0.0, 0.0, 1.0)))
+    world.step(1500)
+    assert calls
+    assert m.pose[0][2] == pytest.approx(0.15, abs=0.002)  # 0.1 m cube scaled 3x in z
+
+
+def test_sdf_world_with_ground_plane_static_table_and_can():
+    world = World()
+    models = world.add_sdf(H.fixture("table_world.sdf"))
+    assert [m.name for m in models] == ["ground_plane", "table", "can"]
+    assert world.models["table"].is_static and world.models["ground_plane"].is_static
+    assert models[2].kind == "sdf"
+    world.step(1000)
+    can = world.models["can"]
+    assert can.pose[0] == pytest.approx((1.0, 0.1, 0.75 + 0.06), abs=0.002)
+    assert world.models["table"].links["top"].pose[0] == pytest.approx((1.0, 0.0, 0.725))
+
+
+def test_links_of_one_model_do_not_collide_unless_self_collide():
+    # a free link of the model above the model's own (world-fixed) table
+    def model(self_collide):
+        gz = ('<gazebo reference="b"><selfCollide>true</selfCollide></gazebo>' if self_collide else "")
+        return H.robot("a", '<link name="world"/>' + H.box_link("a", 1.0, (0.3, 0.3, 0.1)) +
+                       '<joint name="fix" type="fixed"><parent link="world"/><child link="a"/>'
+                       '<origin xyz="0 0 1"/></joint>' + H.box_link("b", 1.0, (0.1, 0.1, 0.1)) +
+                       H.joint("free", "floating", "a", "b", "0 0 0.3") + gz)
+    results = {}
+    for sc in (False, True):
+        world = World()
+        m = world.add_urdf("a", model(sc))
+        world.step(1000)
+        results[sc] = m.links["b"].pose[0][2]
+        assert world.pop_events() == []
+    # without selfCollide "b" falls through "a" (free fall for 1 s: ~4.9 m)
+    assert results[False] < 1.3 - 4.0
+    # with it, "b" lands on "a" (top at 1.05): centre at 1.10 (less the 1 mm surface layer)
+    assert results[True] == pytest.approx(1.099, abs=0.002)
+
+
+def test_friction_is_the_smaller_mu_of_the_two_surfaces():
+    angle = math.radians(30)
+    for box_mu, ramp_mu, slides in ((0.7, 0.3, True), (0.3, 0.7, True), (0.7, 0.7, False)):
+        world = World()
+        world.add_urdf("ramp", H.ramp(angle, ramp_mu))
+        n = (math.sin(angle), 0.0, math.cos(angle))
+        box = world.add_urdf("box", H.robot("box", H.box_link("box", 1.0, (0.2, 0.2, 0.1), box_mu)),
+                             pose=((0.0501 * n[0], 0.0, 0.0501 * n[2]),
+                                   (0.0, math.sin(angle / 2), 0.0, math.cos(angle / 2))))
+        p0 = box.pose[0]
+        world.step(500)
+        assert (math.dist(p0, box.pose[0]) > 0.05) == slides, (box_mu, ramp_mu)
+
+
+def test_kp_kd_give_a_soft_contact():
+    def sink(kp):
+        world = World()
+        world.add_urdf("ground", H.fixture("ground_box.urdf"))
+        body = H.box_link("b", 10.0, (0.2, 0.2, 0.2))
+        body += '<gazebo reference="b"><kp>%r</kp><kd>100</kd><maxVel>1</maxVel></gazebo>' % kp
+        m = world.add_urdf("b", H.robot("b", body), pose=((0, 0, 0.1), (0, 0, 0, 1)))
+        world.step(1500)
+        return 0.1 - m.pose[0][2]
+    stiff, soft = sink(1e12), sink(1e5)
+    assert stiff < 0.0011  # at most the 1 mm contact surface layer
+    # kp in series with the ground's (1e12), 4 contact points in parallel: m g / (4 kp) more
+    assert soft == pytest.approx(0.001 + 98.1 / (4 * 1e5), abs=5e-5)

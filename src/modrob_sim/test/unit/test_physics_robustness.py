@@ -1,0 +1,274 @@
+"""Tier 1: bad input, the blow-up guard, determinism and resets of the physics core."""
+import importlib.util
+import math
+import os
+
+import pytest
+
+from modrob_sim.errors import ModelError, ModrobError
+from modrob_sim.physics import World
+
+_FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "physics")
+_spec = importlib.util.spec_from_file_location("physics_helpers", os.path.join(_FIX, "physics_helpers.py"))
+H = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(H)
+
+
+def world_signature(world):
+    return (list(world.models), len(world._geom_info), world._ode_world is not None,
+            sum(len(m._bodies) for m in world.models.values()), world.state_digest())
+
+
+@pytest.mark.parametrize("xml, message", [
+    ("<robot name='x'><link name='a'>", "malformed URDF XML"),
+    ("", "empty"),
+    ("<robt name='x'/>", "expected <robot>"),
+    ("<robot name='x'><link name='a'/><link name='a'/></robot>", "two links are named 'a'"),
+    ("<robot name='x'><link name='a'/><link name='b'/><joint name='j' type='revolute'>"
+     "<parent link='a'/><child link='b'/></joint></robot>", "joint 'j': a revolute joint needs <limit"),
+    ("<robot name='x'><link name='a'/><link name='b'/><joint name='j' type='hinge'>"
+     "<parent link='a'/><child link='b'/></joint></robot>", "type 'hinge' is not one of"),
+    ("<robot name='x'><link name='a'/><joint name='j' type='fixed'>"
+     "<parent link='a'/><child link='c'/></joint></robot>", "child link 'c' does not exist"),
+    ("<robot name='x'><link name='a'><inertial><mass value='${m}'/></inertial></link></robot>",
+     "unexpanded xacro"),
+    ("<robot name='x'><link name='a'><inertial><mass value='-1'/></inertial></link></robot>",
+     "negative"),
+    ("<robot name='x'><link name='a'/><link name='b'/></robot>", "exactly one root link"),
+    ("<robot name='x'><link name='a'><collision><geometry><box size='1 0 1'/></geometry></collision>"
+     "</link></robot>", "must be positive"),
+    ("<robot name='x'><link name='a'/><gazebo reference='nope'><mu1>1</mu1></gazebo></robot>",
+     "no link or joint is named 'nope'"),
+])
+def test_bad_urdf_gives_a_model_error_naming_the_problem_and_leaves_the_world_unchanged(xml, message):
+    world = World()
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    world.add_urdf("box", H.fixture("box.urdf"), pose=((0, 0, 1), (0, 0, 0, 1)))
+    before = world_signature(world)
+    with pytest.raises(ModelError, match="model 'bad'") as err:
+        world.add_urdf("bad", xml)
+    assert message in str(err.value)
+    assert isinstance(err.value, ModrobError)
+    assert world_signature(world) == before
+    world.step(10)
+
+
+def test_missing_mesh_names_link_and_uri_and_nothing_is_built():
+    world = World()
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    before = world_signature(world)
+    xml = H.robot("m", H.box_link("base", 1.0, (0.1, 0.1, 0.1)) +
+                  '<link name="hand"><collision><geometry><mesh filename="package://modrob_sim/no/such.stl"/>'
+                  '</geometry></collision></link>' + H.joint("j", "fixed", "base", "hand"))
+    with pytest.raises(ModelError) as err:
+        world.add_urdf("m", xml)
+    msg = str(err.value)
+    assert "link 'hand'" in msg and "package://modrob_sim/no/such.stl" in msg
+    assert world_signature(world) == before
+    # a resolver that fails is reported the same way
+    world2 = World(resource_resolver=lambda uri: (_ for _ in ()).throw(KeyError(uri)))
+    with pytest.raises(ModelError, match="link 'hand'.*cannot resolve mesh URI"):
+        world2.add_urdf("m", xml)
+    assert not world2.models
+
+
+def test_bad_mesh_file_is_a_model_error(tmp_path):
+    bad = tmp_path / "broken.stl"
+    bad.write_bytes(b"\x00\x01garbage that is no STL")
+    world = World()
+    xml = H.robot("m", '<link name="a"><collision><geometry><mesh filename="file://%s"/></geometry>'
+                  '</collision></link>' % bad)
+    with pytest.raises(ModelError, match="link 'a'.*broken.stl"):
+        world.add_urdf("m", xml)
+    assert not world.models and not world._geom_info
+
+
+def test_duplicate_model_name_is_refused():
+    world = World()
+    world.add_urdf("box", H.fixture("box.urdf"))
+    before = world_signature(world)
+    with pytest.raises(ModelError, match="'box' already exists"):
+        world.add_urdf("box", H.fixture("box.urdf"), pose=((2, 0, 0), (0, 0, 0, 1)))
+    assert world_signature(world) == before
+    with pytest.raises(ModelError, match="no model named 'nope'"):
+        world.remove_model("nope")
+    with pytest.raises(ModelError, match="unknown joint 'elbow'"):
+        world.add_urdf("p", H.fixture("pendulum.urdf"), joint_positions={"elbow": 1.0})
+    assert world_signature(world) == before
+
+
+def test_bad_sdf_leaves_no_model_behind():
+    world = World()
+    sdf = H.fixture("table_world.sdf").replace("<radius>0.033</radius>", "<radius>abc</radius>")
+    with pytest.raises(ModelError, match="model 'can'.*radius"):
+        world.add_sdf(sdf)
+    assert not world.models
+
+
+def test_unknown_gazebo_tags_are_warned_once(caplog):
+    xml = H.robot("x", H.box_link("a", 1.0, (0.1, 0.1, 0.1)) +
+                  '<gazebo reference="a"><frobnicate>1</frobnicate><mu1>0.5</mu1></gazebo>')
+    world = World()
+    with caplog.at_level("WARNING", logger="modrob_sim.physics"):
+        world.add_urdf("x1", xml)
+        world.add_urdf("x2", xml, pose=((1, 0, 0), (0, 0, 0, 1)))
+    hits = [r for r in caplog.records if "frobnicate" in r.getMessage()]
+    assert len(hits) == 1
+    assert world.models["x1"].links["a"]._geoms
+
+
+def test_nan_effort_raises_and_nothing_reaches_ode():
+    world = World()
+    m = world.add_urdf("p", H.fixture("pendulum.urdf"), joint_positions={"swing": 0.2})
+    j = m.joints["swing"]
+    for bad in (float("nan"), float("inf"), -float("inf"), "x", None):
+        with pytest.raises(ValueError, match="joint 'swing'"):
+            j.set_effort(bad)
+    assert not world._effort_joints
+    with pytest.raises(ValueError):
+        j.set_velocity_target(float("nan"), 1.0)
+    with pytest.raises(ValueError):
+        m.links["rod"].add_wrench((float("nan"), 0, 0), (0, 0, 0))
+    with pytest.raises(ValueError):
+        m.set_pose(((0, 0, float("inf")), (0, 0, 0, 1)))
+    world.step(100)
+    assert world.pop_events() == []
+    assert math.isfinite(j.position)
+
+
+def test_absurd_effort_trips_the_guard_and_the_world_keeps_stepping():
+    world = World()
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    box = world.add_urdf("box", H.fixture("box.urdf"), pose=((2, 0, 0.049), (0, 0, 0, 1)))
+    xml = H.fixture("pendulum.urdf").replace('effort="10"', 'effort="0"')  # unlimited effort
+    m = world.add_urdf("p", xml, joint_positions={"swing": 0.2})
+    world.step(100)  # snapshots are sane
+    j = m.joints["swing"]
+    j.set_effort(1e12)
+    world.step(1)
+    events = world.pop_events()
+    assert len(events) == 1
+    ev = events[0]
+    assert (ev.model, ev.link) == ("p", "rod")
+    assert "runaway" in ev.reason and ev.time == pytest.approx(world.time)
+    # restored: finite, slow, and the world goes on (other models untouched)
+    assert abs(j.velocity) < 1.0 and math.isfinite(j.position)
+    world.step(500)
+    assert world.pop_events() == []
+    assert box.pose[0][2] == pytest.approx(0.049, abs=0.002)
+
+
+def test_huge_wrench_is_caught_and_model_restored():
+    world = World()
+    box = world.add_urdf("box", H.fixture("box.urdf"), pose=((0, 0, 1), (0, 0, 0, 1)))
+    world.step(60)
+    box.links["box"].add_wrench((1e30, 0, 0), (0, 1e30, 0))
+    world.step(3)
+    events = world.pop_events()
+    assert events and events[0].model == "box" and events[0].link == "box"
+    assert all(math.isfinite(v) for v in box.pose[0])
+    assert not box.links["box"]._wrenches  # the offending wrench is cleared
+
+
+def build_scene(world):
+    world.add_sdf(H.fixture("table_world.sdf"))
+    m = world.add_urdf("p", H.fixture("pendulum.urdf"), joint_positions={"swing": 0.7})
+    for i in range(4):
+        world.add_urdf("box%d" % i, H.fixture("box.urdf"),
+                       pose=((0.9 + 0.05 * i, -0.1 + 0.07 * i, 0.85 + 0.12 * i), (0, 0, 0.1 * i, 1)))
+    return m
+
+
+def test_same_seed_and_inputs_give_identical_digests():
+    a, b = World(seed=7), World(seed=7)
+    ma, mb = build_scene(a), build_scene(b)
+    for i in range(2000):  # 2 s, interleaved so that shared global state would show
+        ma.joints["swing"].set_effort(math.sin(i * 0.01))
+        a.step()
+        mb.joints["swing"].set_effort(math.sin(i * 0.01))
+        b.step()
+    assert a.state_digest() == b.state_digest()
+    assert a.rng.random() == b.rng.random()
+    # and a different input changes the digest
+    mb.joints["swing"].set_effort(0.5)
+    a.step()
+    b.step()
+    assert a.state_digest() != b.state_digest()
+
+
+def test_reset_restores_the_spawn_state():
+    world = World(seed=3)
+    m = build_scene(world)
+    spawn = world.state_digest()
+    q0 = m.joints["swing"].position
+    can0 = world.models["can"].pose
+    world.step(700)
+    m.joints["swing"].set_effort(3.0)
+    world.step(1)
+    assert world.state_digest() != spawn
+    world.reset()
+    assert world.time == 0.0 and world.iterations == 0
+    assert world.state_digest() == spawn
+    assert m.joints["swing"].position == pytest.approx(q0, abs=1e-12)
+    assert world.models["can"].pose == can0
+    # reset_world keeps the time
+    world.step(100)
+    world.reset_world()
+    assert world.iterations == 100
+    assert m.joints["swing"].position == pytest.approx(q0, abs=1e-12)
+    # stepping again after reset() reproduces the first run exactly
+    world.reset()
+    world.step(300)
+    d1 = world.state_digest()
+    world.reset()
+    world.step(300)
+    assert world.state_digest() == d1
+
+
+def test_models_can_be_added_and_removed_while_running():
+    world = World()
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    world.step(10)
+    b = world.add_urdf("box", H.fixture("box.urdf"), pose=((0, 0, 0.3), (0, 0, 0, 1)))
+    world.step(300)
+    assert b.pose[0][2] == pytest.approx(0.049, abs=0.002)
+    world.remove_model("box")
+    assert "box" not in world.models
+    world.step(10)
+    b2 = world.add_urdf("box", H.fixture("box.urdf"), pose=((0, 0, 0.3), (0, 0, 0, 1)))
+    world.step(300)
+    assert b2.pose[0][2] == pytest.approx(0.049, abs=0.002)
+    b2.set_pose(((1.0, 2.0, 0.5), (0, 0, 0, 1)))
+    assert b2.pose[0] == pytest.approx((1.0, 2.0, 0.5))
+    world.step(400)
+    assert b2.pose[0] == pytest.approx((1.0, 2.0, 0.049), abs=0.002)
+
+
+def test_world_fixed_model_can_be_moved_and_reset():
+    world = World()
+    m = world.add_urdf("p", H.fixture("pendulum.urdf"), joint_positions={"swing": 0.3})
+    world.step(50)
+    q = m.joints["swing"].position
+    m.set_pose(((1.0, 0.0, 1.5), (0, 0, 0, 1)))
+    assert m.joints["swing"].position == pytest.approx(q, abs=1e-9)
+    assert m.links["rod"].pose[0] == pytest.approx((1.0, 0.0, 1.5), abs=1e-9)
+    world.step(200)
+    assert m.links["rod"].pose[0] == pytest.approx((1.0, 0.0, 1.5), abs=1e-3)
+    assert world.pop_events() == []
+    world.reset()
+    assert m.links["rod"].pose[0] == pytest.approx((0.0, 0.0, 1.5), abs=1e-9)
+    assert m.joints["swing"].position == pytest.approx(0.3, abs=1e-9)
+    world.step(100)
+    assert m.links["rod"].pose[0] == pytest.approx((0.0, 0.0, 1.5), abs=1e-3)
+
+
+def test_spawn_overlap_is_warned(caplog):
+    world = World()
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    with caplog.at_level("WARNING", logger="modrob_sim.physics"):
+        world.add_urdf("box", H.fixture("box.urdf"), pose=((0, 0, 0.0), (0, 0, 0, 1)))
+    assert any("spawn overlap" in r.getMessage() and "'box'" in r.getMessage() for r in caplog.records)
+    # pushed out gently (maxVel 0.01 m/s), no explosion
+    world.step(1000)
+    assert world.pop_events() == []
+    assert abs(world.models["box"].twist[0][2]) < 0.05
