@@ -30,6 +30,12 @@ class Spawner(unittest.TestCase):
                                                          "shoulder_controller": "running"},
                        60, "the YAML's controllers running", period=0.2)
             self.assertEqual(rospy.get_param(NS + "/shoulder_controller/pid/p"), 60.0)
+            cmd = ["rosrun", "modrob_sim", "controller_manager", "--namespace", NS, "list"]
+            listing = subprocess.run(cmd,
+                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+            self.assertEqual(listing.returncode, 0, listing.stdout)
+            self.assertIn("shoulder_controller - effort_controllers/JointPositionController ( running )",
+                          listing.stdout)
             proc.send_signal(signal.SIGINT)
             out, _ = proc.communicate(timeout=40)
         finally:

@@ -40,10 +40,11 @@ class ManagerClient(object):
         self.names = _service_names(namespace)
         self.proxies = {k: rospy.ServiceProxy(v, self.TYPES[k]) for k, v in self.names.items()}
 
-    def wait(self, timeout, which=("load_controller", "switch_controller", "unload_controller")):
+    def wait(self, timeout, which=("load_controller", "switch_controller", "unload_controller"),
+             who="Controller Spawner"):
         for k in which:
             name = rospy.resolve_name(self.names[k])
-            rospy.loginfo("Controller Spawner: Waiting for service %s" % name)
+            rospy.loginfo("%s: Waiting for service %s" % (who, name))
             rospy.wait_for_service(name, timeout=timeout)
 
     def __getattr__(self, name):
@@ -197,7 +198,7 @@ def unspawner_main(argv=None):
     rospy.init_node("unspawner", anonymous=True)
     client = ManagerClient(args.namespace or "")
     try:
-        client.wait(args.timeout, ("switch_controller",))
+        client.wait(args.timeout, ("switch_controller",), who="unspawner")
     except rospy.ROSException:
         rospy.logerr("unspawner: no controller_manager at %s"
                      % rospy.resolve_name(client.names["switch_controller"]))
@@ -236,7 +237,7 @@ def controller_manager_main(argv=None):
     rospy.init_node("controller_manager_cli", anonymous=True, disable_signals=True)
     client = ManagerClient(args.namespace)
     try:
-        client.wait(args.timeout, ("list_controllers",))
+        client.wait(args.timeout, ("list_controllers",), who="controller_manager")
     except rospy.ROSException:
         print("no controller_manager at %s" % rospy.resolve_name(client.names["list_controllers"]),
               file=sys.stderr)
