@@ -199,3 +199,13 @@ def test_joint_state_controller_publishes_at_its_rate_and_requires_it():
     model.run(mgr, 1.0, record=grab)
     assert len(stamps) in (50, 51)
     assert c.pending is None and len(set(stamps)) == len(stamps)
+
+
+def test_transmission_on_a_fixed_joint_is_skipped_with_a_warning():
+    fixed = IntegratorJoint(name="weld", type_="fixed")
+    moving = IntegratorJoint(name="j1")
+    notes = []
+    hw = RobotHWSim({"weld": fixed, "j1": moving},
+                    simple_transmissions({"weld": "EffortJointInterface", "j1": "EffortJointInterface"}),
+                    warn=notes.append)
+    assert hw.order == ["j1"] and "weld is fixed" in notes[0]

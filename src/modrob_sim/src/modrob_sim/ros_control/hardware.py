@@ -119,6 +119,11 @@ class RobotHWSim(object):
                 raise ControllerError("Transmission %s names joint '%s', which is not in the model "
                                       "(joints: %s)"
                                       % (tr.name, tj.name, ", ".join(sorted(model_joints))))
+            jtype = getattr(model_joints[tj.name], "type", "revolute")
+            if jtype not in ("revolute", "continuous", "prismatic"):
+                warn("Transmission %s: joint %s is %s; only revolute, continuous and prismatic joints can be "
+                     "actuated: ignored." % (tr.name, tj.name, jtype))
+                continue
             if tj.name in self.joints:
                 warn("Joint %s appears in two transmissions; the second (%s) is ignored." % (tj.name,
                                                                                              tr.name))

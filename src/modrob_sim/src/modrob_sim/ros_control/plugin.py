@@ -101,6 +101,7 @@ class GazeboRosControlPlugin(object):
     def reset(self):
         with self.lock:
             self._last_update = None
+            self.manager.time = 0.0
             self.hw.reset_commands()
             running = [c for c in self.manager.list_controllers() if c.state == "running"]
             for c in running:
