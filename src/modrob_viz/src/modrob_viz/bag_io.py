@@ -27,7 +27,7 @@ def _open(path, mode):
     if not path:
         raise BagError("no bag file given: set the ~bag_file parameter")
     if mode == "r" and not os.path.isfile(path):
-        raise BagError("bag file '%s' does not exist" % path)
+        raise BagError("bag file '%s' does not exist (yet)" % path, waiting=True)
     if mode in ("w", "a"):
         folder = os.path.dirname(os.path.abspath(path))
         if not os.path.isdir(folder):
@@ -75,7 +75,7 @@ def read_points(path, topic=POINTS_TOPIC):
         if topic not in topics:
             raise BagError("bag '%s' has no topic '%s' (it has: %s); record one with "
                            "trajectory_3Dpoints_recorder or set ~bag_topic"
-                           % (path, topic, ", ".join(topics) or "no topics"))
+                           % (path, topic, ", ".join(topics) or "no topics"), waiting=not topics)
         points, frame_id = [], ""
         for _, msg, _ in bag.read_messages(topics=[topic]):
             if hasattr(msg, "point"):
@@ -141,6 +141,6 @@ def read_joint_trajectory(path):
             return JointPath.from_points(names or [], points)
         raise BagError("bag '%s' has no joint trajectory (no '%s' and no trajectory_msgs/JointTrajectory "
                        "topic; it has: %s); record one with joint_trajectory_recorder"
-                       % (path, JOINT_POINTS_TOPIC, ", ".join(topics) or "no topics"))
+                       % (path, JOINT_POINTS_TOPIC, ", ".join(topics) or "no topics"), waiting=not topics)
     finally:
         bag.close()

@@ -31,4 +31,13 @@ class TrajectoryError(VizError):
 
 
 class BagError(VizError):
-    """A bag that cannot be read or written, or that lacks the expected topic."""
+    """A bag that cannot be read or written, or that lacks the expected topic. ``waiting`` is
+    True when the bag does not exist yet or holds no messages at all (a recorder may fill it)."""
+
+    def __init__(self, message, waiting=False):
+        super().__init__(message)
+        self.waiting = waiting
+
+
+class ConfigError(VizError):
+    """A node parameter or the robot description is missing or unusable."""

@@ -1,0 +1,44 @@
+"""Sample joint motions for demos and tests (no rospy): a smooth multi-joint trajectory like the
+TP team's planner output (the seed's 3700 points) and a joint-space wave to move a robot."""
+import math
+
+import numpy as np
+
+from modrob_viz.errors import TrajectoryError
+from modrob_viz.joint_path import JointPath
+
+
+def _range(limits):
+    lo, hi = limits
+    lo = -math.pi if math.isinf(lo) else lo
+    hi = math.pi if math.isinf(hi) else hi
+    return 0.5 * (lo + hi), 0.5 * (hi - lo)
+
+
+def sample_joint_trajectory(names, limits, n=3700, duration=11.1, amplitude=0.6):
+    """A smooth trajectory of ``n`` points over ``duration`` s: each joint swings about the middle
+    of its range by ``amplitude`` of its half range (at most 1.2 rad) with its own frequency."""
+    if n < 2:
+        raise TrajectoryError("a sample trajectory needs n >= 2 points, got %r" % (n,))
+    if not 0 < amplitude <= 1:
+        raise TrajectoryError("amplitude must be in (0, 1], got %r" % (amplitude,))
+    s = np.linspace(0.0, 1.0, int(n))
+    cols = []
+    for j, name in enumerate(names):
+        mid, half = _range(limits[name])
+        a = min(1.2, amplitude * half)
+        if j == 0:
+            cols.append(mid + a * np.sin(math.pi * (s - 0.5)))           # one sweep across
+        else:
+            cols.append(mid + 0.5 * a + 0.5 * a * np.sin(2 * math.pi * (j * s) + j))
+    return JointPath(names, np.column_stack(cols) if cols else np.zeros((int(n), 0)), s * duration)
+
+
+def joint_wave(names, limits, t, period=8.0, amplitude=0.5):
+    """Joint positions at time ``t`` [s] of a slow wave through every joint (for demos)."""
+    out = []
+    for j, name in enumerate(names):
+        mid, half = _range(limits[name])
+        a = min(1.0, amplitude * half)
+        out.append(mid + a * math.sin(2 * math.pi * t / period + 0.9 * j))
+    return out
