@@ -100,3 +100,72 @@ def test_free_fall_matches_g_and_link_twist():
     t = world.time
     assert box.pose[0][2] == pytest.approx(10.0 - 0.5 * 9.81 * t * t, abs=0.01)
     assert box.twist[0][2] == pytest.approx(-9.81 * t, rel=1e-6)
+
+
+def test_gazebo_plugins_are_listed_with_their_namespace():
+    xml = fixture("pendulum.urdf").replace("</robot>", """
+  <gazebo><plugin name="gazebo_ros_control" filename="libgazebo_ros_control.so">
+    <robotNamespace>/pend</robotNamespace></plugin></gazebo>
+  <gazebo><plugin name="p3d" filename="libgazebo_ros_p3d.so"><bodyName>rod</bodyName></plugin></gazebo>
+  <gazebo reference="rod"><sensor type="camera" name="cam"><update_rate>30</update_rate>
+    <plugin name="cam_ctrl" filename="libgazebo_ros_camera.so"><cameraName>c</cameraName></plugin>
+  </sensor><mu1>0.4</mu1></gazebo>
+</robot>""")
+    world = World()
+    m = world.add_urdf("pendulum", xml, robot_namespace="/spawned")
+    specs = {p.filename: p for p in m.plugins}
+    assert set(specs) == {"libgazebo_ros_control.so", "libgazebo_ros_p3d.so", "libgazebo_ros_camera.so"}
+    assert specs["libgazebo_ros_control.so"].robot_namespace == "/pend"
+    assert specs["libgazebo_ros_p3d.so"].robot_namespace == "/spawned"
+    assert specs["libgazebo_ros_p3d.so"].element.findtext("bodyName") == "rod"
+    cam = specs["libgazebo_ros_camera.so"]
+    assert cam.link == "rod" and cam.sensor.get("name") == "cam"
+    assert m.robot_namespace == "/spawned" and m.kind == "urdf" and m.source_xml == xml
+    assert m.links["rod"].sensors[0].get("type") == "camera"
+
+
+def test_add_effort_accumulates_and_set_effort_replaces():
+    world = World()
+    m = world.add_urdf("pendulum", fixture("pendulum.urdf"))
+    j = m.joints["swing"]
+    j.add_effort(4.0)
+    j.add_effort(4.0)
+    world.step()
+    assert j.effort == 8.0
+    j.add_effort(8.0)
+    j.add_effort(8.0)
+    world.step()
+    assert j.effort == 10.0  # the sum, clamped to the limit
+    j.add_effort(3.0)
+    j.set_effort(1.0)
+    world.step()
+    assert j.effort == 1.0
+
+
+def test_default_resolver_finds_package_uris_through_rospkg():
+    xml = ('<robot name="m"><link name="m"><inertial><mass value="0.5"/><inertia ixx="1e-3" ixy="0" '
+           'ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial><collision><geometry><mesh '
+           'filename="package://modrob_sim/test/fixtures/physics/cube_binary.stl"/></geometry></collision>'
+           '</link></robot>')
+    world = World()
+    world.add_urdf("ground", fixture("ground_box.urdf"))
+    m = world.add_urdf("m", xml, pose=((0, 0, 0.2), (0, 0, 0, 1)))
+    world.step(800)
+    assert m.pose[0][2] == pytest.approx(0.05, abs=0.002)
+
+
+def test_zero_and_tiny_inertias_do_not_break_ode():
+    xml = fixture("pendulum.urdf").replace(
+        '<inertia ixx="0.0208667" ixy="0" ixz="0" iyy="0.0208667" iyz="0" izz="0.0000667"/>',
+        '<inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>').replace(
+        '<mass value="1.0"/>', '<mass value="1e-9"/>')
+    xml = xml.replace("</robot>", '<link name="massless"/><joint name="m" type="continuous">'
+                      '<parent link="rod"/><child link="massless"/><origin xyz="0 0 -0.5"/>'
+                      '<axis xyz="1 0 0"/></joint></robot>')
+    world = World()
+    m = world.add_urdf("p", xml, joint_positions={"swing": 0.5})
+    for _ in range(2000):
+        m.joints["swing"].set_effort(0.001)
+        world.step()
+    for ln in m.links.values():
+        assert all(math.isfinite(v) for v in ln.pose[0] + ln.pose[1])

@@ -298,6 +298,17 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
             if j.lower is not None:
                 oj.setParam(odelib.PARAM_LO_STOP, j.lower)
                 oj.setParam(odelib.PARAM_HI_STOP, j.upper)
+        for tag, param in (("stopErp", odelib.PARAM_STOP_ERP), ("stopCfm", odelib.PARAM_STOP_CFM)):
+            el = jd.extra.get(tag)
+            if el is not None:
+                try:
+                    v = float((el.text or "").strip())
+                except ValueError:
+                    v = float("nan")
+                if not (math.isfinite(v) and v >= 0):
+                    raise ModelError("model '%s' joint '%s': <gazebo><%s> must be a number >= 0, got %r"
+                                     % (model.name, j.name, tag, el.text))
+                oj.setParam(param, v)
         j._ode = oj
         model._ode_joints.append(oj)
         # inertia the joint moves directly (lower bound of the subtree's): for stable damping

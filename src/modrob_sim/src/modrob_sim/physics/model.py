@@ -190,6 +190,7 @@ class Joint(object):
         self._unwrap = False       # revolute without stops inside (-pi, pi]: track turns
         self._soft_limits = False  # revolute limits beyond +-pi: stops moved each step
         self._cmd = 0.0
+        self._raw_cmd = 0.0
         self._has_cmd = False
         self._vel_target = None    # (v, fmax)
         self._child_inertia = 1.0  # about the axis; bounds the explicit damping for stability
@@ -228,9 +229,7 @@ class Joint(object):
             return -FORCE_CAP
         return f
 
-    def set_effort(self, f):
-        """Effort (N m or N) for the NEXT step only; clamped to +-effort_limit. Several calls in one
-        step: the last one wins (as Gazebo's SetForce within one update)."""
+    def _check_effort(self, f):
         try:
             f = float(f)
         except (TypeError, ValueError):
@@ -242,10 +241,28 @@ class Joint(object):
         if self._ode is None:
             raise ValueError("joint '%s' of model '%s' is %s: it takes no effort"
                              % (self.name, self.model.name, self.type))
-        self._cmd = self._limit(f)
+        return f
+
+    def _queue(self):
         if not self._has_cmd:
             self._has_cmd = True
             self.model._world._effort_joints.append(self)
+
+    def set_effort(self, f):
+        """Effort (N m or N) for the NEXT step only; clamped to +-effort_limit. Several calls in one
+        step: the last one wins (use add_effort to accumulate)."""
+        f = self._check_effort(f)
+        self._raw_cmd = f
+        self._cmd = self._limit(f)
+        self._queue()
+
+    def add_effort(self, f):
+        """Addition to the contract: like Gazebo's Joint::SetForce, efforts given in one step add
+        up (the sum is clamped to +-effort_limit) and last for that step only."""
+        f = self._check_effort(f)
+        self._raw_cmd = (self._raw_cmd if self._has_cmd else 0.0) + f
+        self._cmd = self._limit(self._raw_cmd)
+        self._queue()
 
     def set_position(self, q):
         """Kinematic: teleports the child subtree; the joint ends with zero velocity."""

@@ -36,7 +36,7 @@ DEFAULT_PARAMS = OrderedDict([
     ("contact_max_correcting_vel", 100.0),
     ("contact_surface_layer", 0.001),
     ("max_contacts", 4),
-    ("auto_disable", False),
+    ("auto_disable", True),
     ("guard_max_linear_velocity", 50.0),
     ("guard_max_angular_velocity", 500.0),
     ("guard_max_contacts", 2000),
@@ -44,6 +44,9 @@ DEFAULT_PARAMS = OrderedDict([
 ])
 
 _ALL_BITS = (1 << 62) - 1
+AUTO_DISABLE_LINEAR = 0.005   # m/s
+AUTO_DISABLE_ANGULAR = 0.01   # rad/s
+AUTO_DISABLE_TIME = 0.2       # s
 _APPROX1 = ode.ContactApprox1_1 | ode.ContactApprox1_2
 _BASE_MODE = _APPROX1 | ode.ContactSoftERP | ode.ContactSoftCFM
 
@@ -81,6 +84,15 @@ class World(object):
         self._resolver = resource_resolver
         self._ode_world = ode.World()
         self._ode_world.setGravity(self._gravity)
+        # auto-disable (used only for free single-body models, see _apply_auto_disable): a body
+        # sleeps after 0.2 s below 5 mm/s and 0.01 rad/s, so only bodies at rest or creeping
+        # slower than ~0.025 m/s^2 from rest; contacts, wrenches and teleports wake it
+        w = self._ode_world
+        w.setAutoDisableFlag(False)
+        w.setAutoDisableLinearThreshold(AUTO_DISABLE_LINEAR)
+        w.setAutoDisableAngularThreshold(AUTO_DISABLE_ANGULAR)
+        w.setAutoDisableSteps(10)
+        w.setAutoDisableTime(AUTO_DISABLE_TIME)
         self._static_space = ode.HashSpace()
         self._dyn_space = ode.HashSpace()
         self._contact_group = ode.JointGroup()
@@ -658,6 +670,7 @@ class World(object):
                 for w in ln._wrenches:
                     f, tq, p, remaining = w
                     if b is not None:
+                        b.enable()
                         q = b.getQuaternion()
                         bp = b.getPosition()
                         pw = transform_point(((bp[0], bp[1], bp[2]), (q[1], q[2], q[3], q[0])),
