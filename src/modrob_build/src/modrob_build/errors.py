@@ -1,6 +1,6 @@
-"""The exception types of modrob_build. They derive from modrob_sim's ModrobError, the root of
+"""The exception types of modrob_build. They derive from modrob_msgs' ModrobError, the root of
 every library error in the workspace, so a node can catch them at its boundary."""
-from modrob_sim.errors import ModrobError
+from modrob_msgs.errors import ModrobError
 
 
 class BuildError(ModrobError):
