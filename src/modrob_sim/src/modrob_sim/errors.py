@@ -1,9 +1,9 @@
-"""The exception types of modrob_sim. Every error the library raises derives from ModrobError,
+"""The exception types of modrob_sim. Every error the library raises derives from ModrobError
+(defined in modrob_msgs.errors for the whole workspace),
 so a node can catch library errors at its boundary and log them without catching bugs."""
 
 
-class ModrobError(Exception):
-    """Root of the errors raised by modrob_sim's libraries."""
+from modrob_msgs.errors import ModrobError  # noqa: F401  (the workspace-wide root, re-exported)
 
 
 class ModelError(ModrobError):

@@ -1,6 +1,6 @@
-"""The exception types of modrob_viz. They derive from modrob_sim's ModrobError (the workspace's
+"""The exception types of modrob_viz. They derive from modrob_msgs' ModrobError (the workspace's
 one root), so a node can catch every library error at its boundary without catching bugs."""
-from modrob_sim.errors import ModrobError
+from modrob_msgs.errors import ModrobError
 
 
 class VizError(ModrobError):

@@ -7,7 +7,7 @@ import threading
 import rospy
 import tf2_ros
 
-from modrob_sim.errors import ModrobError
+from modrob_msgs.errors import ModrobError
 from modrob_viz import kdl_urdf
 from modrob_viz.errors import ConfigError, UrdfError
 
