@@ -20,6 +20,26 @@ TWO_PI = 2.0 * math.pi
 FORCE_CAP = 1e9
 
 
+#: teleport twists beyond this are refused (m/s, rad/s): nothing physical moves that fast, and
+#: astronomic values drive ODE's quaternion update to overflow
+TWIST_CAP = 1e6
+
+
+def _capped(v):
+    """Scale a force/torque vector down to FORCE_CAP magnitude."""
+    n = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+    if n > FORCE_CAP:
+        k = FORCE_CAP / n
+        return (v[0] * k, v[1] * k, v[2] * k)
+    return v
+
+
+def _check_twist(lin, ang, what):
+    for v, unit in ((lin, "m/s"), (ang, "rad/s")):
+        if max(abs(x) for x in v) > TWIST_CAP:
+            raise ValueError("%s: %r %s is beyond %g: refused" % (what, v, unit, TWIST_CAP))
+
+
 def _body_pose(body):
     q = body.getQuaternion()
     return (body.getPosition(), (q[1], q[2], q[3], q[0]))
@@ -120,6 +140,7 @@ class Link(object):
     def set_twist(self, twist):
         lin = check_vec3(twist[0], "link '%s' twist linear" % self.name)
         ang = check_vec3(twist[1], "link '%s' twist angular" % self.name)
+        _check_twist(lin, ang, "link '%s' set_twist" % self.name)
         b = self._body
         if b is None:
             return
@@ -146,8 +167,8 @@ class Link(object):
         force acts, relative to the link origin). Applied every step until ``duration`` simulated
         seconds have passed (None: until clear_wrenches())."""
         what = "link '%s' of model '%s' add_wrench" % (self.name, self.model.name)
-        f = check_vec3(force, what + " force")
-        t = check_vec3(torque, what + " torque")
+        f = _capped(check_vec3(force, what + " force"))
+        t = _capped(check_vec3(torque, what + " torque"))
         p = check_vec3(reference_point, what + " reference_point")
         if duration is not None:
             duration = float(duration)
@@ -375,6 +396,7 @@ class Model(object):
     def set_twist(self, twist):
         lin = check_vec3(twist[0], "model '%s' twist linear" % self.name)
         ang = check_vec3(twist[1], "model '%s' twist angular" % self.name)
+        _check_twist(lin, ang, "model '%s' set_twist" % self.name)
         p0 = self.canonical_link.pose[0]
         for b in self._bodies:
             p = b.getPosition()

@@ -151,6 +151,8 @@ def check_pose(pose, what):
         raise ValueError("%s: a pose is ((x, y, z), (qx, qy, qz, qw)), got %r" % (what, pose))
     if not all(math.isfinite(x) for x in p + q):
         raise ValueError("%s: pose has a non-finite value: %r" % (what, pose))
+    if max(abs(x) for x in p) > 1e9:
+        raise ValueError("%s: position %r is beyond 1e9 m" % (what, p))
     try:
         q = quat_normalize(q)
     except ValueError:
