@@ -26,9 +26,15 @@ def _quat_matrix(q):
 
 
 def default_tip(urdf_xml, finger_joints):
-    """Parent link of the finger joints (the gripper's base), or None when there are none."""
+    """The gripper's grasp centre (a fixed link whose name ends in 'tcp', as gripper.xacro's
+    ``<prefix>gripper_tcp``), else the parent link of the finger joints (the gripper's base), else
+    None (the deepest link is used)."""
     from modrob_sim.motion.robot_info import parse_urdf_joints
-    parents = {j.parent for j in parse_urdf_joints(urdf_xml) if j.name in set(finger_joints)}
+    joints = parse_urdf_joints(urdf_xml)
+    tcps = [j.child for j in joints if j.type == "fixed" and (j.child or "").endswith("tcp")]
+    if len(tcps) == 1:
+        return tcps[0]
+    parents = {j.parent for j in joints if j.name in set(finger_joints)}
     return parents.pop() if len(parents) == 1 else None
 
 
@@ -103,11 +109,38 @@ class CartesianIk(object):
         try:
             q = self.chain.ik(tuple(target), q0=q0, position_only=True, tol=self.tol)
         except UnreachableError as exc:
-            raise MotionError("xyz %.3f %.3f %.3f is unreachable for modrob%d: %s"
-                              % (tuple(xyz) + (info.robot_id, exc)))
+            # KDL's LMA ignores joint limits; when the point is within reach, search again inside
+            # the limits (bounded least squares on KDL's forward kinematics)
+            q = self._bounded(target, q0) if exc.residual < 0.05 else None
+            if q is None:
+                raise MotionError("xyz %.3f %.3f %.3f is unreachable for modrob%d: %s"
+                                  % (tuple(xyz) + (info.robot_id, exc)))
         except self._viz_error as exc:
             raise MotionError("IK failed for modrob%d: %s" % (info.robot_id, exc))
         solved = dict(zip(self.chain.joint_names, q))
         return [solved.get(j, seed_by_name.get(j, 0.0)) for j in info.arm_joints]
+
+    def _bounded(self, target, q0, attempts=12):
+        """Position IK inside the joint limits: scipy least squares from q0 and seeded random starts.
+        Returns the joint list or None."""
+        import random
+        from scipy.optimize import least_squares
+        lo = np.array([max(v, -math.pi) for v in self.chain.lower])
+        hi = np.array([min(v, math.pi) for v in self.chain.upper])
+        rng = random.Random(0)
+        starts = [np.clip(np.array(q0, dtype=float), lo, hi)]
+        starts += [np.array([rng.uniform(a, b) for a, b in zip(lo, hi)]) for _ in range(attempts - 1)]
+
+        def residual(q):
+            return np.array(self.chain.fk_position(list(q))) - target
+        best = None
+        for s in starts:
+            sol = least_squares(residual, s, bounds=(lo, hi), xtol=1e-12, ftol=1e-12, max_nfev=300)
+            err = float(np.linalg.norm(residual(sol.x)))
+            if best is None or err < best[0]:
+                best = (err, sol.x)
+            if err <= self.tol:
+                return [float(v) for v in sol.x]
+        return None
 
     __call__ = solve

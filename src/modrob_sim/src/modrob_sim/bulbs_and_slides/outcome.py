@@ -1,0 +1,26 @@
+"""Judging the result: is a bulb resting in a slide's channel, and how far from where it should be."""
+import numpy as np
+
+
+def on_slide(layout, slide_name, glass_centre, margin=0.005):
+    """True when the glass centre lies inside the slide's channel (along, across and above it)."""
+    slide = layout.slides[slide_name]
+    s, lateral, height = slide.coordinates(glass_centre)
+    return (-0.02 <= s <= slide.length + margin and abs(lateral) <= slide.half_width + margin
+            and 0.0 <= height <= 2.5 * layout.glass_radius)
+
+
+def expected_rest(layout, slide_name, bulbs_ahead):
+    """Glass centre of a bulb resting in ``slide_name`` behind ``bulbs_ahead`` other bulbs."""
+    slide = layout.slides[slide_name]
+    u = slide.uphill
+    side = np.array([-u[1], u[0], 0.0])
+    side /= np.linalg.norm(side)
+    n = np.cross(u, side)
+    s = bulbs_ahead * (layout.bulb_length + 0.001) + layout.grasp_offset
+    return slide.tip + s * u + layout.glass_radius * n
+
+
+def at_rest(speeds, threshold=0.005):
+    """speeds: recent linear speeds (m/s) of a bulb; at rest when all are below the threshold."""
+    return len(speeds) > 0 and max(speeds) < threshold

@@ -1,0 +1,238 @@
+"""The pick-and-place on a running simulation (ROS layer).
+
+one_robot:  modrob0 (6-DoF + gripper) takes the bulb waiting at the red slide's tip, lifts it clear
+            of the slides, carries it over the blue slide and releases it there.
+two_robots: modrob0 (3-DoF) takes the bulb at the red tip and lays it in the cradle between the
+            robots; modrob1 (3-DoF) takes it from the cradle and releases it over the blue slide.
+            Only one arm is near the cradle at any time (the other waits turned away).
+Success: the bulb comes to rest inside the blue slide's channel.
+"""
+import math
+import random
+import time
+
+import numpy as np
+import rospy
+
+from modrob_sim.bulbs_and_slides import ScenarioError
+from modrob_sim.bulbs_and_slides.grasp_ik import GraspIk
+from modrob_sim.bulbs_and_slides.layout import bulb_grasp_point
+from modrob_sim.bulbs_and_slides.outcome import at_rest, expected_rest, on_slide
+from modrob_sim.bulbs_and_slides.planner import ArmPlanner, plan_pick_and_place
+from modrob_sim.bulbs_and_slides.recording import Recorder
+from modrob_sim.bulbs_and_slides.ros_robot import RosArm, WorldMonitor, sim_sleep
+from modrob_sim.bulbs_and_slides.trajectory import time_waypoints
+from modrob_sim.motion.cartesian import default_tip
+from modrob_sim.motion.robot_info import robot_info_from_urdf
+
+
+class Result(object):
+    def __init__(self):
+        self.success = False
+        self.message = ""
+        self.sim_time = 0.0
+        self.wall_time = 0.0
+        self.grasp_force = float("nan")
+        self.placement_error = float("nan")
+        self.bulb = None
+        self.final_position = None
+
+    def line(self, scenario):
+        return ("RESULT %s: %s, sim time %.2f s, wall %.1f s (real-time factor %.2f), grasp force %.2f N, "
+                "placement error %.1f mm%s"
+                % (scenario, "SUCCESS" if self.success else "FAILURE", self.sim_time, self.wall_time,
+                   self.sim_time / self.wall_time if self.wall_time > 0 else 0.0, self.grasp_force,
+                   1000 * self.placement_error, (" -- " + self.message) if self.message else ""))
+
+    def as_dict(self):
+        return {"success": self.success, "message": self.message, "sim_time": self.sim_time,
+                "wall_time": self.wall_time, "grasp_force": self.grasp_force,
+                "placement_error": self.placement_error, "bulb": self.bulb,
+                "final_position": None if self.final_position is None else
+                [float(v) for v in self.final_position]}
+
+
+class Robot(object):
+    """Everything about one robot: RobotInfo, KDL chain to the grasp centre, IK, planner, ROS arm."""
+
+    def __init__(self, robot_id, min_down_deg=30.0, max_tilt_deg=35.0):
+        from modrob_viz.kdl_urdf import KinematicChain
+        urdf = rospy.get_param("/modrob%d/robot_description" % robot_id, None)
+        deadline = time.time() + 60.0
+        while not urdf and time.time() < deadline and not rospy.is_shutdown():
+            time.sleep(0.2)
+            urdf = rospy.get_param("/modrob%d/robot_description" % robot_id, None)
+        if not urdf:
+            raise ScenarioError("no /modrob%d/robot_description: did the robots spawn?" % robot_id)
+        self.info = robot_info_from_urdf(robot_id, urdf)
+        tip = default_tip(urdf, self.info.gripper.joints if self.info.gripper else [])
+        self.chain = KinematicChain.from_urdf_string(urdf, tip_link=tip)
+        if self.chain.joint_names != self.info.arm_joints:
+            raise ScenarioError("modrob%d: the chain to %s moves %s, the arm has %s"
+                                % (robot_id, tip, self.chain.joint_names, self.info.arm_joints))
+        self.ik = GraspIk(self.chain, min_down=math.radians(min_down_deg), max_tilt_deg=max_tilt_deg)
+        self.planner = ArmPlanner(self.ik)
+        self.arm = RosArm(self.info)
+
+    def fk(self, q):
+        return self.chain.fk_position(list(q))
+
+
+def _log(msg):
+    print(msg, flush=True)
+
+
+class Scenario(object):
+    def __init__(self, layout, log=_log, jitter=0.0, seed=0, arm_speed=0.5):
+        self.layout = layout
+        self.log = log
+        self.jitter = jitter
+        self.rng = random.Random(seed)
+        self.arm_speed = arm_speed
+        self.world = WorldMonitor()
+        self.robots = {}
+        self.recorder = None
+        self.t0 = None
+
+    # ---- common -------------------------------------------------------------------------
+    def setup(self, robot_ids):
+        self.world.wait()
+        for rid in robot_ids:
+            self.robots[rid] = Robot(rid)
+        self.recorder = Recorder({rid: r.fk for rid, r in self.robots.items()}, clock=rospy.get_time)
+        for r in self.robots.values():
+            r.arm.recorder = self.recorder
+            r.arm.wait_ready()
+        self.t0 = rospy.get_time()
+        self.wall0 = time.time()
+
+    def bulbs(self):
+        return sorted(n for n in self.world.names() if n.startswith("bulb"))
+
+    def glass_centre(self, name):
+        pose = self.world.pose(name)
+        return bulb_grasp_point(self.layout, pose)
+
+    def wait_at_rest(self, names, timeout=10.0, window=0.5):
+        end = rospy.get_time() + timeout
+        hist = {n: [] for n in names}
+        while rospy.get_time() < end and not rospy.is_shutdown():
+            for n in names:
+                hist[n] = (hist[n] + [self.world.speed(n) or 0.0])[-int(window / 0.02):]
+            if all(len(h) >= int(window / 0.02) and at_rest(h) for h in hist.values()):
+                return True
+            sim_sleep(0.02)
+        return False
+
+    def tip_bulb(self):
+        """The bulb waiting at the red tip (nearest to the first resting place there)."""
+        want = expected_rest(self.layout, "red_slide", 0)
+        best = None
+        for n in self.bulbs():
+            c, _ = self.glass_centre(n)
+            d = float(np.linalg.norm(c - want))
+            if best is None or d < best[0]:
+                best = (d, n)
+        if best is None or best[0] > 0.03:
+            raise ScenarioError("no bulb at the red slide's tip (nearest %s, %.3f m away)"
+                                % (best[1] if best else "none", best[0] if best else float("nan")))
+        return best[1]
+
+    def apply_jitter(self, name):
+        """Shift the bulb by a few mm (seeded): along the slide it slides back to the stop, across it
+        stays off-centre -- the pick must cope with both."""
+        if self.jitter <= 0:
+            return
+        from gazebo_msgs.msg import ModelState
+        from gazebo_msgs.srv import SetModelState
+        pose = self.world.pose(name)
+        dx = self.rng.uniform(-self.jitter, self.jitter)
+        dy = self.rng.uniform(-self.jitter, self.jitter)
+        st = ModelState(model_name=name, reference_frame="world")
+        st.pose.position.x, st.pose.position.y, st.pose.position.z = pose[0][0] + dx, pose[0][1] + dy, \
+            pose[0][2] + 0.001
+        (st.pose.orientation.x, st.pose.orientation.y, st.pose.orientation.z,
+         st.pose.orientation.w) = pose[1]
+        rospy.wait_for_service("/gazebo/set_model_state", timeout=10.0)
+        res = rospy.ServiceProxy("/gazebo/set_model_state", SetModelState)(st)
+        if not res.success:
+            raise ScenarioError("could not jitter %s: %s" % (name, res.status_message))
+        self.log("  jitter: %s moved by (%.1f, %.1f) mm" % (name, 1000 * dx, 1000 * dy))
+
+    def run_segments(self, robot, segments, bulb, result):
+        arm = robot.arm
+        for seg in segments:
+            self.log("  modrob%d: %s (%d points)" % (robot.info.robot_id, seg.name, len(seg.configs)))
+            traj = time_waypoints(robot.info.arm_joints, seg.configs, seg.speed)
+            arm.follow(traj)
+            if seg.settle:
+                err = arm.settle(tol=0.004 if seg.gripper_after else 0.02, timeout=3.0)
+                if seg.gripper_after and err > 0.02:
+                    raise ScenarioError("modrob%d did not reach the %s pose (joint error %.3f rad)"
+                                        % (robot.info.robot_id, seg.name, err))
+            if seg.gripper_after == "close":
+                arm.gripper("close", wait=0.8)
+                fingers = robot.info.gripper.joints
+                result.grasp_force = float(np.mean(np.abs(arm.efforts(fingers))))
+                fq = arm.measured(fingers)
+                tcp = np.array(robot.fk(arm.measured()))
+                c, _ = self.glass_centre(bulb)
+                self.log("  modrob%d: gripper closed, %.2f N per finger, fingers at %s mm, bulb %.1f mm from "
+                         "the grasp centre" % (robot.info.robot_id, result.grasp_force,
+                                               "/".join("%.1f" % (1000 * v) for v in fq),
+                                               1000 * np.linalg.norm(c - tcp)))
+            elif seg.gripper_after == "open":
+                arm.gripper("open", wait=0.4)
+                self.log("  modrob%d: gripper opened" % robot.info.robot_id)
+            if seg.name == "lift":
+                tcp = np.array(robot.fk(arm.measured()))
+                c, _ = self.glass_centre(bulb)
+                if np.linalg.norm(c - tcp) > 0.02:
+                    raise ScenarioError("the bulb is not in the gripper after the lift (%.1f mm from the "
+                                        "grasp centre)" % (1000 * np.linalg.norm(c - tcp)))
+
+    def finish(self, result, bulb, slide="blue_slide", ahead=1):
+        rest = self.wait_at_rest([bulb], timeout=10.0)
+        c, _ = self.glass_centre(bulb)
+        result.final_position = c
+        result.bulb = bulb
+        result.placement_error = float(np.linalg.norm(c - expected_rest(self.layout, slide, ahead)))
+        result.sim_time = rospy.get_time() - self.t0
+        result.wall_time = time.time() - self.wall0
+        if not rest:
+            result.message = "%s still moving after 10 s" % bulb
+        elif not on_slide(self.layout, slide, c):
+            s, lat, h = self.layout.slides[slide].coordinates(c)
+            result.message = ("%s came to rest off the %s (along %.3f m, across %.3f m, height %.3f m)"
+                              % (bulb, slide, s, lat, h))
+        else:
+            result.success = True
+
+    # ---- one robot ----------------------------------------------------------------------
+    def run_one_robot(self):
+        result = Result()
+        self.log("[1/5] waiting for the simulation and modrob0")
+        self.setup([0])
+        r = self.robots[0]
+        r.arm.gripper("open", wait=0.3)
+        bulb = self.tip_bulb()
+        self.apply_jitter(bulb)
+        self.log("[2/5] waiting for %s to rest at the red tip" % bulb)
+        self.wait_at_rest(self.bulbs(), timeout=5.0)
+        grasp, axis = self.glass_centre(bulb)
+        self.log("  %s glass centre at (%.3f, %.3f, %.3f)" % ((bulb,) + tuple(grasp)))
+        self.log("[3/5] planning (grasp IK with KDL forward kinematics)")
+        blue = self.layout.slides["blue_slide"]
+        segs = plan_pick_and_place(r.planner, r.arm.measured(), grasp, axis, self.layout.place_point,
+                                   blue.uphill, fast=self.arm_speed)
+        self.log("[4/5] pick and place")
+        try:
+            self.run_segments(r, segs, bulb, result)
+        except ScenarioError as exc:
+            result.message = str(exc)
+            result.sim_time = rospy.get_time() - self.t0
+            result.wall_time = time.time() - self.wall0
+            return result
+        self.log("[5/5] waiting for %s to come to rest" % bulb)
+        self.finish(result, bulb)
+        return result
