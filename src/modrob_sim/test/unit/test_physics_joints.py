@@ -264,3 +264,19 @@ def test_set_configuration_while_running_teleports_and_zeroes_velocity():
         m.set_configuration(["elbow"], [0.0])
     with pytest.raises(ValueError, match="not finite"):
         m.set_configuration(["swing"], [float("nan")])
+
+
+def test_revolute_limits_beyond_pi_hold_across_the_wrap():
+    world = World()
+    m = world.add_urdf("w", wheel_urdf(jtype="revolute").replace(
+        'lower="0.0" upper="0.0"', 'lower="-4.0" upper="4.0"'))
+    j = m.joints["spin"]
+    assert (j.lower, j.upper) == (-4.0, 4.0)
+    for _ in range(3000):
+        j.set_effort(0.02)
+        world.step()
+    assert j.position == pytest.approx(4.0, abs=0.02)  # past +pi, stopped at the limit
+    for _ in range(4000):
+        j.set_effort(-0.02)
+        world.step()
+    assert j.position == pytest.approx(-4.0, abs=0.02)

@@ -196,6 +196,26 @@ def test_same_seed_and_inputs_give_identical_digests():
     assert a.state_digest() != b.state_digest()
 
 
+def test_digest_is_the_same_in_separate_processes():
+    """No memory address may leak into the physics (dict/set orders, pointer hashing)."""
+    import subprocess
+    import sys
+    code = ("import importlib.util, math, sys\n"
+            "spec = importlib.util.spec_from_file_location('t', %r)\n"
+            "t = importlib.util.module_from_spec(spec); spec.loader.exec_module(t)\n"
+            "from modrob_sim.physics import World\n"
+            "junk = [object() for _ in range(int(sys.argv[1]))]\n"
+            "w = World(seed=11); m = t.build_scene(w)\n"
+            "for i in range(700):\n"
+            "    m.joints['swing'].set_effort(math.cos(i * 0.02)); w.step()\n"
+            "print(w.state_digest())\n" % os.path.abspath(__file__))
+    outs = [subprocess.run([sys.executable, "-c", code, n], capture_output=True, text=True, timeout=120)
+            for n in ("1", "5000")]
+    for o in outs:
+        assert o.returncode == 0, o.stderr[-2000:]
+    assert outs[0].stdout.split()[-1] == outs[1].stdout.split()[-1]
+
+
 def test_reset_restores_the_spawn_state():
     world = World(seed=3)
     m = build_scene(world)
@@ -272,3 +292,20 @@ def test_spawn_overlap_is_warned(caplog):
     world.step(1000)
     assert world.pop_events() == []
     assert abs(world.models["box"].twist[0][2]) < 0.05
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_contact_explosion_is_reported(native):
+    world = World(native=native)
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    box = world.add_urdf("box", H.fixture("box.urdf"), pose=((0, 0, 0.049), (0, 0, 0, 1)))
+    world.set_physics_params(guard_max_contacts=3, auto_disable=False)
+    world.step(2)
+    events = world.pop_events()
+    assert events and events[0].model == "box" and "contact explosion" in events[0].reason
+    assert world.physics_params["guard_max_contacts"] == 3
+    with pytest.raises(ValueError, match="unknown physics parameter 'itters'"):
+        world.set_physics_params(itters=3)
+    with pytest.raises(ValueError, match="must be finite"):
+        world.set_physics_params(erp=float("nan"))
+    assert math.isfinite(box.pose[0][2])

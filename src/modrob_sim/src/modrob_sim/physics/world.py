@@ -156,6 +156,7 @@ class World(object):
     def time_step(self, dt):
         self._dt = self._check_dt(dt)
         self._pair_cache.clear()
+        self._rebuild_caches()  # the damping bound depends on dt
 
     @property
     def gravity(self):
@@ -877,13 +878,11 @@ class World(object):
             i = nat.mr_check_bodies(self._body_array, k, nb, self._vmax2, self._wmax2) if k < nb else -1
         cmax = self._params["guard_max_contacts"]
         if self._ncontacts > cmax:
-            which = ctypes.c_int(-1)
-            worst = nat.mr_max_model_contacts(self._ctx, ctypes.byref(which))
-            if worst > cmax and 0 <= which.value < len(self._model_slots):
-                m = self._model_slots[which.value]
-                if m is not None and m._bodies and all(f[0] is not m for f in flagged):
+            for m in self._dynamic_models:
+                n = nat.mr_model_contacts(self._ctx, m._cindex)
+                if n > cmax and all(f[0] is not m for f in flagged):
                     flagged.append((m, m._dyn_groups[0], "contact explosion: %d contacts in one step "
-                                    "(limit %d)" % (worst, cmax)))
+                                    "(limit %d)" % (n, cmax)))
         for m, g, reason in flagged:
             self._restore_after_blowup(m, g.root.name, reason)
         if self.iterations % int(self._params["snapshot_interval"]) == 0:
