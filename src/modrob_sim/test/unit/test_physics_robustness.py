@@ -309,3 +309,20 @@ def test_contact_explosion_is_reported(native):
     with pytest.raises(ValueError, match="must be finite"):
         world.set_physics_params(erp=float("nan"))
     assert math.isfinite(box.pose[0][2])
+
+
+def test_sleeping_bodies_wake_when_their_support_goes():
+    world = World()
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    world.add_sdf(H.fixture("table_world.sdf").replace(
+        "<include><uri>model://ground_plane</uri></include>", ""))
+    can = world.models["can"]
+    world.step(800)
+    assert not can._bodies[0].isEnabled()  # asleep on the table
+    z = can.pose[0][2]
+    world.models["table"].set_pose(((1.0, 0.0, 0.525), (0, 0, 0, 1)))  # table top lowered by 0.2 m
+    world.step(600)
+    assert can.pose[0][2] == pytest.approx(z - 0.2, abs=0.003)
+    world.remove_model("table")
+    world.step(800)
+    assert can.pose[0][2] == pytest.approx(0.06, abs=0.003)  # on the ground slab now

@@ -419,6 +419,7 @@ class World(object):
             raise ModelError("no model named '%s' (models: %s)" % (name, ", ".join(self.models) or "none"))
         del self.models[name]
         self._destroy_model_objects(model)
+        self._wake_all()  # whatever rested on it must fall
         self._used_slots.discard(model._slot)
         self._rebuild_caches()
         LOG.info("removed model '%s'", name)
@@ -926,6 +927,13 @@ class World(object):
 
     def _model_teleported(self, model):
         model._snapshot_state = model._capture()
+        if model.is_static or model._world_attached:
+            self._wake_all()  # sleeping bodies resting on a moved static part must notice
+
+    def _wake_all(self):
+        for m in self._dynamic_models:
+            for b in m._bodies:
+                b.enable()
 
     # ---- reset, digest -----------------------------------------------------------------------
     def reset(self):
