@@ -133,6 +133,10 @@ def build_model(world, desc, pose, robot_namespace, prepared_meshes):
 
 
 def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
+    for jd in desc.joints.values():
+        if jd.type == "planar":
+            raise ModelError("model '%s' joint '%s': planar joints are not supported yet; use two "
+                             "prismatic joints" % (model.name, jd.name))
     order = joint_order(desc)
     model._root_name = desc.root
     model._world_pose = pose if desc.root == "world" else IDENTITY_POSE
@@ -267,9 +271,6 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
         jd = desc.joints[j.name]
         if j.type in ("fixed", "floating"):
             continue
-        if j.type == "planar":
-            raise ModelError("model '%s' joint '%s': planar joints are not supported yet; use two "
-                             "prismatic joints" % (model.name, j.name))
         child = model.links[j.child]
         if child._body is None:
             continue  # a static model: its joints are frozen
