@@ -158,3 +158,51 @@ def test_kp_kd_give_a_soft_contact():
     assert stiff < 0.0011  # at most the 1 mm contact surface layer
     # kp in series with the ground's (1e12), 4 contact points in parallel: m g / (4 kp) more
     assert soft == pytest.approx(0.001 + 98.1 / (4 * 1e5), abs=5e-5)
+
+
+def gripper_lift(mu, native=None):
+    """Two 3 N force-limited prismatic fingers squeeze a 0.1 kg can and lift it 0.2 m; returns how
+    far the can rose. Friction capacity 2 * mu * 3 N against m g = 0.98 N."""
+    body = ('<link name="world"/>' + H.box_link("base", 2.0, (0.1, 0.1, 0.05)) +
+            H.joint("lift", "prismatic", "world", "base", "0 0 0.5", axis="0 0 1",
+                    limit=(-0.5, 0.5, 200.0, 1.0)) +
+            H.box_link("fl", 0.05, (0.02, 0.04, 0.12), mu, "0 0 -0.06") +
+            H.box_link("fr", 0.05, (0.02, 0.04, 0.12), mu, "0 0 -0.06") +
+            H.joint("jl", "prismatic", "base", "fl", "0.06 0 -0.025", axis="-1 0 0",
+                    limit=(0.0, 0.05, 3.0, 0.5)) +
+            H.joint("jr", "prismatic", "base", "fr", "-0.06 0 -0.025", axis="1 0 0",
+                    limit=(0.0, 0.05, 3.0, 0.5)))
+    can_xml = H.robot("can", '<link name="c">%s<collision><geometry><cylinder radius="0.03" length="0.12"/>'
+                      '</geometry></collision></link><gazebo reference="c"><mu1>%r</mu1><mu2>%r</mu2>'
+                      '</gazebo>' % (H.inertial(0.1, 1.4e-4, 1.4e-4, 4.5e-5), mu, mu))
+    world = World(native=native)
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    g = world.add_urdf("g", H.robot("g", body))
+    can = world.add_urdf("can", can_xml, pose=((0, 0, 0.06), (0, 0, 0, 1)))
+    lift, jl, jr = g.joints["lift"], g.joints["jl"], g.joints["jr"]
+
+    def step(target, squeeze):
+        lift.set_effort(2000 * (target - lift.position) - 100 * lift.velocity + 2.2 * 9.81)
+        if squeeze:
+            jl.set_effort(3.0)
+            jr.set_effort(3.0)
+        world.step()
+
+    for _ in range(1500):
+        step(-0.33, False)
+    for _ in range(500):
+        step(-0.33, True)
+    z0 = can.pose[0][2]
+    for i in range(3000):
+        step(-0.33 + min(0.2, i * 1e-4), True)
+    assert world.pop_events() == []
+    return can.pose[0][2] - z0
+
+
+@pytest.mark.parametrize("mu, holds", [(0.2, True), (0.15, False)])
+def test_force_limited_grasp_holds_exactly_when_friction_suffices(mu, holds):
+    rise = gripper_lift(mu)
+    if holds:
+        assert rise == pytest.approx(0.2, abs=0.002)
+    else:
+        assert rise < 0.01
