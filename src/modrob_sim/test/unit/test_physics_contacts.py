@@ -206,3 +206,30 @@ def test_force_limited_grasp_holds_exactly_when_friction_suffices(mu, holds):
         assert rise == pytest.approx(0.2, abs=0.002)
     else:
         assert rise < 0.01
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_contact_points_of_the_last_step(native):
+    world = World(native=native)
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    world.add_urdf("box", H.fixture("box.urdf"), pose=((0.5, 0, 0.2), (0, 0, 0, 1)))
+    world.set_physics_params(auto_disable=False)
+    world.step(600)
+    cps = world.contacts()
+    assert len(cps) == 4
+    for c in cps:
+        assert {c.model1, c.model2} == {"ground", "box"}
+        assert c.position[2] == pytest.approx(0.0, abs=0.002)
+        assert abs(c.normal[2]) == pytest.approx(1.0, abs=1e-6)
+        assert 0.0 <= c.depth < 0.002
+    xs = sorted(c.position[0] for c in cps)
+    assert xs[0] == pytest.approx(0.4, abs=1e-3) and xs[-1] == pytest.approx(0.6, abs=1e-3)
+
+
+def test_spawn_overlap_with_a_mesh_is_warned(caplog):
+    world = World()
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    with caplog.at_level("WARNING", logger="modrob_sim.physics"):
+        world.add_urdf("cube", mesh_urdf("file://" + os.path.join(_FIX, "cube.obj")),
+                       pose=((0.0, 0.0, 0.02), (0.0, 0.0, 0.0, 1.0)))
+    assert any("spawn overlap" in r.getMessage() and "'cube'" in r.getMessage() for r in caplog.records)

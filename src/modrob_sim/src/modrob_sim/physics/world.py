@@ -25,6 +25,9 @@ from .urdf_reader import read_urdf
 LOG = logging.getLogger("modrob_sim.physics")
 
 GuardEvent = namedtuple("GuardEvent", "model link reason time")
+#: one contact point of the last step (addition): model/link names of both sides, world position,
+#: normal (pointing from the second geom into the first, ODE's convention) and penetration depth
+ContactPoint = namedtuple("ContactPoint", "model1 link1 model2 link2 position normal depth")
 
 #: Gazebo's ODE defaults, except max_contacts (Gazebo 20 per pair; ODE makes up to 8 for a
 #: cylinder on a box, 4 spread points hold any resting face) and the guard settings (ours).
@@ -127,6 +130,7 @@ class World(object):
         self.time = 0.0
         self.iterations = 0
         self._ncontacts = 0
+        self._contact_log = []
         # Tear the ODE objects down in a safe order when the World goes (or on close()): PyODE
         # objects freed by the cycle collector in arbitrary order crash (a space or world freed
         # before its geoms/bodies). Models refer to the World only weakly, so this runs first.
@@ -615,6 +619,7 @@ class World(object):
         else:
             self._contact_group.empty()
             self._ncontacts = 0
+            self._contact_log = []
             self._collide()
             odelib.set_seed(self._ode_seed)
             self._ode_world.quickStep(dt)
@@ -802,6 +807,7 @@ class World(object):
                 c.setFDir1(fdir)
             j = ode.ContactJoint(world, group, c)
             j.attach(b1, b2)
+            self._contact_log.append((i1, i2, pos, normal, depth))
 
     def _friction_dir(self, b1, b2, pos, n):
         """First friction direction for an isotropic pyramid: along the relative sliding velocity,
@@ -921,6 +927,31 @@ class World(object):
                     return False
         return True
 
+    def contacts(self):
+        """The contact points made in the last step (addition to the contract): a list of
+        ContactPoint, at most max_contacts per geom pair, depth as the collider reported it."""
+        out = []
+        if self._ctx is not None:
+            n = self._ncontacts
+            if n <= 0:
+                return out
+            gs = (ctypes.c_void_p * (2 * n))()
+            vals = (ctypes.c_double * (7 * n))()
+            n = self._nat.mr_contact_log(self._ctx, gs, vals, n)
+            by_ptr = {_geom_ptr(g): info for g, info in self._geom_info.items()}
+            for k in range(n):
+                i1, i2 = by_ptr.get(gs[2 * k]), by_ptr.get(gs[2 * k + 1])
+                if i1 is None or i2 is None:
+                    continue  # removed since
+                v = vals[7 * k:7 * k + 7]
+                out.append(ContactPoint(i1.model.name, i1.link.name, i2.model.name, i2.link.name,
+                                        tuple(v[0:3]), tuple(v[3:6]), v[6]))
+            return out
+        for i1, i2, pos, normal, depth in self._contact_log:
+            out.append(ContactPoint(i1.model.name, i1.link.name, i2.model.name, i2.link.name,
+                                    tuple(pos), tuple(normal), depth))
+        return out
+
     def pop_events(self):
         ev, self._events = self._events, []
         return ev
@@ -980,11 +1011,32 @@ class World(object):
                 if d > found.get(key, 0.0):
                     found[key] = d
 
-        for geom in model._geoms:
-            if isinstance(geom, (ode.GeomPlane, NativeMesh)):
-                continue
-            for sp in (self._static_space, self._dyn_space):
-                ode.collide2(geom, sp, None, cb)
+        if self._ctx is not None:
+            # the C collider knows every geom type (also triangle meshes): test AABB-overlapping pairs
+            others = [(g, i) for g, i in self._geom_info.items() if i.model is not model]
+            boxes = {}
+            for g, _ in others + [(g, None) for g in model._geoms]:
+                if not isinstance(g, ode.GeomPlane):
+                    boxes[g] = g.getAABB()
+            for geom in model._geoms:
+                mine = self._geom_info[geom]
+                for other, info in others:
+                    if mine.body is None and info.body is None:
+                        continue
+                    a, b = boxes.get(geom), boxes.get(other)
+                    if a is not None and b is not None and (a[1] < b[0] or b[1] < a[0] or a[3] < b[2]
+                                                            or b[3] < a[2] or a[5] < b[4] or b[5] < a[4]):
+                        continue
+                    d = self._nat.mr_max_depth(_geom_ptr(geom), _geom_ptr(other))
+                    key = (model.name, mine.link.name, info.model.name, info.link.name)
+                    if d > found.get(key, 0.0):
+                        found[key] = d
+        else:
+            for geom in model._geoms:
+                if isinstance(geom, ode.GeomPlane):
+                    continue
+                for sp in (self._static_space, self._dyn_space):
+                    ode.collide2(geom, sp, None, cb)
         for (m1, l1, m2, l2), d in sorted(found.items()):
             if d > threshold:
                 LOG.warning("spawn overlap: model '%s' link '%s' penetrates model '%s' link '%s' "
@@ -1144,4 +1196,4 @@ def _set_auto_disable(body, on):
         odelib.LIB.dBodySetAutoDisableFlag(odelib.raw_pointer(body), 1 if on else 0)
 
 
-__all__ = ["World", "GuardEvent", "DEFAULT_PARAMS", "FORCE_CAP", "SimulationError"]
+__all__ = ["World", "GuardEvent", "ContactPoint", "DEFAULT_PARAMS", "FORCE_CAP", "SimulationError"]

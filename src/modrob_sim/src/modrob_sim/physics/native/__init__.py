@@ -97,6 +97,7 @@ def _declare(lib):
         "mr_set_model_count": (None, [vp, i]),
         "mr_model_contacts": (i, [vp, i]),
         "mr_last_contacts": (i, [vp]),
+        "mr_contact_log": (i, [vp, vp, vp, i]),
         "mr_collide": (i, [vp, d, d, d, d, d, i]),
         "mr_quickstep": (ul, [vp, d, ul]),
         "mr_step": (i, [vp, d, d, d, d, d, i]),

@@ -31,6 +31,11 @@ typedef struct {
 } MrGeomRec;
 
 typedef struct {
+    dGeomID g1, g2;
+    double pos[3], normal[3], depth;
+} MrContactRec;
+
+typedef struct {
     dTriMeshDataID data;
     double *verts;
     int *tris;
@@ -54,6 +59,9 @@ typedef struct {
     int nmodels;
     MrMesh *meshes;
     int nmesh, capmesh;
+    /* the contacts of the last step (for world.contacts()): geom pair, pos, normal, depth */
+    MrContactRec *log;
+    int nlog, caplog;
     /* per-step settings */
     double dt, layer, gravity[3];
     int max_contacts;
@@ -160,6 +168,7 @@ void mr_ctx_free(MrCtx *c)
     free(c->surf);
     free(c->model_contacts);
     free(c->meshes);
+    free(c->log);
     free(c);
 }
 
@@ -255,6 +264,21 @@ int mr_model_contacts(MrCtx *c, int model)
 }
 
 int mr_last_contacts(MrCtx *c) { return c->ncontacts; }
+
+/* copy up to `max` logged contacts: geoms (2 per contact) and 7 doubles (pos, normal, depth) */
+int mr_contact_log(MrCtx *c, void **geoms, double *vals, int max)
+{
+    int i, n = c->nlog < max ? c->nlog : max;
+    for (i = 0; i < n; ++i) {
+        const MrContactRec *r = &c->log[i];
+        geoms[2 * i] = (void *)r->g1;
+        geoms[2 * i + 1] = (void *)r->g2;
+        memcpy(&vals[7 * i], r->pos, 3 * sizeof(double));
+        memcpy(&vals[7 * i + 3], r->normal, 3 * sizeof(double));
+        vals[7 * i + 6] = r->depth;
+    }
+    return n;
+}
 
 /* ---- contact selection -------------------------------------------------------------------- */
 /* choose k of n contacts: the deepest, then repeatedly the one farthest from those chosen */
@@ -394,6 +418,18 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
         if (has_fdir) { ct.fdir1[0] = fdir[0]; ct.fdir1[1] = fdir[1]; ct.fdir1[2] = fdir[2]; }
         j = dJointCreateContact(c->world, c->contacts, &ct);
         dJointAttach(j, b1, b2);
+        if (c->nlog == c->caplog) {
+            c->caplog = c->caplog ? c->caplog * 2 : 64;
+            c->log = (MrContactRec *)realloc(c->log, c->caplog * sizeof(MrContactRec));
+        }
+        {
+            MrContactRec *r = &c->log[c->nlog++];
+            const dContactGeom *g = &c->gen[sel[i]];
+            r->g1 = o1; r->g2 = o2;
+            r->pos[0] = g->pos[0]; r->pos[1] = g->pos[1]; r->pos[2] = g->pos[2];
+            r->normal[0] = g->normal[0]; r->normal[1] = g->normal[1]; r->normal[2] = g->normal[2];
+            r->depth = g->depth;
+        }
     }
     c->ncontacts += k;
     if (r1->model >= 0 && r1->model < c->nmodels) c->model_contacts[r1->model] += k;
@@ -410,6 +446,7 @@ int mr_collide(MrCtx *c, double dt, double gx, double gy, double gz, double laye
     c->layer = layer;
     c->max_contacts = max_contacts < 1 ? 1 : (max_contacts > MR_MAX_GEN ? MR_MAX_GEN : max_contacts);
     c->ncontacts = 0;
+    c->nlog = 0;
     if (c->nmodels) memset(c->model_contacts, 0, c->nmodels * sizeof(int));
     dJointGroupEmpty(c->contacts);
     dSpaceCollide(c->dyn_space, c, &mr_near);
