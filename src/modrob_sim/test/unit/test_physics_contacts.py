@@ -233,3 +233,28 @@ def test_spawn_overlap_with_a_mesh_is_warned(caplog):
         world.add_urdf("cube", mesh_urdf("file://" + os.path.join(_FIX, "cube.obj")),
                        pose=((0.0, 0.0, 0.02), (0.0, 0.0, 0.0, 1.0)))
     assert any("spawn overlap" in r.getMessage() and "'cube'" in r.getMessage() for r in caplog.records)
+
+
+@pytest.mark.parametrize("native", [None, False])
+@pytest.mark.parametrize("fdir, slides", [("1 0 0", True), ("0 1 0", False)])
+def test_fdir1_sets_the_direction_of_mu1(native, fdir, slides):
+    """Box with mu1 0.2 along <fdir1>, mu2 1.0 across, on a 30 degree ramp (tan 30 = 0.58):
+    it slides when mu1 points down the slope (box x), holds when it points across (box y)."""
+    angle = math.radians(30)
+    world = World(native=native)
+    world.add_urdf("ramp", H.ramp(angle, 1.0))
+    link = H.box_link("box", 1.0, (0.2, 0.2, 0.1))
+    link += '<gazebo reference="box"><mu1>0.2</mu1><mu2>1.0</mu2><fdir1>%s</fdir1></gazebo>' % fdir
+    n = (math.sin(angle), 0.0, math.cos(angle))
+    box = world.add_urdf("box", H.robot("box", link),
+                         pose=((0.0501 * n[0], 0.0, 0.0501 * n[2]),
+                               (0.0, math.sin(angle / 2), 0.0, math.cos(angle / 2))))
+    p0 = box.pose[0]
+    world.step(500)
+    moved = math.dist(p0, box.pose[0])
+    if slides:
+        # a = g (sin - 0.2 cos) = 3.2 m/s^2 -> 0.4 m in 0.5 s
+        assert moved == pytest.approx(0.5 * 9.81 * (math.sin(angle) - 0.2 * math.cos(angle)) * 0.25,
+                                      rel=0.15)
+    else:
+        assert moved < 0.005

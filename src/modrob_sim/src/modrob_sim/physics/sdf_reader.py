@@ -108,6 +108,8 @@ def _surface(rd, ce, where):
     if fo is not None and _child(se, "friction") is not None:
         s.mu1 = rd.float(_text(fo, "mu"), where, "<mu>", s.mu1)
         s.mu2 = rd.float(_text(fo, "mu2"), where, "<mu2>", s.mu2)
+        if _text(fo, "fdir1"):
+            s.fdir1 = rd.floats(_text(fo, "fdir1"), 3, where, "<fdir1>")
     ce2 = _child(se, "contact")
     co = _child(ce2, "ode") if ce2 is not None else None
     if co is not None:

@@ -13,9 +13,9 @@ from .xml_util import Reader, local, parse_xml
 
 # Gazebo extension tags with a physics meaning here (per link), and accepted ones that are only
 # stored (per link or joint) so that plugins can read them; anything else is warned about once.
-LINK_TAGS = ("mu1", "mu2", "kp", "kd", "maxVel", "minDepth", "material", "selfCollide", "gravity",
-             "turnGravityOff")
-LINK_ACCEPTED = ("fdir1", "maxContacts", "sensor", "visual", "collision", "dampingFactor",
+LINK_TAGS = ("mu1", "mu2", "kp", "kd", "maxVel", "minDepth", "fdir1", "material", "selfCollide",
+             "gravity", "turnGravityOff")
+LINK_ACCEPTED = ("maxContacts", "sensor", "visual", "collision", "dampingFactor",
                  "laserRetro", "velocity_decay", "plugin", "enableWind", "kinematic")
 JOINT_ACCEPTED = ("implicitSpringDamper", "provideFeedback", "stopCfm", "stopErp", "cfmDamping",
                   "fudgeFactor", "springStiffness", "springReference", "disableFixedJointLumping",
@@ -286,6 +286,8 @@ def _gazebo_link(rd, ge, link, desc, name, warn):
             s.max_vel = rd.float(text, where, "<maxVel>")
         elif tag == "minDepth":
             s.min_depth = rd.float(text, where, "<minDepth>")
+        elif tag == "fdir1":
+            s.fdir1 = rd.floats(text, 3, where, "<fdir1>")
         elif tag == "material":
             link.material = text
         elif tag == "selfCollide":

@@ -68,7 +68,7 @@ class _GeomInfo(object):
 
 
 class _PairParams(object):
-    __slots__ = ("mu", "mu2", "erp", "cfm", "mode", "shift", "cap", "isotropic")
+    __slots__ = ("mu", "mu2", "erp", "cfm", "mode", "shift", "cap", "isotropic", "fdir_side", "fdir")
 
 
 class World(object):
@@ -746,6 +746,8 @@ class World(object):
         pp.mu2 = min(s1.mu2, s2.mu2)
         pp.isotropic = pp.mu == pp.mu2
         pp.mode = _BASE_MODE | (0 if pp.isotropic else ode.ContactMu2)
+        pp.fdir_side = 1 if any(s1.fdir1) else (2 if any(s2.fdir1) else 0)
+        pp.fdir = s1.fdir1 if pp.fdir_side == 1 else s2.fdir1
         layer = self._params["contact_surface_layer"]
         sides = [s for s, st in ((s1, static1), (s2, static2)) if not st] or [s1, s2]
         min_depth = max(s.min_depth for s in sides)
@@ -787,8 +789,11 @@ class World(object):
         group = self._contact_group
         for k, c in enumerate(contacts):
             pos, normal, depth, _a, _b = c.getContactGeomParams()
-            if k == 0 and pp.isotropic:
-                fdir = self._friction_dir(b1, b2, pos, normal)
+            if k == 0 and (pp.fdir_side or pp.isotropic):
+                if pp.fdir_side:
+                    fdir = _given_fdir(g1 if pp.fdir_side == 1 else g2, pp.fdir, normal)
+                else:
+                    fdir = self._friction_dir(b1, b2, pos, normal)
                 if fdir is not None:
                     mode |= ode.ContactFDir1
             d = depth - pp.shift
@@ -1064,6 +1069,24 @@ def _select_spread(contacts, k):
             if d < dmin[i]:
                 dmin[i] = d
     return [contacts[i] for i in chosen]
+
+
+def _given_fdir(geom, fdir, n):
+    """<fdir1> (collision frame) in the world, projected on the contact plane; None if parallel."""
+    if isinstance(geom, ode.GeomPlane):  # not placeable: its fdir1 is in the world frame
+        r = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+    else:
+        r = geom.getRotation()
+    f = (r[0] * fdir[0] + r[1] * fdir[1] + r[2] * fdir[2],
+         r[3] * fdir[0] + r[4] * fdir[1] + r[5] * fdir[2],
+         r[6] * fdir[0] + r[7] * fdir[1] + r[8] * fdir[2])
+    fn = f[0] * n[0] + f[1] * n[1] + f[2] * n[2]
+    t = (f[0] - fn * n[0], f[1] - fn * n[1], f[2] - fn * n[2])
+    t2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
+    if t2 < 1e-12:
+        return None
+    k = 1.0 / math.sqrt(t2)
+    return (t[0] * k, t[1] * k, t[2] * k)
 
 
 def _geom_ptr(geom):

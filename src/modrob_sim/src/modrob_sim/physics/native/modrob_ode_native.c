@@ -19,6 +19,8 @@
 
 typedef struct {
     double mu1, mu2, kp, kd, max_vel, min_depth;
+    double fdir[3];            /* direction of mu1 in the collision frame */
+    int has_fdir;
 } MrSurface;
 
 typedef struct {
@@ -203,7 +205,7 @@ void mr_remove_geom(MrCtx *c, dGeomID g)
 }
 
 void mr_set_surface(MrCtx *c, int idx, double mu1, double mu2, double kp, double kd, double max_vel,
-                    double min_depth)
+                    double min_depth, double fx, double fy, double fz)
 {
     if (idx >= c->capsurf) {
         int n = c->capsurf ? c->capsurf : 16;
@@ -214,6 +216,8 @@ void mr_set_surface(MrCtx *c, int idx, double mu1, double mu2, double kp, double
     if (idx >= c->nsurf) c->nsurf = idx + 1;
     c->surf[idx].mu1 = mu1; c->surf[idx].mu2 = mu2; c->surf[idx].kp = kp; c->surf[idx].kd = kd;
     c->surf[idx].max_vel = max_vel; c->surf[idx].min_depth = min_depth;
+    c->surf[idx].fdir[0] = fx; c->surf[idx].fdir[1] = fy; c->surf[idx].fdir[2] = fz;
+    c->surf[idx].has_fdir = (fx * fx + fy * fy + fz * fz) > 1e-12;
 }
 
 void mr_clear_adjacency(MrCtx *c)
@@ -395,7 +399,28 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     cap = erp > 0 ? c->layer + max_vel * c->dt / erp : INFINITY;
     mode = dContactApprox1_1 | dContactApprox1_2 | dContactSoftERP | dContactSoftCFM;
     if (!isotropic) mode |= dContactMu2;
-    if (isotropic) {
+    if (s1->has_fdir || s2->has_fdir) {
+        /* <fdir1> given (in the collision frame of its geom): rotate to world, project */
+        const dContactGeom *g0 = &c->gen[sel[0]];
+        const MrSurface *sf = s1->has_fdir ? s1 : s2;
+        dGeomID og = s1->has_fdir ? o1 : o2;
+        double fx = sf->fdir[0], fy = sf->fdir[1], fz = sf->fdir[2], fn, f2;
+        if (dGeomGetClass(og) != dPlaneClass) {  /* a plane is not placeable: its fdir is in the world */
+            const dReal *R = dGeomGetRotation(og);
+            fx = R[0] * sf->fdir[0] + R[1] * sf->fdir[1] + R[2] * sf->fdir[2];
+            fy = R[4] * sf->fdir[0] + R[5] * sf->fdir[1] + R[6] * sf->fdir[2];
+            fz = R[8] * sf->fdir[0] + R[9] * sf->fdir[1] + R[10] * sf->fdir[2];
+        }
+        fn = fx * g0->normal[0] + fy * g0->normal[1] + fz * g0->normal[2];
+        fx -= fn * g0->normal[0]; fy -= fn * g0->normal[1]; fz -= fn * g0->normal[2];
+        f2 = fx * fx + fy * fy + fz * fz;
+        if (f2 > 1e-12) {
+            double k = 1.0 / sqrt(f2);
+            fdir[0] = fx * k; fdir[1] = fy * k; fdir[2] = fz * k;
+            has_fdir = 1;
+            mode |= dContactFDir1;
+        }
+    } else if (isotropic) {
         const dContactGeom *g0 = &c->gen[sel[0]];
         has_fdir = mr_fdir(c, b1, b2, g0->pos, g0->normal, fdir);
         if (has_fdir) mode |= dContactFDir1;
