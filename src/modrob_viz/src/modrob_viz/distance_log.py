@@ -21,11 +21,13 @@ class DistanceLog(object):
 
     def write_csv(self, path):
         _folder(path)
-        with open(path, "w", newline="") as f:
+        tmp = path + ".part"  # written aside and renamed: readers never see half a file
+        with open(tmp, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(["time_s", "distance_to_endpoint_m", "distance_to_trajectory_m"])
-            for t, a, b in self.rows:
+            for t, a, b in list(self.rows):  # a snapshot: a node may append meanwhile
                 w.writerow(["%.4f" % t, "%.6f" % a, "" if math.isnan(b) else "%.6f" % b])
+        os.replace(tmp, path)
         return path
 
     @staticmethod
@@ -38,24 +40,26 @@ class DistanceLog(object):
         return log
 
     def plot(self, path, title="Control device user test"):
-        """A PNG of both distances over time (matplotlib Agg)."""
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        """A PNG of both distances over time (matplotlib's Agg canvas; no pyplot state, so a node
+        may call it from a timer thread)."""
+        from matplotlib.figure import Figure
         _folder(path)
-        t = [r[0] for r in self.rows]
-        fig, ax = plt.subplots(figsize=(8, 4), dpi=100)
-        ax.plot(t, [r[1] for r in self.rows], color="red", label="end effector to end point")
-        if any(not math.isnan(r[2]) for r in self.rows):
-            ax.plot(t, [r[2] for r in self.rows], color="turquoise", label="end effector to trajectory")
+        rows = list(self.rows)  # a snapshot: a node may append meanwhile
+        t = [r[0] for r in rows]
+        fig = Figure(figsize=(8, 4), dpi=100)
+        ax = fig.add_subplot(1, 1, 1)
+        ax.plot(t, [r[1] for r in rows], color="red", label="end effector to end point")
+        if any(not math.isnan(r[2]) for r in rows):
+            ax.plot(t, [r[2] for r in rows], color="turquoise", label="end effector to trajectory")
         ax.set_xlabel("time [s]")
         ax.set_ylabel("distance [m]")
         ax.set_title(title)
         ax.grid(True, alpha=0.3)
         ax.legend(loc="upper right")
         fig.tight_layout()
-        fig.savefig(path)
-        plt.close(fig)
+        tmp = path + ".part.png"
+        fig.savefig(tmp, format="png")
+        os.replace(tmp, path)
         return path
 
 

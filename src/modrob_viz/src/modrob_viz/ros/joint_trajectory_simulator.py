@@ -161,7 +161,8 @@ class JointTrajectorySimulator(object):
             return None
         self.max_pub.publish(Float64(div.max))
         self.rms_pub.publish(Float64(div.rms))
-        rospy.loginfo("joint_trajectory_simulator: travelled vs desired end-effector path: %s", div)
+        rospy.loginfo("joint_trajectory_simulator: divergence of the travelled from the desired end-effector "
+                      "path: %s", div)
         return div
 
     def _publish_point(self, path, i):

@@ -87,5 +87,5 @@ class EndpointUserTest(object):
                 self.log.write_csv(self.csv_file)
             if self.plot_file:
                 self.log.plot(self.plot_file, title=rospy.get_name().lstrip("/"))
-        except (VizError, OSError) as err:
+        except (VizError, OSError, ValueError) as err:
             rospy.logerr("%s: could not save the distance log: %s", rospy.get_name(), err)
