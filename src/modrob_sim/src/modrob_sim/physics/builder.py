@@ -324,5 +324,4 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
         else:
             j._child_inertia = g.mass
         j._apply_motor()
-    model._spawn_joint_origin = poses
     return model

@@ -359,7 +359,6 @@ class Model(object):
         self._world_attached = False       # a joint to 'world' that is not fixed (anchors in world)
         self._spawn_state = None
         self._snapshot_state = None
-        self._spawn_config = {}
         self._slot = 0
         self._root_name = None
         self._adjacent = frozenset()  # (group index, group index) pairs joined by a joint
@@ -591,12 +590,6 @@ class Model(object):
         for j in self._joint_order:
             j._cmd = 0.0
             j.effort = 0.0
-
-    def _check_finite(self):
-        for b in self._bodies:
-            for v in b.getPosition():
-                if not math.isfinite(v):
-                    raise SimulationError("model '%s' has a non-finite pose" % self.name)
 
 
 __all__ = ["Model", "Link", "Joint", "Group", "from_ode_quat", "FORCE_CAP"]
