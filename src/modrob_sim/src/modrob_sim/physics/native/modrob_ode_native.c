@@ -354,7 +354,7 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     const MrSurface *s1, *s2;
     int n, k, i, sel[MR_MAX_GEN], isotropic, has_fdir = 0, mode;
     double kp, kd, erp, cfm, mu, mu2, shift, cap, max_vel;
-    dVector3 fdir;
+    dVector3 fdir = {0, 0, 0, 0};
 
     if (dGeomIsSpace(o1) || dGeomIsSpace(o2)) {
         dSpaceCollide2(o1, o2, data, &mr_near);
