@@ -64,7 +64,7 @@ class WorldMarkers(object):
                     v = [_from_core(lname, link, g) for g in link.visuals]
                     if v:
                         per_link[lname] = v
-            else:   # a core without visuals on links: read the description text
+            if not per_link:   # no visuals from the core (an <include> such as ground_plane): the text
                 info = description.parse_links(getattr(model, "source_xml", "") or "", model.name)
                 per_link = {lname: li.visuals for lname, li in info.items() if li.visuals}
             vis = (model, per_link)
@@ -139,7 +139,8 @@ class WorldMarkers(object):
             mk.type = Marker.CUBE
             mk.scale.x, mk.scale.y = v.size
             mk.scale.z = 0.002
-            pose = tf.compose(pose, ((0.0, 0.0, -0.001), (0.0, 0.0, 0.0, 1.0)))
+            # top 3 mm under the plane: RViz's grid at z = 0 stays visible (no z-fighting)
+            pose = tf.compose(pose, ((0.0, 0.0, -0.004), (0.0, 0.0, 0.0, 1.0)))
         elif v.kind == "mesh" and v.filename:
             mk.type = Marker.MESH_RESOURCE
             mk.mesh_resource = _mesh_uri(v.filename)

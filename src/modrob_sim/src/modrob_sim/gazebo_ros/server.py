@@ -182,6 +182,7 @@ class GazeboRosNode(object):
         self._updates, self._after_steps = [], []
         self._effort_jobs, self._wrench_jobs = [], []
         self._spawn_ns = {}
+        self._guard_hint = {}
         self._seq = 0
 
         world_text, physics = None, {}
@@ -352,13 +353,17 @@ class GazeboRosNode(object):
             self._marker_pub.publish(arr)
 
     def _report_guard_events(self):
+        """Publish every guard event; the core logs each one, the node adds a hint at most every
+        5 s per model (a model that keeps blowing up would flood the log otherwise)."""
         for ev in self.world.pop_events():
-            text = ("blow-up guard: model '%s' link '%s': %s at t=%.3f s; the model was restored to its "
-                    "last sane state (check gains, efforts, masses and the time step)"
-                    % (ev.model, ev.link, ev.reason, ev.time))
-            rospy.logerr(text)
             self._guard_pub.publish(String(data="model=%s link=%s time=%.6f reason=%s"
                                            % (ev.model, ev.link, ev.time, ev.reason)))
+            wall = time.monotonic()
+            if wall - self._guard_hint.get(ev.model, -1e9) >= 5.0:
+                self._guard_hint[ev.model] = wall
+                rospy.logerr("model '%s' (link '%s') blew up and was restored: check its controller gains, "
+                             "commanded efforts, link masses/inertias and the time step; events on %s"
+                             % (ev.model, ev.link, self._guard_pub.resolved_name))
 
     def _on_rtf(self, rtf, sim_time):
         msg = gzm.PerformanceMetrics()

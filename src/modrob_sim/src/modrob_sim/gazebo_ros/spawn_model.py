@@ -76,6 +76,21 @@ class SpawnModelCommand(object):
                 raise SystemExit("spawn_model: -J %s %s: the position must be a number" % (name, value))
         self.args.joints = joints
         self.ns = self.args.gazebo_namespace.rstrip("/")
+        self._xml = None
+
+    def prepare(self):
+        """Read and check a -file or -stdin model before any ROS connection, so that a bad file
+        fails at once even without a master. Returns an error text or None."""
+        if self.args.file or self.args.stdin:
+            text, err = self.load_xml()
+            if err:
+                return err
+            try:
+                ET.fromstring(text)
+            except ET.ParseError as exc:
+                return "invalid XML in %s: %s" % (self.args.file or "stdin", exc)
+            self._xml = text
+        return None
 
     def fail(self, text):
         rospy.logerr("spawn_model: %s" % text)
@@ -134,7 +149,7 @@ class SpawnModelCommand(object):
         a = self.args
         if a.wait and not self.wait_for_model(a.wait):
             return 0
-        text, err = self.load_xml()
+        text, err = (self._xml, None) if self._xml is not None else self.load_xml()
         if err:
             return self.fail(err)
         try:
