@@ -118,3 +118,20 @@ def test_stopped_loop_refuses_calls():
     loop.stop()
     with pytest.raises(SimulationError):
         loop.call(lambda: 1)
+
+
+def test_call_made_before_start_waits_for_the_loop():
+    """Services are advertised before the loop thread starts: an early request must be served
+    by the loop once it runs, never refused as 'shutting down' nor run in the caller's thread."""
+    world = CountingWorld()
+    loop = SimulationLoop(world, real_time_factor=0.0, paused=True)
+    answer = {}
+    caller = threading.Thread(target=lambda: answer.setdefault(
+        "thread", loop.call(lambda: threading.current_thread().name, timeout=10)))
+    caller.start()
+    loop.start()
+    try:
+        caller.join(10)
+        assert answer.get("thread") == "simulation_loop"
+    finally:
+        loop.stop()

@@ -47,6 +47,7 @@ class SimulationLoop(object):
         self._jobs = collections.deque()
         self._cond = threading.Condition()
         self._stop = False
+        self._finished = False      # set when run() has returned: calls are refused from then on
         self._thread = None
         self._ref = None            # (wall, sim) at which pacing was anchored
         self._meas = None           # (wall, sim) of the last RTF measurement
@@ -86,13 +87,16 @@ class SimulationLoop(object):
 
     def call(self, fn, timeout=30.0):
         """Run ``fn()`` in the loop thread between two physics steps and return its result (its
-        exception is re-raised here). Called from the loop thread itself, runs ``fn`` at once."""
-        if self.in_loop_thread() or self._thread is None:
+        exception is re-raised here). Called from the loop thread itself, runs ``fn`` at once.
+        A call made before :meth:`start` (services are advertised first) waits for the loop."""
+        if self.in_loop_thread():
             return fn()
-        if not self._thread.is_alive():
-            raise SimulationError("the simulation loop is not running (the node is shutting down)")
         job = _Job(fn)
         with self._cond:
+            # Not Thread.is_alive(): it is False until a just-started thread has begun to run,
+            # which on a loaded machine refused the first spawn request of a launch file.
+            if self._finished or self._stop:
+                raise SimulationError("the simulation loop is not running (the node is shutting down)")
             self._jobs.append(job)
             self._cond.notify_all()
         if not job.done.wait(timeout):
@@ -127,6 +131,7 @@ class SimulationLoop(object):
             self.run_once()
         # answer jobs still queued so that no caller waits forever
         with self._cond:
+            self._finished = True
             jobs, self._jobs = list(self._jobs), collections.deque()
         for job in jobs:
             job.error = SimulationError("the simulation loop stopped before running the request")
