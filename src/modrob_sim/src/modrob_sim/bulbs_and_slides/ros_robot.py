@@ -144,12 +144,26 @@ class RosArm(object):
             sim_sleep(0.01)
         return err
 
-    def gripper(self, action, wait=0.6):
+    def gripper(self, action, wait=0.6, ramp=0.4):
+        """Open or close. Closing ramps the finger targets over ``ramp`` s so that the fingers meet the
+        bulb slowly and the squeeze builds up to the grip force (the effort limit) without a blow."""
         if self.info.gripper is None:
             raise ScenarioError("modrob%d has no gripper" % self.info.robot_id)
         target = self.info.gripper.command(action)
         names = list(target)
-        self.command(names, [target[n] for n in names])
+        goal = np.array([target[n] for n in names])
+        if action == "close" and ramp > 0:
+            start = self.measured(names)
+            t0 = rospy.get_time()
+            while not rospy.is_shutdown():
+                s = min(1.0, (rospy.get_time() - t0) / ramp)
+                self.command(names, start + s * (goal - start))
+                if self.recorder:
+                    self.recorder.sample(self)
+                if s >= 1.0:
+                    break
+                sim_sleep(0.01)
+        self.command(names, goal)
         end = rospy.get_time() + wait
         while rospy.get_time() < end and not rospy.is_shutdown():
             if self.recorder:

@@ -236,3 +236,44 @@ class Scenario(object):
         self.log("[5/5] waiting for %s to come to rest" % bulb)
         self.finish(result, bulb)
         return result
+
+    # ---- grasp sanity -------------------------------------------------------------------
+    def grasp_and_shake(self, seconds=5.0, amplitude=0.25, freq=1.0, joints=("joint1", "joint6")):
+        """Pick the red-tip bulb with modrob0, lift it, then swing ``joints`` sinusoidally (amplitude
+        rad, freq Hz) for ``seconds``. Returns (held, worst distance bulb-grasp centre [m], mean
+        finger effort [N])."""
+        self.setup([0])
+        r = self.robots[0]
+        r.arm.gripper("open", wait=0.3)
+        bulb = self.tip_bulb()
+        self.wait_at_rest(self.bulbs(), timeout=5.0)
+        grasp, axis = self.glass_centre(bulb)
+        blue = self.layout.slides["blue_slide"]
+        segs = plan_pick_and_place(r.planner, r.arm.measured(), grasp, axis, self.layout.place_point,
+                                   blue.uphill, fast=self.arm_speed)
+        result = Result()
+        try:
+            self.run_segments(r, segs[:3], bulb, result)    # pre-grasp, descend + close, lift
+        except ScenarioError as exc:
+            self.log("  %s" % exc)
+        names = r.info.arm_joints
+        q0 = r.arm.measured(names)
+        idx = [names.index(j) for j in joints]
+        t0 = rospy.get_time()
+        worst = 0.0
+        efforts = []
+        fingers = r.info.gripper.joints
+        while not rospy.is_shutdown():
+            t = rospy.get_time() - t0
+            if t > seconds:
+                break
+            q = q0.copy()
+            for i in idx:
+                q[i] += amplitude * math.sin(2 * math.pi * freq * t)
+            r.arm.command(names, q)
+            c, _ = self.glass_centre(bulb)
+            tcp = np.array(r.fk(r.arm.measured(names)))
+            worst = max(worst, float(np.linalg.norm(c - tcp)))
+            efforts.append(float(np.mean(np.abs(r.arm.efforts(fingers)))))
+            sim_sleep(0.01)
+        return worst < 0.03, worst, float(np.mean(efforts)) if efforts else float("nan")
