@@ -215,7 +215,8 @@ class GazeboRosNode(object):
                                       on_error=self._plugin_module_failed)
 
         # publishers (before any model exists, so the first states go out)
-        self._clock_pub = rospy.Publisher("/clock", Clock, queue_size=10)
+        # latched: a node that starts while the simulation is paused still learns the time
+        self._clock_pub = rospy.Publisher("/clock", Clock, queue_size=10, latch=True)
         self._clock_msg = Clock()
         self._model_states_pub = rospy.Publisher("~model_states", gzm.ModelStates, queue_size=1)
         self._link_states_pub = rospy.Publisher("~link_states", gzm.LinkStates, queue_size=1)
@@ -240,6 +241,9 @@ class GazeboRosNode(object):
                     self._load_plugins(m, "")
             except ModrobError as exc:
                 raise ModelError("world file %s: %s" % (params.world_name, exc))
+            # the core applies the world's <physics>; explicit ~time_step / gravity win over it
+            self.world.time_step = float(time_step)
+            self.world.gravity = tuple(gravity)
         self._publish_markers(force=True)
         self._publish_clock(force=True)
         self._advertise()
