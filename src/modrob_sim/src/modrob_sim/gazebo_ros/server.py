@@ -504,10 +504,10 @@ class GazeboRosNode(object):
         raise RequestError("%s [%s] is neither a model nor a link; use \"world\", a model name or a scoped "
                            "link name model::link" % (field, name))
 
-    def _run(self, fn, response, name):
+    def _run(self, fn, response, name, timeout=120.0):
         """Run fn() in the loop; fill response.success / status_message. fn returns a message."""
         try:
-            text = self.loop.call(fn)
+            text = self.loop.call(fn, timeout=timeout)
             response.success = True
             response.status_message = "%s: %s" % (name, text)
         except ModrobError as exc:
@@ -979,7 +979,7 @@ class GazeboRosNode(object):
             resp.iterations = self.world.iterations
             resp.sim_time = self.world.time
             return "advanced %d steps to t=%.6f s" % (req.steps, self.world.time)
-        return self._run(do, resp, "Step")
+        return self._run(do, resp, "Step", timeout=None)   # N steps take as long as they take
 
 
 def ensure_use_sim_time():
