@@ -5,7 +5,7 @@
 
 Outputs (all committed; rerun after changing a number here, never edit them by hand):
     worlds/bulbs_and_slides.world               one-robot layout (the 6-DoF arm stands on the table)
-    worlds/bulbs_and_slides_two_robots.world    two-robot layout (two 3-DoF arms on pedestals)
+    worlds/bulbs_and_slides_two_robots.world    two-robot layout (two 3-DoF arms on floor stands)
     worlds/bulbs_and_slides_layout.yaml         numbers the scenario scripts need (robot bases,
                                                 slide tips, bulb geometry, pick and place points)
     models/{bulb,red_slide,blue_slide,doughnut}/model.sdf + model.config, doughnut/meshes/doughnut.obj
@@ -76,15 +76,15 @@ LAYOUTS = {
     },
     "two_robots": {
         "world": "bulbs_and_slides_two_robots.world",
-        # The 3-DoF arms (yaw, pitch, roll) have no wrist pitch: the gripper axis always points along
-        # the arm, so the side grasp (gripper x along the bulb) is possible only with the arm in the
-        # plane x = const through the bulb. Both arms stand on pedestals on the line x = x_line between
-        # the slides: modrob0 takes the bulb at the red tip and lays it in the cradle (y = 0),
-        # modrob1 takes it from there and releases it over the blue slide. The slides' y and the
-        # cradle's height follow from the arm (see _resolve_layouts and docs/bulbs_and_slides.md).
-        "x_line": -0.20,
-        "robot_y": 0.15,              # modrob0 at +robot_y, modrob1 at -robot_y, cradle at y = 0
-        "pedestal": 0.233,
+        # The 3-DoF arms (base yaw, one pitch joint limited to +-120 deg from vertical, roll about
+        # the arm) cannot move the gripper along its own axis and point it at most 30 deg below the
+        # horizontal; they take a bulb the way the gripper's V-grooves are made for: arm horizontal
+        # and in line with the bulb, coming down onto it by the pitch joint. So both stand on floor
+        # stands at the table's -x end with their shoulders at the bulbs' height; the red slide's
+        # centre-line runs through modrob0's base, the blue one's through modrob1's, and the hand-over
+        # cradle (its groove across, along y) lies halfway between them, one arm's length from each.
+        "x_robots": -1.10,
+        "table": (2.0, 1.6, 0.04),
         "robots": [{"order": [59, 3, 55, 63, 57, 5]}, {"order": [59, 3, 55, 63, 57, 5]}],
         "safety_distance": 0.3,
     },
@@ -101,24 +101,25 @@ def v_axis_height():
 
 
 def _resolve_layouts():
-    """Two-robot layout: put the red tip's grasp point, the cradle and the blue release point on the
-    line x = x_line, at the distances from the robots that the arm's reach sphere gives."""
+    """Two-robot layout: shoulders at the red tip bulb's height; slides, cradle and bases in line."""
     lay = LAYOUTS["two_robots"]
-    x2, ry, h = lay["x_line"], lay["robot_y"], lay["pedestal"]
-    shoulder = TABLE_TOP + h + ARM3_SHOULDER
+    xr = lay["x_robots"]
     grasp_s = BULB_GAP + BULB_GLASS_L / 2
-    z_pick = TABLE_TOP + floor_point(grasp_s, v_axis_height() - V_DROP)[2]
-    r_pick = math.sqrt(ARM3_REACH ** 2 - (shoulder - z_pick) ** 2)
-    z_cradle = shoulder - math.sqrt(ARM3_REACH ** 2 - ry ** 2)
+    x_pick, _, z_pick = floor_point(grasp_s, v_axis_height() - V_DROP)
+    z_pick += TABLE_TOP
+    base_z = z_pick - ARM3_SHOULDER
+    y_red, y_blue = -ARM3_REACH, ARM3_REACH
     z_drop = TABLE_TOP + floor_point(PLACE_S + BULB_GLASS_L / 2, BULB_GLASS_R + DROP_CLEARANCE)[2]
-    r_drop = math.sqrt(ARM3_REACH ** 2 - (shoulder - z_drop) ** 2)
-    x_pick = floor_point(grasp_s, v_axis_height() - V_DROP)[0]
+    r_drop = math.sqrt(ARM3_REACH ** 2 - (z_drop - z_pick) ** 2)
     x_drop = floor_point(PLACE_S + BULB_GLASS_L / 2, BULB_GLASS_R + DROP_CLEARANCE)[0]
-    lay["slides"] = {"red_slide": (ry + r_pick, x2 - x_pick), "blue_slide": (-ry - r_drop, x2 - x_drop)}
-    lay["robots"][0]["base"] = [x2, ry, TABLE_TOP + h]
-    lay["robots"][1]["base"] = [x2, -ry, TABLE_TOP + h]
-    lay["pedestals"] = [{"xy": [x2, ry], "height": h}, {"xy": [x2, -ry], "height": h}]
-    lay["cradle"] = {"x": x2, "y": 0.0, "height": z_cradle - v_axis_height() - TABLE_TOP}
+    lay["slides"] = {"red_slide": (y_red, xr + ARM3_REACH - x_pick),
+                     "blue_slide": (y_blue, xr + r_drop - x_drop)}
+    lay["robots"][0]["base"] = [xr, y_red, base_z]
+    lay["robots"][1]["base"] = [xr, y_blue, base_z]
+    lay["pedestals"] = [{"xy": [xr, y_red], "height": base_z, "z0": 0.0},
+                        {"xy": [xr, y_blue], "height": base_z, "z0": 0.0}]
+    lay["cradle"] = {"x": xr, "y": 0.0, "z0": 0.0, "height": z_pick - v_axis_height(),
+                     "yaw": math.pi / 2}
 
 
 _resolve_layouts()
@@ -319,8 +320,8 @@ def doughnut_model(with_pose=None):
 
 
 # ----------------------------------------------------------------------------------------- world
-def table_model():
-    lx, ly, t = TABLE_SIZE
+def table_model(size=TABLE_SIZE):
+    lx, ly, t = size
     wood = (0.6, 0.45, 0.3, 1.0)
     parts = [part("top", box((lx, ly, t)), pose(0, 0, TABLE_TOP - t / 2), wood, 0.6)]
     leg_h = TABLE_TOP - t
@@ -339,13 +340,14 @@ def table_model():
 def pedestal_model(i, ped):
     x, y = ped["xy"]
     h = ped["height"]
+    z0 = ped.get("z0", TABLE_TOP)
     return """<model name='pedestal%d'>
     <static>true</static>
     %s
     <link name='link'>
         %s
     </link>
-  </model>""" % (i, pose(x, y, TABLE_TOP),
+  </model>""" % (i, pose(x, y, z0),
                  part("block", box((0.2, 0.2, h)), pose(0, 0, h / 2), (0.35, 0.35, 0.38, 1), 0.8))
 
 
@@ -362,12 +364,13 @@ def cradle_model(cradle):
     <link name='link'>
         %s
     </link>
-  </model>""" % (pose(cradle["x"], cradle["y"], TABLE_TOP), "\n        ".join(parts))
+  </model>""" % (pose(cradle["x"], cradle["y"], cradle.get("z0", TABLE_TOP), 0, 0,
+                      cradle.get("yaw", 0.0)), "\n        ".join(parts))
 
 
 def world(layout_name):
     layout = LAYOUTS[layout_name]
-    models = [table_model()]
+    models = [table_model(layout.get("table", TABLE_SIZE))]
     for name, (y, tip_x) in layout["slides"].items():
         models.append(slide_model(name, SLIDE_COLOURS[name], SLIDE_LENGTHS[name], pose(tip_x, y, TABLE_TOP)))
     k = 0
@@ -473,8 +476,10 @@ def layout_yaml():
                      % _v3((btx + px, by, TABLE_TOP + pz)))
         if lay.get("cradle"):
             c = lay["cradle"]
-            lines.append("    cradle_point: %s   # glass centre of a bulb lying in the cradle (axis along x)"
-                         % _v3((c["x"], c["y"], TABLE_TOP + c["height"] + v_axis_height())))
+            lines.append("    cradle_point: %s   # glass centre of a bulb lying in the cradle"
+                         % _v3((c["x"], c["y"], c.get("z0", TABLE_TOP) + c["height"] + v_axis_height())))
+            yaw = c.get("yaw", 0.0)
+            lines.append("    cradle_axis: %s" % _v3((math.cos(yaw), math.sin(yaw), 0.0)))
     return "\n".join(lines) + "\n"
 
 

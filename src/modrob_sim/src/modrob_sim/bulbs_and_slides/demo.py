@@ -85,6 +85,7 @@ def main(argv=None):
     p.add_argument("--jitter", type=float, default=0.0, help="shift the bulb by up to this much (m), seeded")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--grip-force", type=float, default=3.0)
+    p.add_argument("--arm-speed", type=float, default=0.5, help="joint speed of the free moves (rad/s)")
     args = p.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     stem = os.path.join(args.out, "bulbs_and_slides_%s" % args.scenario)
@@ -104,7 +105,7 @@ def main(argv=None):
         import rospy
         from modrob_sim.bulbs_and_slides.scenario import Scenario
         rospy.init_node("bulbs_and_slides_demo", disable_signals=True)
-        sc = Scenario(layout, jitter=args.jitter, seed=args.seed)
+        sc = Scenario(layout, jitter=args.jitter, seed=args.seed, arm_speed=args.arm_speed)
         result = sc.run_two_robots() if args.scenario == "two_robots" else sc.run_one_robot()
         if sc.recorder and sc.recorder.rows:
             n = sc.recorder.write_bag(stem + "_ee.bag")

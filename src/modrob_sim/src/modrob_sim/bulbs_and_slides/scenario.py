@@ -183,7 +183,9 @@ class Scenario(object):
                                                1000 * np.linalg.norm(c - tcp)))
             elif seg.gripper_after == "open":
                 arm.gripper("open", wait=0.4)
-                self.log("  modrob%d: gripper opened" % robot.info.robot_id)
+                c, _ = self.glass_centre(bulb)
+                self.log("  modrob%d: gripper opened, %s at (%.3f, %.3f, %.3f)"
+                         % ((robot.info.robot_id, bulb) + tuple(c)))
             if seg.name == "lift":
                 tcp = np.array(robot.fk(arm.measured()))
                 c, _ = self.glass_centre(bulb)
@@ -236,6 +238,92 @@ class Scenario(object):
         self.log("[5/5] waiting for %s to come to rest" % bulb)
         self.finish(result, bulb)
         return result
+
+    # ---- two robots ---------------------------------------------------------------------
+    def run_two_robots(self, hover=0.12, drop_gap=0.004):
+        """modrob0: red tip -> cradle; modrob1: cradle -> over the blue slide. Both 3-DoF arms work
+        in joint space: yaw (joint1) towards the target, pitch (joint2) so that the arm is
+        horizontal at the target's height (the layout puts every target one arm's length away at
+        the shoulder's height), roll (joint3) 0 so that the fingers close horizontally; they come
+        down onto a bulb by raising/lowering joint2 by ``hover`` rad. Only one arm is near the
+        cradle at any time: modrob1 waits upright until modrob0 has parked."""
+        result = Result()
+        self.log("[1/6] waiting for the simulation, modrob0 and modrob1")
+        self.setup([0, 1])
+        r0, r1 = self.robots[0], self.robots[1]
+        for r, (order, base) in zip((r0, r1), self.layout.robots):
+            q0 = r.chain.fk_position([0.0, 0.0, 0.0])
+            if abs(q0[0] - base[0]) > 0.01 or abs(q0[1] - base[1]) > 0.01:
+                raise ScenarioError("modrob%d stands at (%.3f, %.3f), the layout wants (%.3f, %.3f): the "
+                                    "launch file's bases and bulbs_and_slides_layout.yaml disagree"
+                                    % (r.info.robot_id, q0[0], q0[1], base[0], base[1]))
+        r0.arm.gripper("open", wait=0.2)
+        r1.arm.gripper("open", wait=0.2)
+        bulb = self.tip_bulb()
+        self.apply_jitter(bulb)
+        self.log("[2/6] waiting for %s to rest at the red tip" % bulb)
+        self.wait_at_rest(self.bulbs(), timeout=5.0)
+        try:
+            grasp, _ = self.glass_centre(bulb)
+            q_pick = self._arm3_target(r0, grasp)
+            q_cradle0 = self._arm3_target(r0, self.layout.cradle_point)
+            self.log("[3/6] modrob0: red tip -> cradle")
+            segs = self._arm3_pick_place(r0.arm.measured(), q_pick, q_cradle0, hover, drop_gap,
+                                         park=[-math.pi / 2, 0.5, 0.0])
+            self.run_segments(r0, segs, bulb, result)
+            self.log("[4/6] waiting for %s to rest in the cradle" % bulb)
+            self.wait_at_rest([bulb], timeout=5.0)
+            c, _ = self.glass_centre(bulb)
+            if np.linalg.norm(c - self.layout.cradle_point) > 0.03:
+                off = 1000 * np.linalg.norm(c - self.layout.cradle_point)
+                raise ScenarioError("%s is not in the cradle (%.1f mm from it, at (%.3f, %.3f, %.3f))"
+                                    % ((bulb, off) + tuple(c)))
+            self.log("[5/6] modrob1: cradle -> blue slide")
+            q_pick1 = self._arm3_target(r1, c)
+            q_drop = self._arm3_target(r1, self.layout.place_point)
+            segs = self._arm3_pick_place(r1.arm.measured(), q_pick1, q_drop, hover, 0.0,
+                                         park=[0.0, 0.3, 0.0])
+            self.run_segments(r1, segs, bulb, result)
+        except ScenarioError as exc:
+            result.message = str(exc)
+            result.sim_time = rospy.get_time() - self.t0
+            result.wall_time = time.time() - self.wall0
+            return result
+        self.log("[6/6] waiting for %s to come to rest" % bulb)
+        self.finish(result, bulb)
+        return result
+
+    @staticmethod
+    def _arm3_target(robot, point):
+        """(yaw, pitch, 0) putting a 3-DoF arm's grasp centre at ``point``: yaw towards it, pitch from
+        the height difference (arm length from the KDL chain at the stretched pose)."""
+        base = np.array(robot.chain.fk_position([0.0, 0.0, 0.0]))
+        top = robot.chain.fk_position([0.0, math.pi / 2, 0.0])
+        shoulder = np.array([base[0], base[1], top[2]])
+        shoulder_to_tcp = float(np.linalg.norm(np.array(top) - shoulder))
+        d = np.asarray(point, dtype=float) - shoulder
+        horiz = math.hypot(d[0], d[1])
+        yaw = math.atan2(d[1], d[0])
+        pitch = math.pi / 2 - math.asin(max(-1.0, min(1.0, d[2] / shoulder_to_tcp)))
+        if abs(math.hypot(horiz, d[2]) - shoulder_to_tcp) > 0.01:
+            raise ScenarioError("(%.3f, %.3f, %.3f) is %.3f m from modrob%d's shoulder; its arm is %.3f m "
+                                "long" % (tuple(point) + (math.hypot(horiz, d[2]), robot.info.robot_id,
+                                                          shoulder_to_tcp)))
+        return np.array([yaw, pitch, 0.0])
+
+    def _arm3_pick_place(self, q_now, q_pick, q_place, hover, gap, park):
+        from modrob_sim.bulbs_and_slides.planner import Segment
+        up = np.array([0.0, -hover, 0.0])
+        above_pick, above_place = q_pick + up, q_place + up
+        place = q_place + np.array([0.0, -gap, 0.0])
+        fast, slow = self.arm_speed, 0.15
+        return [Segment("to above the bulb", [q_now, above_pick], fast),
+                Segment("descend to the bulb", [above_pick, q_pick], slow, gripper_after="close"),
+                Segment("lift", [q_pick, above_pick], slow),
+                Segment("swing to the release point", [above_pick, above_place], fast * 0.6),
+                Segment("lower", [above_place, place], slow, gripper_after="open"),
+                Segment("retreat", [place, above_place], slow, settle=False),
+                Segment("park", [above_place, np.array(park)], fast, settle=False)]
 
     # ---- grasp sanity -------------------------------------------------------------------
     def grasp_and_shake(self, seconds=5.0, amplitude=0.25, freq=1.0, joints=("joint1", "joint6")):
