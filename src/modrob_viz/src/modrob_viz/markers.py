@@ -113,7 +113,7 @@ def arrow_positions(points, spacing):
     return out
 
 
-def direction_arrows(points, frame_id, spacing=0.05, color="orange", shaft=0.004, ns="direction"):
+def direction_arrows(points, frame_id, spacing=0.08, color="orange", shaft=0.008, ns="direction"):
     """A MarkerArray of ARROW markers (start/end points) along the path, every ``spacing`` m."""
     arr = MarkerArray()
     clear = Marker()
@@ -131,10 +131,11 @@ def direction_arrows(points, frame_id, spacing=0.05, color="orange", shaft=0.004
     return arr
 
 
-def progress_colors(n, passed, color, dim_alpha=0.15):
-    """Per-vertex colours of a strip of ``n`` points where the first ``passed`` are dimmed."""
+def progress_colors(n, passed, color, dim_alpha=0.35):
+    """Per-vertex colours of a strip of ``n`` points where the first ``passed`` are dimmed (grey,
+    translucent) and the rest keep ``color``."""
     r, g, b, a = parse_color(color)
-    dim = (0.5 * r + 0.25, 0.5 * g + 0.25, 0.5 * b + 0.25, dim_alpha)
+    dim = (0.6, 0.6, 0.6, dim_alpha)
     return [dim if i < passed else (r, g, b, a) for i in range(n)]
 
 
@@ -143,8 +144,10 @@ def progress_strip(points, passed, frame_id, color="red", width=0.005, style="di
     """The desired path with the part already travelled dimmed (``style='dim'``), removed
     (``'clip'``) or left as is (``'none'``)."""
     if style == "dim":
-        return line_strip(points, frame_id, color, width, ns, marker_id,
-                          colors=progress_colors(len(points), passed, color))
+        m = line_strip(points, frame_id, color, width, ns, marker_id,
+                       colors=progress_colors(len(points), passed, color))
+        m.color.a = min(m.color.a, 0.99)  # RViz blends per-vertex alpha only for a translucent marker
+        return m
     if style == "clip":
         return line_strip(points[max(0, passed - 1):], frame_id, color, width, ns, marker_id)
     if style == "none":

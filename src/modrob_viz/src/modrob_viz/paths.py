@@ -1,4 +1,5 @@
 """Sample work-space paths (the seed's dummy trajectories): circle, line, helix, figure eight.
+The defaults lie in the reach of the 4-DoF demo robot (base at the origin, 1.4 m tall).
 
 Every generator returns a list of (x, y, z) tuples [m]; ``n`` is the number of points.
 """
@@ -16,7 +17,7 @@ def _check(n, **values):
                 raise TrajectoryError("path parameter '%s' is not finite (%r)" % (name, v))
 
 
-def circle(center=(0.3, 0.0, 0.4), radius=0.1, n=100):
+def circle(center=(0.4, 0.0, 0.8), radius=0.15, n=100):
     """A closed circle in the horizontal plane through ``center`` (first point = last point)."""
     _check(n, center=center, radius=radius)
     cx, cy, cz = center
@@ -24,13 +25,13 @@ def circle(center=(0.3, 0.0, 0.4), radius=0.1, n=100):
              cy + radius * math.sin(2 * math.pi * i / (n - 1)), cz) for i in range(n)]
 
 
-def line(start=(0.3, -0.2, 0.3), end=(0.3, 0.2, 0.5), n=50):
+def line(start=(0.4, -0.3, 0.6), end=(0.4, 0.3, 1.0), n=50):
     """A straight line from ``start`` to ``end``."""
     _check(n, start=start, end=end)
     return [tuple(s + (e - s) * i / (n - 1) for s, e in zip(start, end)) for i in range(n)]
 
 
-def helix(center=(0.3, 0.0, 0.3), radius=0.08, pitch=0.05, turns=3.0, n=200):
+def helix(center=(0.45, 0.0, 0.5), radius=0.15, pitch=0.1, turns=3.0, n=200):
     """A helix about the vertical axis through ``center``, rising ``pitch`` per turn."""
     _check(n, center=center, radius=radius, pitch=pitch, turns=turns)
     cx, cy, cz = center
@@ -41,7 +42,7 @@ def helix(center=(0.3, 0.0, 0.3), radius=0.08, pitch=0.05, turns=3.0, n=200):
     return out
 
 
-def figure_eight(center=(0.3, 0.0, 0.4), size=0.12, n=150):
+def figure_eight(center=(0.4, 0.0, 0.9), size=0.2, n=150):
     """A lemniscate of Gerono in the vertical y-z plane through ``center`` (closed)."""
     _check(n, center=center, size=size)
     cx, cy, cz = center

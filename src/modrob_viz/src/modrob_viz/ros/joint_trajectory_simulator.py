@@ -29,7 +29,7 @@ class JointTrajectorySimulator(object):
     def __init__(self, tree, ee_link, base_frame="", robot_ns="modrob0", bag_file="",
                  topic="/tp_rv_topic", pause=0.003, keep_every=5, reduce_tolerance=0.0, passed_style="dim",
                  publish_joint_states=True, sample_rate=100.0, settle_time=1.0, loop=False, color="red",
-                 width=0.005, arrow_spacing=0.05):
+                 width=0.005, arrow_spacing=0.08):
         self.tree = tree
         self.ee_link = ee_link
         self.base_frame = base_frame or tree.root
@@ -138,6 +138,7 @@ class JointTrajectorySimulator(object):
                     self.sampling_since = last_stamp
             if rospy.get_time() - last_shown > 0.1:
                 self._publish_desired(ee, i + 1)
+                self._publish_travelled()
                 last_shown = rospy.get_time()
             rospy.sleep(self.pause)
         self._publish_desired(ee, len(ee))
@@ -180,6 +181,12 @@ class JointTrajectorySimulator(object):
             js.position = config.joint_angles
             self.js_pub.publish(js)
         return stamp
+
+    def _publish_travelled(self):
+        with self.lock:
+            points = [p for p, _ in self.travelled]
+        self.travelled_pub.publish(markers.line_strip(points, self.base_frame, "turquoise", self.width,
+                                                      ns="travelled"))
 
     def _publish_desired(self, ee, passed):
         self.desired_pub.publish(markers.progress_strip(ee, passed, self.base_frame, self.color, self.width,

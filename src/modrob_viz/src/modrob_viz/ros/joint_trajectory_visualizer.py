@@ -27,7 +27,7 @@ class JointTrajectoryVisualizer(object):
     (direction), and with ``reduce_tolerance`` > 0 ``~milestones`` (SPHERE_LIST of the kept
     points) and ``~reduced_trajectory`` (the JointTrajectory of the kept points)."""
 
-    def __init__(self, tree, bag_file, ee_link, base_frame="", color="red", width=0.005, arrow_spacing=0.05,
+    def __init__(self, tree, bag_file, ee_link, base_frame="", color="red", width=0.005, arrow_spacing=0.08,
                  reduce_tolerance=0.0, watch=True):
         self.tree = tree
         self.bag_file = bag_file

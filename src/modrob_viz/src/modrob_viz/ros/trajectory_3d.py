@@ -103,7 +103,7 @@ class Trajectory3DVisualizer(object):
     reported and the node keeps waiting for a good one."""
 
     def __init__(self, bag_file, bag_topic=bag_io.POINTS_TOPIC, frame_id="", color="blue", width=0.005,
-                 arrow_spacing=0.05, watch=True):
+                 arrow_spacing=0.08, watch=True):
         self.bag_file = bag_file
         self.bag_topic = bag_topic
         self.frame_id = frame_id
