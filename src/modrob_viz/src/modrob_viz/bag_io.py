@@ -39,6 +39,9 @@ def _open(path, mode):
             mode = "w"
     try:
         return rosbag.Bag(path, mode)
+    except rosbag.ROSBagUnindexedException:
+        raise BagError("bag '%s' is unindexed: it is being written, or its writer died (then run "
+                       "'rosbag reindex %s')" % (path, path), waiting=True)
     except (rosbag.ROSBagException, OSError, ValueError) as err:
         raise BagError("cannot open bag '%s' (%s): %s" % (path, "read" if mode == "r" else "write", err))
 

@@ -132,3 +132,19 @@ def test_milestone_reduction_keeps_ee_path_within_tolerance(tree):
     from modrob_viz.geometry import PolylineDistance
     poly = PolylineDistance(ee_reduced)
     assert max(poly.distance(p) for p in ee) <= 0.002 + 1e-12
+
+
+def test_bag_still_being_written_is_reported_as_waiting(tmp_path):
+    path = str(tmp_path / "open.bag")
+    writer = rosbag.Bag(path, "w")
+    try:
+        writer.write(bag_io.POINTS_TOPIC, seed_trajectory(1).points[0], genpy.Time(1))
+        writer.flush()
+        with pytest.raises(BagError, match="unindexed") as err:
+            bag_io.read_points(path)
+        assert err.value.waiting
+    finally:
+        writer.close()
+    with pytest.raises(BagError, match="does not exist") as err:
+        bag_io.read_points(str(tmp_path / "later.bag"))
+    assert err.value.waiting
