@@ -138,7 +138,7 @@ def test_bag_still_being_written_is_reported_as_waiting(tmp_path):
     path = str(tmp_path / "open.bag")
     writer = rosbag.Bag(path, "w")
     try:
-        writer.write(bag_io.POINTS_TOPIC, seed_trajectory(1).points[0], genpy.Time(1))
+        writer.write(bag_io.JOINT_POINTS_TOPIC, seed_trajectory(2).points[0], genpy.Time(1))
         writer.flush()
         with pytest.raises(BagError, match="unindexed") as err:
             bag_io.read_points(path)
