@@ -82,6 +82,13 @@ class SimSpawnModel(unittest.TestCase):
         self.assertEqual(rc, 1, out)
         self.assertIn("already exists", out)
 
+    def test_wait_for_an_existing_model(self):
+        path = os.path.join(FIXTURES, "box.urdf")
+        self.assertEqual(run_spawn("-urdf", "-file", path, "-model", "first", "-x", "8")[0], 0)
+        rc, out = run_spawn("-urdf", "-file", path, "-model", "second", "-x", "9", "-wait", "first")
+        self.assertEqual(rc, 0, out)
+        self.assertIn("second", self.gz.get_world_properties().model_names)
+
     def test_unknown_joint_in_J_exits_1(self):
         rc, out = run_spawn("-urdf", "-file", os.path.join(FIXTURES, "arm2.urdf"), "-model", "jarm",
                             "-x", "6", "-J", "wrist", "0.1")

@@ -859,10 +859,8 @@ class GazeboRosNode(object):
                 total[job.joint] = total.get(job.joint, 0.0) + job.effort
         self._effort_jobs = keep
         for joint, effort in total.items():
-            # Gazebo's SetForce adds up within a step: add to what a controller set this step
-            # (the core keeps only the last set_effort, so read its pending command)
-            pending = joint._cmd if getattr(joint, "_has_cmd", False) else 0.0
-            joint.set_effort(pending + effort)
+            # Gazebo's SetForce adds up within a step: added to what a controller set this step
+            joint.add_effort(effort)
 
     def _clear_body_wrenches(self, req):
         def do():
