@@ -33,3 +33,12 @@ def test_non_numeric_joint_position_is_refused():
     with pytest.raises(SystemExit) as e:
         SpawnModelCommand(["-urdf", "-file", "f", "-model", "m", "-J", "j1", "abc"])
     assert "j1" in str(e.value)
+
+
+def test_gzserver_arguments_of_gazebo_ros_launch_files():
+    from modrob_sim.gazebo_ros.server import _as_list, parse_server_args
+    a = parse_server_args(["-u", "--verbose", "-e", "ode", "worlds/empty.world", "--lockstep"])
+    assert a["paused"] and a["verbose"] and a["physics"] == "ode" and a["world"] == "worlds/empty.world"
+    assert a["ignored"] == ["--lockstep"]
+    assert not parse_server_args(["", ""])["paused"]
+    assert _as_list("a.b, c.d") == ["a.b", "c.d"] and _as_list(["x"]) == ["x"] and _as_list(None) == []

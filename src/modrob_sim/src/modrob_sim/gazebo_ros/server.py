@@ -84,7 +84,14 @@ class Params(object):
                    marker_rate=float(rospy.get_param("~marker_rate", 10.0)),
                    marker_models=str(rospy.get_param("~marker_models", "props")),
                    rtf_log_period=float(rospy.get_param("~rtf_log_period", 5.0)),
-                   plugin_modules=rospy.get_param("~plugin_modules", []))
+                   plugin_modules=_as_list(rospy.get_param("~plugin_modules", [])))
+
+
+def _as_list(value):
+    """A parameter that should be a list: "a, b" or "a" become ["a", "b"] / ["a"]."""
+    if isinstance(value, str):
+        return [v.strip() for v in value.replace(",", " ").split() if v.strip()]
+    return list(value or [])
 
 
 def parse_server_args(argv):
