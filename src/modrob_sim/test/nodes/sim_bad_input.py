@@ -73,6 +73,19 @@ class SimBadInput(unittest.TestCase):
         self.assertIn("negative_mass", r.status_message)
         self.still_serving()
 
+    def test_unsupported_gazebo_services_answer_with_the_reason(self):
+        from gazebo_msgs.srv import DeleteLight, SetJointProperties
+        from gazebo_msgs.msg import ODEJointProperties
+        rospy.wait_for_service("/gazebo/delete_light", 10)
+        r = rospy.ServiceProxy("/gazebo/delete_light", DeleteLight)(light_name="sun")
+        self.assertFalse(r.success)
+        self.assertIn("not supported", r.status_message)
+        r = rospy.ServiceProxy("/gazebo/set_joint_properties", SetJointProperties)(
+            joint_name="shoulder", ode_joint_config=ODEJointProperties(damping=[1.0]))
+        self.assertFalse(r.success)
+        self.assertIn("shoulder", r.status_message)
+        self.still_serving()
+
     def test_unstable_model_trips_the_guard_and_node_stays_up(self):
         r = self.gz.spawn("unstable", "unstable.urdf")
         self.assertTrue(r.success, r.status_message)

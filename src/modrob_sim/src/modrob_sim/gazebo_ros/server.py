@@ -294,6 +294,21 @@ class GazeboRosNode(object):
             S("~get_physics_properties", gzs.GetPhysicsProperties, self._get_physics_properties),
             S("~set_physics_properties", gzs.SetPhysicsProperties, self._set_physics_properties),
             S("~step", StepSimulation, self._step),
+            # Gazebo offers these too; this simulator models no lights and no ODE joint tuning:
+            # they answer success: false with the reason instead of leaving callers waiting
+            S("~delete_light", gzs.DeleteLight, lambda r: self._unsupported(
+                gzs.DeleteLightResponse(), "DeleteLight", "light [%s]" % r.light_name,
+                "lights are not simulated")),
+            S("~get_light_properties", gzs.GetLightProperties, lambda r: self._unsupported(
+                gzs.GetLightPropertiesResponse(), "GetLightProperties", "light [%s]" % r.light_name,
+                "lights are not simulated (RViz lights the scene itself)")),
+            S("~set_light_properties", gzs.SetLightProperties, lambda r: self._unsupported(
+                gzs.SetLightPropertiesResponse(), "SetLightProperties", "light [%s]" % r.light_name,
+                "lights are not simulated (RViz lights the scene itself)")),
+            S("~set_joint_properties", gzs.SetJointProperties, lambda r: self._unsupported(
+                gzs.SetJointPropertiesResponse(), "SetJointProperties", "joint [%s]" % r.joint_name,
+                "ODE joint parameters cannot be changed at run time; set <dynamics> and <limit> in the "
+                "URDF and spawn the model again")),
         ]
         self._subs = [
             rospy.Subscriber("~set_model_state", gzm.ModelState, self._set_model_state_topic, queue_size=50),
@@ -526,6 +541,13 @@ class GazeboRosNode(object):
             response.status_message = "%s: %s" % (name, exc)
             rospy.logwarn(response.status_message)
         return response
+
+    @staticmethod
+    def _unsupported(resp, name, what, why):
+        resp.success = False
+        resp.status_message = "%s: %s: not supported by this simulator: %s" % (name, what, why)
+        rospy.logwarn(resp.status_message)
+        return resp
 
     # ---- spawn / delete -----------------------------------------------------------------------
     def _spawn(self, req, service_kind):
