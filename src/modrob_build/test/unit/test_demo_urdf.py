@@ -4,9 +4,10 @@ import os
 import subprocess
 
 from modrob_build.demo_robot import DEMO_NAME, demo_urdf
+from modrob_build.module_database import default_database_path
 
-PKG = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-DEMO = os.path.join(PKG, "urdf", "modrob_4dof_demo.urdf")
+DEMO = os.path.join(os.path.dirname(os.path.dirname(default_database_path())), "urdf",
+                    "modrob_4dof_demo.urdf")
 
 
 def test_committed_demo_urdf_equals_regenerated():

@@ -1,0 +1,148 @@
+#!/usr/bin/env python3
+"""rostest node: the generated gripper holds a 60 mm, 50 g sphere (a light bulb's glass) with the
+grip force it was built with, in the modrob simulator.
+
+The arm (built by the .test with the gripper pointing down) is brought to rest with the fingers
+barely open; physics is paused, the sphere spawned at the gripper_tcp (KDL FK of the measured
+joints), the fingers commanded shut, physics resumed. After ~grip_seconds of simulated time the
+sphere must still be at the grasp centre, both fingers must press with the grip force (their
+effort saturated at the effort limit) and rest on the sphere (q = 0.0346 m, the V-groove geometry).
+"""
+import math
+import shutil
+import time
+import unittest
+
+import rospy
+import rostest
+from controller_manager_msgs.srv import ListControllers
+from gazebo_msgs.msg import LinkStates
+from gazebo_msgs.srv import SpawnModel
+from geometry_msgs.msg import Point, Pose, Quaternion
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64
+from std_srvs.srv import Empty
+
+from modrob_viz.kdl_urdf import KinematicChain
+
+FINGERS = ("gripper_finger1", "gripper_finger2")
+SPHERE_SDF = """<?xml version="1.0"?>
+<sdf version="1.6"><model name="bulb"><link name="glass">
+  <inertial><mass>0.05</mass><inertia><ixx>1.8e-5</ixx><iyy>1.8e-5</iyy><izz>1.8e-5</izz>
+    <ixy>0</ixy><ixz>0</ixz><iyz>0</iyz></inertia></inertial>
+  <collision name="glass"><geometry><sphere><radius>0.03</radius></sphere></geometry>
+    <surface><friction><ode><mu>1.0</mu><mu2>1.0</mu2></ode></friction></surface></collision>
+  <visual name="glass"><geometry><sphere><radius>0.03</radius></sphere></geometry></visual>
+</link></model></sdf>"""
+HOLDING_Q = 0.03 / math.sin(math.pi / 3)   # apex-to-centre distance of a 30 mm radius sphere
+
+
+def wait_for(predicate, timeout, what):
+    end = time.monotonic() + timeout
+    while not rospy.is_shutdown() and time.monotonic() < end:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.02)
+    raise AssertionError("%s: not within %.0f s" % (what, timeout))
+
+
+class GripperHold(unittest.TestCase):
+    def setUp(self):
+        self.ns = "/modrob0"
+        self.state = None
+        self.links = None
+        rospy.Subscriber(self.ns + "/joint_states", JointState, self._on_state, queue_size=1)
+        rospy.Subscriber("/gazebo/link_states", LinkStates, self._on_links, queue_size=1)
+        self.pubs = {}
+
+    def _on_state(self, msg):
+        self.state = msg
+
+    def _on_links(self, msg):
+        self.links = msg
+
+    def command(self, controller, value):
+        topic = "%s/%s_position_controller/command" % (self.ns, controller)
+        if topic not in self.pubs:
+            self.pubs[topic] = rospy.Publisher(topic, Float64, queue_size=1, latch=True)
+        self.pubs[topic].publish(Float64(value))
+
+    def positions(self):
+        return dict(zip(self.state.name, self.state.position)) if self.state else {}
+
+    def at_rest(self, targets, tol):
+        if self.state is None:
+            return False
+        pos = self.positions()
+        vel = dict(zip(self.state.name, self.state.velocity))
+        return (all(abs(pos[j] - v) < tol for j, v in targets.items())
+                and all(abs(v) < 2e-3 for v in vel.values()))
+
+    def sphere_position(self):
+        if not self.links or "bulb::glass" not in self.links.name:
+            return None
+        return self.links.pose[self.links.name.index("bulb::glass")].position
+
+    def test_holds_sphere_with_grip_force(self):
+        grip_force = rospy.get_param("~grip_force")
+        arm_targets = rospy.get_param("~arm_targets")
+        wait_for(lambda: rospy.has_param(self.ns + "/robot_description"), 60, "robot_description")
+        urdf = rospy.get_param(self.ns + "/robot_description")
+        # a controller's starting() holds the current position, so command only running controllers
+        srv = self.ns + "/controller_manager/list_controllers"
+        rospy.wait_for_service(srv, timeout=60)
+        proxy = rospy.ServiceProxy(srv, ListControllers)
+        expected = ["%s_position_controller" % j for j in list(arm_targets) + list(FINGERS)]
+        wait_for(lambda: all(c.state == "running" for c in proxy().controller if c.name in expected)
+                 and len([c for c in proxy().controller if c.name in expected]) == len(expected),
+                 60, "controllers %s running" % expected)
+        t0 = time.monotonic()
+        for joint, value in arm_targets.items():
+            self.command(joint, value)
+        for finger in FINGERS:
+            self.command(finger, HOLDING_Q + 0.002)
+        targets = dict(arm_targets)
+        targets.update({f + "_joint": HOLDING_Q + 0.002 for f in FINGERS})
+        try:
+            wait_for(lambda: self.at_rest(targets, 0.01), 60, "arm at %s, fingers open" % targets)
+        except AssertionError as e:
+            raise AssertionError("%s; last joint state: %s" % (e, self.state))
+
+        rospy.loginfo("arm at rest after %.1f s (wall)", time.monotonic() - t0)
+        rospy.wait_for_service("/gazebo/pause_physics", timeout=30)
+        rospy.ServiceProxy("/gazebo/pause_physics", Empty)()
+        pos = self.positions()
+        chain = KinematicChain.from_urdf_string(urdf, "world", "modrob0_gripper_tcp")
+        tcp = chain.fk([pos[j] for j in chain.joint_names]).p
+        spawn = rospy.ServiceProxy("/gazebo/spawn_sdf_model", SpawnModel)
+        result = spawn("bulb", SPHERE_SDF, "", Pose(Point(tcp[0], tcp[1], tcp[2]), Quaternion(0, 0, 0, 1)),
+                       "world")
+        self.assertTrue(result.success, result.status_message)
+        for finger in FINGERS:
+            self.command(finger, 0.0)
+        time.sleep(0.3)   # wall clock: paused simulated time stands still; let the commands arrive
+        start_stamp = self.state.header.stamp
+        rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
+        hold = rospy.get_param("~grip_seconds", 2.0)
+        wait_for(lambda: self.state.header.stamp.to_sec() - start_stamp.to_sec() > hold, 60,
+                 "%.1f s of simulated time" % hold)
+
+        sphere = wait_for(self.sphere_position, 10, "bulb on /gazebo/link_states")
+        offset = math.sqrt((sphere.x - tcp[0]) ** 2 + (sphere.y - tcp[1]) ** 2 + (sphere.z - tcp[2]) ** 2)
+        self.assertLess(offset, 0.005, "the sphere left the grasp centre: %.4f m" % offset)
+        pos = self.positions()
+        effort = dict(zip(self.state.name, self.state.effort))
+        for finger in FINGERS:
+            joint = finger + "_joint"
+            self.assertAlmostEqual(pos[joint], HOLDING_Q, delta=0.002, msg="%s position" % joint)
+            self.assertAlmostEqual(abs(effort[joint]), grip_force, delta=0.05 * grip_force,
+                                   msg="%s effort (the grip force)" % joint)
+        out_dir = rospy.get_param("~out_dir", "")
+        if out_dir:
+            shutil.rmtree(out_dir, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    rospy.init_node("gripper_hold_check")
+    rostest.rosrun("modrob_build", "gripper_hold_check", GripperHold)
