@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""Bulbs and Slides benchmark: N runs of the one-robot pick-and-place with the bulb's start pose
+jittered by up to --jitter metres (seed = run number), each through bulbs_and_slides_demo.
+Prints every run, the success rate and the real-time factor, and writes them into
+docs/benchmarks.md under "## Bulbs and Slides" (only that section is replaced).
+
+    python3 scripts/bench/bulbs_and_slides.py [--runs 20] [--jitter 0.004] [--scenario one_robot]
+Passes when at least --need runs succeed (default 19 of 20).
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import time
+
+import yaml
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def run_once(scenario, jitter, seed, out):
+    cmd = [os.path.join(ROOT, "src", "modrob_sim", "scripts", "bulbs_and_slides_demo"), "--scenario",
+           scenario, "--out", out, "--jitter", str(jitter), "--seed", str(seed)]
+    t0 = time.time()
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    wall = time.time() - t0
+    path = os.path.join(out, "bulbs_and_slides_%s_result.yaml" % scenario)
+    res = {}
+    if os.path.exists(path):
+        with open(path) as fh:
+            res = yaml.safe_load(fh) or {}
+    line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT")]
+    return proc.returncode, res, wall, line[-1] if line else proc.stdout[-300:] + proc.stderr[-300:]
+
+
+def write_section(text):
+    path = os.path.join(ROOT, "docs", "benchmarks.md")
+    old = open(path).read() if os.path.exists(path) else "# Benchmarks\n"
+    section = "## Bulbs and Slides\n\n" + text.rstrip() + "\n"
+    pat = re.compile(r"^## Bulbs and Slides\n.*?(?=^## |\Z)", re.S | re.M)
+    new = pat.sub(section + "\n", old) if pat.search(old) else old.rstrip() + "\n\n" + section
+    with open(path, "w") as fh:
+        fh.write(new)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--runs", type=int, default=20)
+    p.add_argument("--jitter", type=float, default=0.004)
+    p.add_argument("--scenario", default="one_robot")
+    p.add_argument("--need", type=int, default=None)
+    p.add_argument("--out", default=os.path.join(ROOT, "out", "bench_bulbs_and_slides"))
+    p.add_argument("--no-doc", action="store_true")
+    p.add_argument("--note", default="", help="a sentence added to the docs section (conditions of the run)")
+    args = p.parse_args()
+    need = args.need if args.need is not None else int(round(0.95 * args.runs))
+    rows, ok, sim, wall_sim = [], 0, 0.0, 0.0
+    for k in range(args.runs):
+        rc, res, wall, line = run_once(args.scenario, args.jitter, k, os.path.join(args.out, "run%02d" % k))
+        good = rc == 0 and res.get("success")
+        ok += bool(good)
+        if res:
+            sim += res.get("sim_time", 0.0)
+            wall_sim += res.get("wall_time", 0.0)
+        rows.append("| %d | %s | %.1f | %.1f | %.2f | %.1f | %s |" % (
+            k, "yes" if good else "no", res.get("sim_time", float("nan")), wall,
+            res.get("grasp_force", float("nan")), 1000 * res.get("placement_error", float("nan")),
+            (res.get("message") or "").replace("|", "/")[:80]))
+        print("run %2d/%d: %s" % (k + 1, args.runs, line), flush=True)
+    rtf = sim / wall_sim if wall_sim > 0 else 0.0
+    summary = ("%s: %d/%d succeeded (need %d), real-time factor %.2f (simulated %.0f s in %.0f s of scenario "
+               "wall time)" % (args.scenario, ok, args.runs, need, rtf, sim, wall_sim))
+    print(summary)
+    if not args.no_doc:
+        rev = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
+                             text=True).stdout.strip()
+        text = ("Command: `bash scripts/bench/bulbs_and_slides.sh` (%d runs of `bulbs_and_slides_demo "
+                "--scenario %s --jitter %g --seed <run>`: the bulb at the red tip is moved by up to %g mm "
+                "along and across the slide before the pick). Measured %s, commit %s, on this 2-core "
+                "machine.\n\n"
+                "**%s**\n\n| run | success | sim time (s) | wall time incl. start-up (s) | grasp force (N) | "
+                "placement error (mm) | message |\n|---|---|---|---|---|---|---|\n%s\n"
+                % (args.runs, args.scenario, args.jitter, 1000 * args.jitter, time.strftime("%Y-%m-%d"), rev,
+                   summary, "\n".join(rows)))
+        write_section(text + ("\n" + args.note + "\n" if args.note else ""))
+    return 0 if ok >= need else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
