@@ -118,7 +118,13 @@ def main(argv=None):
               [("before: p %.3g i %.3g d %.3g" % (initial["p"], initial.get("i", 0), initial.get("d", 0)),
                 res.step_before),
                ("after: p %.3g i %.3g d %.3g" % (g["p"], g["i"], g["d"]), res.step_after)])
-    if args.table:
+    better = res.after.iae < res.before.iae or res.sine_after.rms_error < res.sine_before.rms_error
+    if args.table and not better:
+        print("tune_pid: the tuned gains are not better than the current ones (step IAE %.4g vs %.4g, "
+              "sine RMS %.3g vs %.3g rad): %s left unchanged"
+              % (res.after.iae, res.before.iae, res.sine_after.rms_error, res.sine_before.rms_error,
+                 args.table))
+    elif args.table:
         update_gains_table(args.table, key, args.joint, g,
                            {"method": res.method, "at": {k: float(v) for k, v in at.items()},
                             "ku": float("%.5g" % res.relay.ku), "tu": float("%.5g" % res.relay.tu),
