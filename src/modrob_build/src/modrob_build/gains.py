@@ -12,7 +12,8 @@ chain of the centre of mass of distal body i (mass m_i, principal moments I_i):
 * J_min = the inertia about the axis of the rigid group right after the joint (up to the next
   actuated joint), which includes the drive's reflected rotor inertia (armature): the smallest
   inertia the controller can ever see;
-* G = g sum_i m_i rho_i: the largest static gravity torque.
+* G = g sum_i m_i rho_i: the largest static gravity torque; 0 for an inline joint with only
+  inline joints before it (bases stand upright, so its axis is vertical).
 
 The loop J q'' = tau - b q' with tau = Kp e - Kd q' + Ki int(e) is tuned on J_max:
 
@@ -20,8 +21,8 @@ The loop J q'' = tau - b q' with tau = Kp e - Kd q' + Ki int(e) is tuned on J_ma
                 sqrt(effort / (e_sat J_max)),           # a step of e_sat does not saturate P
                 kappa J_min / (2 zeta dt J_max))        # Kd dt / J_min <= kappa: the explicit
                                                         # 1 ms step stays stable at J_min
-    Kp = J_max omega^2,  Kd = max(0, 2 zeta J_max omega - b),  Ki = Kp omega / 4 (Ti = 4/omega,
-    well inside the Routh bound Ti > 1/(2 zeta omega)),  i_clamp = min(effort, 1.5 G)
+    Kp = J_max omega^2,  Kd = max(0, 2 zeta J_max omega - b),  Ki = Kp omega / 2 (Ti = 2/omega,
+    2.8 times the Routh bound Ti > 1/(2 zeta omega)),  i_clamp = min(effort, 1.5 G)
     (0.1 effort where G = 0).
 
 Prismatic gripper fingers use the same formulas with the finger mass for J and lengths for
@@ -107,6 +108,8 @@ def joint_loads(robot, payload=None):
         for s_com, mass, inertia, _, _ in rigid:
             rho = (s_com - s_k) if joint.module.axis != "z" else 0.0
             j_min += inertia[axis] + mass * rho * rho
+        if joint.module.axis == "z" and all(j.module.axis == "z" for j in actuated[:idx]):
+            g_torque = 0.0   # vertical axis: gravity exerts no torque about it
         loads.append(JointLoad(joint.name, joint.module.effort, joint.module.damping, j_min,
                                max(j_max, j_min), g_torque))
     return loads
@@ -118,7 +121,7 @@ def pid_from_load(load, omega_target=ARM_OMEGA, e_sat=ARM_E_SAT, dt=TIME_STEP):
                 KAPPA * load.j_min / (2.0 * ZETA * dt * load.j_max))
     p = load.j_max * omega ** 2
     d = max(0.0, 2.0 * ZETA * load.j_max * omega - load.damping)
-    i = p * omega / 4.0
+    i = p * omega / 2.0
     i_clamp = min(load.effort, 1.5 * load.gravity_torque) if load.gravity_torque > 0 else 0.1 * load.effort
     return Gains(p, i, d, i_clamp, omega)
 
