@@ -81,7 +81,8 @@ def build_robot_set(specs, gripper=False, grip_force=DEFAULT_GRIP_FORCE, safety_
         grip_force, warning = check_grip_force(grip_force)
         if warning:
             result.messages.append(warning)
-    bases, moved = enforce_safety_distance(_bases(specs), safety_distance)
+    bases, moved = enforce_safety_distance(
+        _bases(specs), safety_distance, names=["modrob%d" % (first_index + n) for n in range(len(specs))])
     result.messages.extend(moved)
     spawn_entries, manifest = [], []
     for n, ((order, modules), base) in enumerate(zip(orders, bases)):

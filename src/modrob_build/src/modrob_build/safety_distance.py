@@ -22,8 +22,9 @@ def _xy_distance(a, b):
     return math.hypot(b[0] - a[0], b[1] - a[1])
 
 
-def enforce_safety_distance(bases, d_min, max_sweeps=None, tolerance=1e-9):
-    """(new_bases, messages). bases: sequence of (x, y, z, ...) tuples; d_min in metres.
+def enforce_safety_distance(bases, d_min, max_sweeps=None, tolerance=1e-9, names=None):
+    """(new_bases, messages). bases: sequence of (x, y, z, ...) tuples; d_min in metres; names
+    of the robots for the messages (default modrob0, modrob1, ...).
 
     Raises LayoutError for a negative or non-finite d_min or when no layout is found."""
     d_min = float(d_min)
@@ -34,6 +35,7 @@ def enforce_safety_distance(bases, d_min, max_sweeps=None, tolerance=1e-9):
     if d_min == 0.0 or len(bases) < 2:
         return bases, messages
     n = len(bases)
+    names = list(names) if names else ["modrob%d" % i for i in range(n)]
     max_sweeps = max_sweeps or 10 * n * n + 10
     for _ in range(max_sweeps):
         moved = False
@@ -45,14 +47,14 @@ def enforce_safety_distance(bases, d_min, max_sweeps=None, tolerance=1e-9):
                 bi, bj = bases[i], bases[j]
                 if dp < COINCIDENT:
                     new_xy = (bi[0] + d_min, bi[1])
-                    how = "coincident with modrob%d: moved along +x" % i
+                    how = "coincident with %s: moved along +x" % names[i]
                 else:
                     s = d_min / dp
                     new_xy = (bi[0] + s * (bj[0] - bi[0]), bi[1] + s * (bj[1] - bi[1]))
-                    how = "%.3f m from modrob%d: moved along the line between them" % (dp, i)
+                    how = "%.3f m from %s: moved along the line between them" % (dp, names[i])
                 bases[j] = new_xy + bj[2:]
-                messages.append("safety distance %.3f m: modrob%d base %s; (%.3f, %.3f) -> (%.3f, %.3f)"
-                                % (d_min, j, how, bj[0], bj[1], new_xy[0], new_xy[1]))
+                messages.append("safety distance %.3f m: %s base %s; (%.3f, %.3f) -> (%.3f, %.3f)"
+                                % (d_min, names[j], how, bj[0], bj[1], new_xy[0], new_xy[1]))
                 moved = True
         if not moved:
             return bases, messages
