@@ -342,6 +342,12 @@ class Scenario(object):
         result = Result()
         try:
             self.run_segments(r, segs[:3], bulb, result)    # pre-grasp, descend + close, lift
+            # then well clear of the slides, so that the shaking hits nothing
+            from modrob_sim.bulbs_and_slides.planner import Segment
+            q = r.arm.measured()
+            p0 = np.array(r.fk(q))
+            up = r.planner.line(q, p0, p0 + np.array([0.0, 0.0, 0.12]), axis)
+            self.run_segments(r, [Segment("raise", [q] + up, 0.2)], bulb, result)
         except ScenarioError as exc:
             self.log("  %s" % exc)
         names = r.info.arm_joints
