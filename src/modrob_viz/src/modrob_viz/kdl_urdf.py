@@ -438,9 +438,11 @@ class KinematicChain(object):
         ``PyKDL.Frame``. ``q0`` is the start (defaults to the middle of the limits). Levenberg-
         Marquardt (``ChainIkSolverPos_LMA``, orientation weighted 0 for position targets) runs
         from ``q0`` and then from up to ``attempts - 1`` starts drawn from a generator seeded
-        with ``seed``; a result is accepted only if it lies within the joint limits and its FK
-        is within ``tol`` [m] (and ``rot_tol`` [rad]) of the target. Otherwise raises
-        :class:`UnreachableError` with the best residual found.
+        with ``seed``. LMA knows no joint limits: when its answer lies outside them, a damped
+        least-squares solve projected onto the limits continues from the clamped answer (on a
+        redundant arm an in-limit solution is usually close by). A result is accepted only if it
+        lies within the joint limits and its FK is within ``tol`` [m] (and ``rot_tol`` [rad]) of
+        the target. Otherwise raises :class:`UnreachableError` with the best residual found.
         """
         frame, pos_only_default = to_frame(target)
         position_only = pos_only_default if position_only is None else bool(position_only)
@@ -465,9 +467,11 @@ class KinematicChain(object):
             solver.CartToJnt(self._jnt_array(start), frame, out)
             q = self._wrap_into_limits([out[i] for i in range(self.n_joints)])
             if not all(math.isfinite(v) for v in q):
-                continue
+                q = self._clamp(start)
+            if not self.within_limits(q):
+                q = self._projected_dls(self._clamp(q), frame, position_only, tol, rot_tol)
             pos_err, rot_err = self._error(q, frame, position_only)
-            if pos_err < best[0]:
+            if self.within_limits(q) and pos_err < best[0]:
                 best = (pos_err, q)
             if pos_err <= tol and rot_err <= rot_tol and self.within_limits(q):
                 return q
@@ -476,6 +480,45 @@ class KinematicChain(object):
                                "(%.3f, %.3f, %.3f); best position error %.4f m after %d attempts"
                                % (", ".join(self.joint_names), what, frame.p[0], frame.p[1], frame.p[2],
                                   best[0], len(starts)), residual=best[0])
+
+    def _clamp(self, q):
+        return [min(max(v, lo), hi) for v, lo, hi in zip(q, self.lower, self.upper)]
+
+    def _projected_dls(self, q, frame, position_only, tol, rot_tol, iterations=300, damping=0.05):
+        """Damped least squares on the KDL Jacobian, each step clamped into the joint limits: the
+        iterate never leaves them, so what it converges to is an in-limit answer (or the best
+        in-limit approach, for the caller to judge)."""
+        jac_solver = PyKDL.ChainJntToJacSolver(self.chain)
+        jac = PyKDL.Jacobian(self.n_joints)
+        rows = 3 if position_only else 6
+        lam2 = damping * damping
+        for _ in range(iterations):
+            current = self.fk(q)
+            if position_only:
+                d = frame.p - current.p
+                err = np.array([d[0], d[1], d[2]])
+                done = np.linalg.norm(err) <= 0.5 * tol
+            else:
+                tw = PyKDL.diff(current, frame)
+                err = np.array([tw.vel[0], tw.vel[1], tw.vel[2], tw.rot[0], tw.rot[1], tw.rot[2]])
+                done = np.linalg.norm(err[:3]) <= 0.5 * tol and np.linalg.norm(err[3:]) <= 0.5 * rot_tol
+            if done:
+                break
+            jac_solver.JntToJac(self._jnt_array(q), jac)
+            J = np.array([[jac[r, c] for c in range(self.n_joints)] for r in range(rows)])
+            dq = J.T @ np.linalg.solve(J @ J.T + lam2 * np.eye(rows), err)
+            # active set: a joint on a limit that the step pushes further out is frozen and the
+            # others solve for the error without it (plain clamping would stall on the bound)
+            pinned = [i for i, (v, lo, hi) in enumerate(zip(q, self.lower, self.upper))
+                      if (v <= lo and dq[i] < 0) or (v >= hi and dq[i] > 0)]
+            if pinned and len(pinned) < self.n_joints:
+                J[:, pinned] = 0.0
+                dq = J.T @ np.linalg.solve(J @ J.T + lam2 * np.eye(rows), err)
+            step = float(np.max(np.abs(dq)))
+            if step > 0.2:                      # keep each step small: the model is linearised
+                dq *= 0.2 / step
+            q = self._clamp([v + float(d) for v, d in zip(q, dq)])
+        return q
 
     def _middle(self):
         return [0.0 if math.isinf(lo) or math.isinf(hi) else 0.5 * (lo + hi)
