@@ -10,14 +10,16 @@ def on_slide(layout, slide_name, glass_centre, margin=0.005):
             and 0.0 <= height <= 2.5 * layout.glass_radius)
 
 
-def expected_rest(layout, slide_name, bulbs_ahead):
-    """Glass centre of a bulb resting in ``slide_name`` behind ``bulbs_ahead`` other bulbs."""
+def expected_rest(layout, slide_name, bulbs_ahead, socket_first=False):
+    """Glass centre of a bulb resting in ``slide_name`` behind ``bulbs_ahead`` other bulbs (glass
+    first, as the world places them, or ``socket_first``: turned round, its socket downhill)."""
     slide = layout.slides[slide_name]
     u = slide.uphill
     side = np.array([-u[1], u[0], 0.0])
     side /= np.linalg.norm(side)
     n = np.cross(u, side)
-    s = bulbs_ahead * (layout.bulb_length + 0.001) + layout.grasp_offset
+    own = layout.bulb_length - layout.grasp_offset if socket_first else layout.grasp_offset
+    s = bulbs_ahead * (layout.bulb_length + 0.001) + own
     return slide.tip + s * u + layout.glass_radius * n
 
 

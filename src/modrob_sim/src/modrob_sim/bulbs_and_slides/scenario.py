@@ -15,6 +15,7 @@ import numpy as np
 import rospy
 
 from modrob_sim.bulbs_and_slides import ScenarioError
+from modrob_sim.bulbs_and_slides.clearance import clearance, positions_by_model, skeleton, urdf_parents
 from modrob_sim.bulbs_and_slides.grasp_ik import GraspIk
 from modrob_sim.bulbs_and_slides.layout import bulb_grasp_point
 from modrob_sim.bulbs_and_slides.outcome import at_rest, expected_rest, on_slide
@@ -24,6 +25,9 @@ from modrob_sim.bulbs_and_slides.ros_robot import RosArm, WorldMonitor, sim_slee
 from modrob_sim.bulbs_and_slides.trajectory import time_waypoints
 from modrob_sim.motion.cartesian import default_tip
 from modrob_sim.motion.robot_info import robot_info_from_urdf
+
+
+ARMS_TOUCH = 0.10   # m: two module radii (housings up to 100 mm across); closer skeletons may touch
 
 
 class Result(object):
@@ -36,18 +40,23 @@ class Result(object):
         self.placement_error = float("nan")
         self.bulb = None
         self.final_position = None
+        self.clearance = float("nan")      # two robots: closest approach of the arms' skeletons [m]
 
     def line(self, scenario):
         return ("RESULT %s: %s, sim time %.2f s, wall %.1f s (real-time factor %.2f), grasp force %.2f N, "
-                "placement error %.1f mm%s"
+                "placement error %.1f mm%s%s"
                 % (scenario, "SUCCESS" if self.success else "FAILURE", self.sim_time, self.wall_time,
                    self.sim_time / self.wall_time if self.wall_time > 0 else 0.0, self.grasp_force,
-                   1000 * self.placement_error, (" -- " + self.message) if self.message else ""))
+                   1000 * self.placement_error,
+                   "" if math.isnan(self.clearance) else
+                   ", arms' closest approach %.0f mm" % (1000 * self.clearance),
+                   (" -- " + self.message) if self.message else ""))
 
     def as_dict(self):
         return {"success": self.success, "message": self.message, "sim_time": self.sim_time,
                 "wall_time": self.wall_time, "grasp_force": self.grasp_force,
                 "placement_error": self.placement_error, "bulb": self.bulb,
+                "clearance": self.clearance,
                 "final_position": None if self.final_position is None else
                 [float(v) for v in self.final_position]}
 
@@ -76,6 +85,35 @@ class Robot(object):
 
     def fk(self, q):
         return self.chain.fk_position(list(q))
+
+
+class ClearanceMonitor(object):
+    """The closest approach of two robots' skeletons (link frame to parent link frame) over a run,
+    from /gazebo/link_states; see :mod:`.clearance`."""
+
+    def __init__(self, robot_ids):
+        from gazebo_msgs.msg import LinkStates
+        self.models = ["modrob%d" % i for i in robot_ids]
+        self.parents = {}
+        for m in self.models:
+            self.parents[m] = urdf_parents(rospy.get_param("/%s/robot_description" % m))
+        self.closest = (float("inf"), None, None, None)    # distance, link pair a, b, sim time
+        self.samples = 0
+        self.sub = rospy.Subscriber("/gazebo/link_states", LinkStates, self._on_links, queue_size=1)
+
+    def _on_links(self, msg):
+        pos = positions_by_model(msg.name, [(p.position.x, p.position.y, p.position.z) for p in msg.pose],
+                                 self.models)
+        if not all(pos[m] for m in self.models):
+            return
+        a, b = (skeleton(self.parents[m], pos[m]) for m in self.models)
+        d, na, nb = clearance(a, b)
+        self.samples += 1
+        if d < self.closest[0]:
+            self.closest = (d, na, nb, rospy.get_time())
+
+    def stop(self):
+        self.sub.unregister()
 
 
 def _log(msg):
@@ -195,10 +233,14 @@ class Scenario(object):
 
     def finish(self, result, bulb, slide="blue_slide", ahead=1):
         rest = self.wait_at_rest([bulb], timeout=10.0)
-        c, _ = self.glass_centre(bulb)
+        c, axis = self.glass_centre(bulb)
         result.final_position = c
         result.bulb = bulb
-        result.placement_error = float(np.linalg.norm(c - expected_rest(self.layout, slide, ahead)))
+        socket_first = float(np.dot(axis, self.layout.slides[slide].uphill)) < 0.0
+        if socket_first:
+            self.log("  %s lies socket first (turned round by the hand-over)" % bulb)
+        want = expected_rest(self.layout, slide, ahead, socket_first)
+        result.placement_error = float(np.linalg.norm(c - want))
         result.sim_time = rospy.get_time() - self.t0
         result.wall_time = time.time() - self.wall0
         if not rest:
@@ -250,6 +292,7 @@ class Scenario(object):
         result = Result()
         self.log("[1/6] waiting for the simulation, modrob0 and modrob1")
         self.setup([0, 1])
+        self.clearance = ClearanceMonitor([0, 1])
         r0, r1 = self.robots[0], self.robots[1]
         for r, (order, base) in zip((r0, r1), self.layout.robots):
             q0 = r.chain.fk_position([0.0, 0.0, 0.0])
@@ -288,10 +331,32 @@ class Scenario(object):
             result.message = str(exc)
             result.sim_time = rospy.get_time() - self.t0
             result.wall_time = time.time() - self.wall0
+            self._judge_clearance(result)
             return result
         self.log("[6/6] waiting for %s to come to rest" % bulb)
         self.finish(result, bulb)
+        self._judge_clearance(result)
         return result
+
+    def _judge_clearance(self, result):
+        """The arms must not have touched: their skeletons stayed farther apart than two module radii
+        (ARMS_TOUCH) at every /gazebo/link_states sample."""
+        mon = self.clearance
+        mon.stop()
+        d, na, nb, t = mon.closest
+        if mon.samples == 0:
+            result.success = False
+            result.message = (result.message + "; " if result.message else "") + \
+                "no /gazebo/link_states received: cannot tell whether the arms collided"
+            return
+        result.clearance = d
+        self.log("  closest approach of the arms: %.0f mm (modrob0 %s, modrob1 %s, at %.1f s; %d samples)"
+                 % (1000 * d, na, nb, t - self.t0, mon.samples))
+        if d < ARMS_TOUCH:
+            result.success = False
+            result.message = (result.message + "; " if result.message else "") + \
+                ("the arms came within %.0f mm of each other (modrob0 %s, modrob1 %s at %.1f s)"
+                 % (1000 * d, na, nb, t - self.t0))
 
     @staticmethod
     def _arm3_target(robot, point):
