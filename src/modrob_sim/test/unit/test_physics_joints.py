@@ -280,3 +280,46 @@ def test_revolute_limits_beyond_pi_hold_across_the_wrap():
         j.set_effort(-0.02)
         world.step()
     assert j.position == pytest.approx(-4.0, abs=0.02)
+
+
+def _squeezing_pair(effort):
+    """Two fingers on prismatic joints (finger 2's frame turned by pi, so both close with q
+    falling), finger 2 mimicking finger 1 (multiplier 1), around a free 60 mm, 50 g box."""
+    body = ('<link name="world"/>' + H.box_link("base", 0.3, (0.05, 0.1, 0.05)) +
+            '<joint name="fix" type="fixed"><parent link="world"/><child link="base"/>'
+            '<origin xyz="0 0 1"/></joint>' +
+            H.box_link("f1", 0.05, (0.05, 0.02, 0.05), gazebo_mu=1.0, xyz="0 0.01 0") +
+            H.box_link("f2", 0.05, (0.05, 0.02, 0.05), gazebo_mu=1.0, xyz="0 0.01 0") +
+            H.joint("finger1", "prismatic", "base", "f1", "0 0 0.1", axis="0 1 0",
+                    limit=(0.01, 0.05, effort, 0.1)) +
+            H.joint("finger2", "prismatic", "base", "f2", "0 0 0.1", rpy="0 0 3.141592653589793",
+                    axis="0 1 0", limit=(0.01, 0.05, effort, 0.1), mimic=("finger1", 1.0, 0.0)))
+    world = World(time_step=0.001, gravity=(0.0, 0.0, 0.0))
+    m = world.add_urdf("g", H.robot("g", body), joint_positions={"finger1": 0.05})
+    obj = world.add_urdf("obj", H.robot("obj", H.box_link("box", 0.05, (0.06, 0.06, 0.06), gazebo_mu=1.0)),
+                         pose=((0.0, 0.003, 1.1), (0, 0, 0, 1)))
+    return world, m, obj
+
+
+@pytest.mark.parametrize("effort", [3.0, 7.0])
+def test_mimic_finger_pair_squeezing_an_object_keeps_the_coupling(effort):
+    """The mimic coupling is a linkage, not a second force-limited actuator: under the full grip
+    force (finger 1's effort limit) and a sideways shove on the object, q2 stays m*q1 + o within
+    0.5 mm and the object is centred between the fingers."""
+    world, m, obj = _squeezing_pair(effort)
+    f1, f2 = m.joints["finger1"], m.joints["finger2"]
+    worst = 0.0
+    for i in range(3000):
+        # a PD towards 20 mm (past the object) that saturates at the effort limit: the grip force
+        f1.set_effort(-effort / 0.005 * (f1.position - 0.02) - 10.0 * f1.velocity)
+        if 1000 <= i < 2000:                  # a shove of 3 N towards finger 2, then 3 N back
+            obj.links["box"].add_wrench((0.0, -3.0 if i < 1500 else 3.0, 0.0), (0.0, 0.0, 0.0),
+                                        duration=0.001)
+        world.step()
+        if i > 300:
+            worst = max(worst, abs(f2.position - f1.position))
+    assert world.pop_events() == []
+    assert worst < 0.0005
+    assert f1.position == pytest.approx(0.03, abs=0.001)     # resting on the 60 mm box
+    assert abs(f1.effort) == pytest.approx(effort, rel=1e-6)
+    assert abs(obj.links["box"].pose[0][1]) < 0.001          # centred between the fingers

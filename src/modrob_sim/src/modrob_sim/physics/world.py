@@ -50,6 +50,8 @@ _ALL_BITS = (1 << 62) - 1
 AUTO_DISABLE_LINEAR = 0.005   # m/s
 AUTO_DISABLE_ANGULAR = 0.01   # rad/s
 AUTO_DISABLE_TIME = 0.2       # s
+MIMIC_COUPLING_FORCE = 1e4     # N or N m: the largest force a mimic coupling (a linkage) carries
+MIMIC_GAIN = 0.5               # share of a mimic joint's position error corrected per step
 _APPROX1 = ode.ContactApprox1_1 | ode.ContactApprox1_2
 _BASE_MODE = _APPROX1 | ode.ContactSoftERP | ode.ContactSoftCFM
 
@@ -701,11 +703,21 @@ class World(object):
                     b.addForceAtRelPos((-m * g[0], -m * g[1], -m * g[2]), rel)
 
     def _drive_mimic(self, j, master, dt):
+        """The mimic coupling as a stiff velocity constraint solved inside ODE's LCP (the joint's
+        motor row): target velocity = MIMIC_GAIN * (multiplier * q_master + offset - q) / dt, so
+        the error halves every step. It stands for a linkage, not a second actuator: its force is
+        bounded by MIMIC_COUPLING_FORCE and NOT by the mimic joint's effort limit (bounded by the
+        grip force, a mimic finger pressed by its master with that same force gave way). No
+        feed-forward of the master's velocity: that velocity is one step old, and through a
+        squeezed object the delay closed a loop that made the fingers chatter and lose it."""
         mult, off = j.mimic[1], j.mimic[2]
-        target = master.position * mult + off
-        err = target - j.position
-        v = master.velocity * mult + 0.2 * err / dt
-        fmax = j.effort_limit if (j.effort_limit is not None and j.effort_limit > 0) else 1e4
+        q = j.position
+        v = MIMIC_GAIN * (master.position * mult + off - q) / dt
+        fmax = MIMIC_COUPLING_FORCE
+        if (j.lower is not None and q <= j.lower) or (j.upper is not None and q >= j.upper):
+            # At a stop ODE applies a powered motor's whole force EXPLICITLY (one LCP row for
+            # both): bound it by what reaches the target velocity in this step.
+            fmax = min(fmax, j._child_inertia * abs(v - j.velocity) / dt)
         j._ode.setParam(odelib.PARAM_VEL, v)
         j._ode.setParam(odelib.PARAM_FMAX, fmax)
 
