@@ -96,8 +96,8 @@ class TwoRobots(unittest.TestCase):
         self.assertGreater(samples, 100, "too few /gazebo/link_states to judge the arms' clearance")
         self.assertGreater(closest[0], ARMS_TOUCH, "the arms came within %.0f mm (modrob0 %s, modrob1 %s)"
                            % (1000 * closest[0], closest[1], closest[2]))
-        rospy.loginfo("bas_two_robots: bulb via the cradle onto the blue slide; arms' closest approach %.0f mm",
-                      1000 * closest[0])
+        rospy.loginfo("bas_two_robots: bulb via the cradle onto the blue slide; arms' closest approach "
+                      "%.0f mm", 1000 * closest[0])
 
 
 if __name__ == "__main__":

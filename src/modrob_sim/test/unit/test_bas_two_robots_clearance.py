@@ -1,5 +1,6 @@
 """Tier 1: the two-robot clearance geometry (skeleton segments from a URDF, segment distances)."""
 import math
+import os
 
 import numpy as np
 import pytest
@@ -72,3 +73,41 @@ def test_positions_by_model_splits_link_states_names():
 def test_bad_urdf_is_a_scenario_error_that_says_so():
     with pytest.raises(ScenarioError, match="not valid XML"):
         urdf_parents("<robot><joint>")
+
+
+# ---- the two-robot layout numbers and the socket-first placement reference ----------------------------
+LAYOUT_FILE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "modrob_description",
+                           "worlds", "bulbs_and_slides_layout.yaml")
+
+
+def two_robot_layout():
+    from modrob_sim.bulbs_and_slides.layout import Layout
+    return Layout.load("two_robots", LAYOUT_FILE)
+
+
+def test_cradle_is_one_arm_length_from_both_shoulders_and_the_bases_keep_the_safety_distance():
+    lay = two_robot_layout()
+    (_, b0), (_, b1) = lay.robots
+    assert math.dist(b0[:2], b1[:2]) > 2 * lay.safety_distance
+    d0, d1 = (math.dist(b[:2], lay.cradle_point[:2]) for b in (b0, b1))
+    assert d0 == pytest.approx(d1, abs=1e-6)
+
+
+def test_socket_first_rest_lies_one_socket_length_further_up_than_glass_first():
+    from modrob_sim.bulbs_and_slides.outcome import expected_rest
+    lay = two_robot_layout()
+    glass_first = expected_rest(lay, "blue_slide", 1)
+    socket_first = expected_rest(lay, "blue_slide", 1, socket_first=True)
+    shift = lay.bulb_length - 2 * lay.grasp_offset
+    assert np.linalg.norm(socket_first - glass_first) == pytest.approx(shift, abs=1e-9)
+    assert np.dot(socket_first - glass_first, lay.slides["blue_slide"].uphill) > 0
+
+
+def test_paths_plot_writes_a_png(tmp_path):
+    from modrob_sim.bulbs_and_slides.paths_plot import plot_paths
+    lay = two_robot_layout()
+    t = np.linspace(0.0, 1.0, 30)
+    arc = np.stack([-1.1 + 0.64 * np.cos(t), -0.64 + 0.64 * np.sin(t), 1.1 + 0 * t], axis=1)
+    out = plot_paths(str(tmp_path / "paths.png"), lay, {0: (t, arc), 1: (t, arc[::-1])}, closest=(0.6, "x"))
+    with open(out, "rb") as fh:
+        assert fh.read(8) == b"\x89PNG\r\n\x1a\n"

@@ -76,6 +76,21 @@ def stop_simulation(proc, log):
     log.close()
 
 
+def _plot_two_robot_paths(sc, layout, path):
+    from modrob_sim.bulbs_and_slides.paths_plot import plot_paths
+    paths = {}
+    for rid in sc.recorder.rows:
+        t, _, _, ee, _ = sc.recorder.arrays(rid)
+        paths[rid] = (t, ee)
+    mon = getattr(sc, "clearance", None)
+    closest = None
+    if mon is not None and mon.samples:
+        closest = (mon.closest[0], "modrob0 %s, modrob1 %s" % (mon.closest[1], mon.closest[2]))
+    plot_paths(path, layout, paths, title="Bulbs and Slides (two robots): grasp-centre paths",
+               closest=closest)
+    print("wrote %s" % path, flush=True)
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(prog="bulbs_and_slides_demo", description=__doc__.splitlines()[0])
     p.add_argument("--scenario", choices=SCENARIOS, default="one_robot")
@@ -113,6 +128,8 @@ def main(argv=None):
             sc.recorder.plot_joints(stem + "_joints.png", names, title="Bulbs and Slides (%s): commanded vs "
                                     "measured joint angles" % args.scenario)
             print("wrote %s_ee.bag (%d end-effector points) and %s_joints.png" % (stem, n, stem), flush=True)
+            if args.scenario == "two_robots":
+                _plot_two_robot_paths(sc, layout, stem + "_paths.png")
     except ModrobError as exc:
         print("bulbs_and_slides_demo: %s" % exc, file=sys.stderr, flush=True)
     finally:
