@@ -153,7 +153,12 @@ class RosArm(object):
         names = list(target)
         goal = np.array([target[n] for n in names])
         if action == "close" and ramp > 0:
-            start = self.measured(names)
+            # from where the fingers are, but inside the open..closed range: a finger resting a hair
+            # beyond its limit at the open stop would otherwise make motion_publisher drop the first
+            # set-point as out of limits
+            opened = self.info.gripper.command("open")
+            ends = np.array([[opened[n], target[n]] for n in names])
+            start = np.clip(self.measured(names), ends.min(axis=1), ends.max(axis=1))
             t0 = rospy.get_time()
             while not rospy.is_shutdown():
                 s = min(1.0, (rospy.get_time() - t0) / ramp)
