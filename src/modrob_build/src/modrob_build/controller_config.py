@@ -6,22 +6,23 @@
         type: effort_controllers/JointPositionController
         joint: joint<M>
         pid: {p: ..., i: ..., d: ..., i_clamp: ..., antiwindup: true}
-      gripper_finger<K>_position_controller: ...     (with the gripper)
+      gripper_finger1_position_controller: ...       (with the gripper; finger 2 mimics finger 1
+                                                       and, as in ros_control, has no controller)
 """
 import yaml
 
 from modrob_build import gains as gains_mod
-from modrob_build.gripper import GRIPPER_JOINTS
+from modrob_build.gripper import GRIPPER_ACTUATED_JOINTS
 
 JOINT_STATE_RATE = 50
 
 
 def controller_names(robot, gripper=False):
-    """Controllers in spawn order: joint_state_controller, joint1.., gripper fingers."""
+    """Controllers in spawn order: joint_state_controller, joint1.., the gripper's actuated finger."""
     names = ["joint_state_controller"]
     names += ["%s_position_controller" % j.name for j in robot.actuated_joints]
     if gripper:
-        names += ["%s_position_controller" % j.replace("_joint", "") for j in GRIPPER_JOINTS]
+        names += ["%s_position_controller" % j.replace("_joint", "") for j in GRIPPER_ACTUATED_JOINTS]
     return names
 
 
@@ -36,7 +37,7 @@ def controller_config(robot, gripper=False, grip_force=3.0, dt=gains_mod.TIME_ST
             "type": "effort_controllers/JointPositionController", "joint": load.joint,
             "pid": g.as_dict()}
     if gripper:
-        for joint in GRIPPER_JOINTS:
+        for joint in GRIPPER_ACTUATED_JOINTS:
             g = gains_mod.finger_gains(gains_mod.finger_load(joint, grip_force), dt=dt)
             cfg["%s_position_controller" % joint.replace("_joint", "")] = {
                 "type": "effort_controllers/JointPositionController", "joint": joint,

@@ -18,6 +18,8 @@ DEFAULT_GRIP_FORCE = 3.0
 MAX_STABLE_GRIP_FORCE = 7.0   # tested stable (the seed saw crashes above 7 N)
 MAX_GRIP_FORCE = 10.0
 GRIPPER_JOINTS = ("gripper_finger1_joint", "gripper_finger2_joint")
+# finger 2 is a <mimic> of finger 1 (a parallel gripper's coupling): one actuator, one controller
+GRIPPER_ACTUATED_JOINTS = ("gripper_finger1_joint",)
 
 
 def default_gripper_path():

@@ -5,8 +5,11 @@ grip force it was built with, in the modrob simulator.
 The arm (built by the .test with the gripper pointing down) is brought to rest with the fingers
 barely open; physics is paused, the sphere spawned at the gripper_tcp (KDL FK of the measured
 joints), the fingers commanded shut, physics resumed. After ~grip_seconds of simulated time the
-sphere must still be at the grasp centre, both fingers must press with the grip force (their
-effort saturated at the effort limit) and rest on the sphere (q = 0.0346 m, the V-groove geometry).
+sphere must still be at the grasp centre, finger 1 (the only actuated finger) must press with the
+grip force (its effort saturated at the effort limit) and both fingers must rest on the sphere
+(q = 0.03 m: flat pads on a 30 mm radius). Finger 2 is a <mimic> joint without a transmission, so it is
+not on joint_states (as with gazebo_ros_control): its q is measured from the finger links' poses
+on /gazebo/link_states (the two finger frames are 2 q apart).
 """
 import math
 import shutil
@@ -25,7 +28,7 @@ from std_srvs.srv import Empty
 
 from modrob_viz.kdl_urdf import KinematicChain
 
-FINGERS = ("gripper_finger1", "gripper_finger2")
+FINGERS = ("gripper_finger1",)      # the actuated finger; gripper_finger2 mimics it
 SPHERE_SDF = """<?xml version="1.0"?>
 <sdf version="1.6"><model name="bulb"><link name="glass">
   <inertial><mass>0.05</mass><inertia><ixx>1.8e-5</ixx><iyy>1.8e-5</iyy><izz>1.8e-5</izz>
@@ -34,7 +37,7 @@ SPHERE_SDF = """<?xml version="1.0"?>
     <surface><friction><ode><mu>1.0</mu><mu2>1.0</mu2></ode></friction></surface></collision>
   <visual name="glass"><geometry><sphere><radius>0.03</radius></sphere></geometry></visual>
 </link></model></sdf>"""
-HOLDING_Q = 0.03 / math.sin(math.pi / 3)   # apex-to-centre distance of a 30 mm radius sphere
+HOLDING_Q = 0.03   # flat pads: the pad-to-centre distance on a 30 mm radius sphere
 
 
 def wait_for(predicate, timeout, what):
@@ -79,10 +82,13 @@ class GripperHold(unittest.TestCase):
         return (all(abs(pos[j] - v) < tol for j, v in targets.items())
                 and all(abs(v) < 2e-3 for v in vel.values()))
 
-    def sphere_position(self):
-        if not self.links or "bulb::glass" not in self.links.name:
+    def link_position(self, name):
+        if not self.links or name not in self.links.name:
             return None
-        return self.links.pose[self.links.name.index("bulb::glass")].position
+        return self.links.pose[self.links.name.index(name)].position
+
+    def sphere_position(self):
+        return self.link_position("bulb::glass")
 
     def test_holds_sphere_with_grip_force(self):
         grip_force = rospy.get_param("~grip_force")
@@ -138,6 +144,13 @@ class GripperHold(unittest.TestCase):
             self.assertAlmostEqual(pos[joint], HOLDING_Q, delta=0.002, msg="%s position" % joint)
             self.assertAlmostEqual(abs(effort[joint]), grip_force, delta=0.05 * grip_force,
                                    msg="%s effort (the grip force)" % joint)
+        self.assertNotIn("gripper_finger2_joint", pos, "a mimic joint has no transmission")
+        p1 = self.link_position("modrob0::modrob0_gripper_finger1")
+        p2 = self.link_position("modrob0::modrob0_gripper_finger2")
+        self.assertIsNotNone(p2, "finger links on /gazebo/link_states: %s" % (self.links.name,))
+        gap = math.sqrt((p1.x - p2.x) ** 2 + (p1.y - p2.y) ** 2 + (p1.z - p2.z) ** 2)
+        q2 = gap - pos["gripper_finger1_joint"]
+        self.assertAlmostEqual(q2, HOLDING_Q, delta=0.002, msg="gripper_finger2_joint (mimic) position")
         out_dir = rospy.get_param("~out_dir", "")
         if out_dir:
             shutil.rmtree(out_dir, ignore_errors=True)

@@ -37,7 +37,7 @@ def test_two_robots_with_gripper(tmp_path):
         assert nodes["spawner"].get("pkg") == "modrob_sim"
         spawned = nodes["spawner"].get("args").split()
         assert spawned[:2] == ["joint_state_controller", "joint1_position_controller"]
-        assert spawned[-1] == "gripper_finger2_position_controller"
+        assert spawned[-1] == "gripper_finger1_position_controller"   # finger 2 mimics it
         assert nodes["robot_state_publisher"].find("remap").get("to") == "/modrob%d/joint_states" % n
         assert g.find("rosparam").get("file") == str(out / ("modrob%d_controllers.yaml" % n))
     world = ET.parse(str(out / "modrob_robots.launch")).getroot()

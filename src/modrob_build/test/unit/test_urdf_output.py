@@ -47,10 +47,14 @@ def test_seed_orders_pass_check_urdf(db, tmp_path, order, n_joints, gripper):
     for j in prismatic:
         assert j.find("axis").get("xyz") == "0 1 0"
         assert float(j.find("limit").get("effort")) == 3.0
+    actuated = [j for j in prismatic if j.find("mimic") is None]
+    if gripper:   # finger 2 mimics finger 1: one actuated finger, as a parallel gripper
+        assert [j.get("name") for j in actuated] == ["gripper_finger1_joint"]
+        assert prismatic[1].find("mimic").get("joint") == "gripper_finger1_joint"
     transmissions = root.findall("transmission")
-    assert len(transmissions) == n_joints + len(prismatic)
+    assert len(transmissions) == n_joints + len(actuated)
     names = {t.find("joint").get("name") for t in transmissions}
-    assert names == {j.get("name") for j in revolute + prismatic}
+    assert names == {j.get("name") for j in revolute + actuated}
 
 
 def test_transmissions_as_seed_figure_6(db):

@@ -1,11 +1,11 @@
 """Grasp-pose inverse kinematics for the side grasp of a lying light bulb.
 
-The gripper (modrob_description/urdf/gripper.xacro) closes its fingers along its y axis; the ends
-of each finger's V-groove walls (at +-22 mm along the gripper's x) press on the glass cylinder.
+The gripper (modrob_description/urdf/gripper.xacro) closes its fingers along its y axis; each
+finger's flat 50 mm pad presses on the glass cylinder along a line.
 For a grasp that cannot wedge the bulb up or down, the closing direction must be horizontal and
 across the bulb: y_g parallel to axis x z (either sign). The gripper may then turn about y_g:
-its x axis may tilt from the bulb axis by up to ``max_tilt`` (both wall ends still touch the
-cylinder), and its approach direction (z) must point down by at least ``min_down``.
+its x axis may tilt from the bulb axis by up to ``max_tilt`` (the pads still touch the
+cylinder along a line), and its approach direction (z) must point down by at least ``min_down``.
 
 So a grasp fixes the grasp centre (3 numbers) and the closing direction (2), leaving one degree of
 freedom to a 6-joint arm; for the 3-joint arms of the two-robot layout the layout puts every bulb

@@ -202,13 +202,24 @@ class Scenario(object):
         for seg in segments:
             self.log("  modrob%d: %s (%d points)" % (robot.info.robot_id, seg.name, len(seg.configs)))
             traj = time_waypoints(robot.info.arm_joints, seg.configs, seg.speed)
+            before, _ = self.glass_centre(bulb)
             arm.follow(traj)
+            if seg.gripper_after == "close" or seg.name.startswith("to "):
+                after, _ = self.glass_centre(bulb)
+                if np.linalg.norm(after - before) > 0.005:   # the approach must not touch the bulb
+                    moved = 1000 * np.linalg.norm(after - before)
+                    self.log("  modrob%d: %s moved by %.1f mm during '%s' (now at %.3f, %.3f, %.3f)"
+                             % ((robot.info.robot_id, bulb, moved, seg.name) + tuple(after)))
             if seg.settle:
                 err = arm.settle(tol=0.004 if seg.gripper_after else 0.02, timeout=3.0)
                 if seg.gripper_after and err > 0.02:
                     raise ScenarioError("modrob%d did not reach the %s pose (joint error %.3f rad)"
                                         % (robot.info.robot_id, seg.name, err))
             if seg.gripper_after == "close":
+                c, _ = self.glass_centre(bulb)
+                off = 1000 * np.linalg.norm(c - np.array(robot.fk(arm.measured())))
+                self.log("  modrob%d: at the grasp pose, bulb %.1f mm from the grasp centre"
+                         % (robot.info.robot_id, off))
                 arm.gripper("close", wait=0.8)
                 fingers = robot.info.gripper.joints
                 result.grasp_force = float(np.mean(np.abs(arm.efforts(fingers))))
@@ -391,10 +402,12 @@ class Scenario(object):
                 Segment("park", [above_place, np.array(park)], fast, settle=False)]
 
     # ---- grasp sanity -------------------------------------------------------------------
-    def grasp_and_shake(self, seconds=5.0, amplitude=0.25, freq=1.0, joints=("joint1", "joint6")):
+    def grasp_and_shake(self, seconds=5.0, amplitude=0.25, freq=1.0, joints=("joint1", "joint6"), fade=0.3):
         """Pick the red-tip bulb with modrob0, lift it, then swing ``joints`` sinusoidally (amplitude
-        rad, freq Hz) for ``seconds``. Returns (held, worst distance bulb-grasp centre [m], mean
-        finger effort [N])."""
+        rad, freq Hz) for ``seconds`` at full amplitude, after a fade-in of ``fade`` s (the amplitude
+        grows linearly, so that the set-points do not start with a velocity step). Returns (held,
+        worst distance bulb-grasp centre [m], mean finger effort [N], {joint: measured swing
+        amplitude [rad], half its peak-to-peak})."""
         self.setup([0])
         r = self.robots[0]
         r.arm.gripper("open", wait=0.3)
@@ -416,23 +429,39 @@ class Scenario(object):
         except ScenarioError as exc:
             self.log("  %s" % exc)
         names = r.info.arm_joints
-        q0 = r.arm.measured(names)
+        # swing about the last set-points, not the measured joints: their difference (the joints'
+        # steady-state error) would be a set-point step, a jolt at the start
+        q0 = np.array([r.arm.cmd.get(n, m) for n, m in zip(names, r.arm.measured(names))])
         idx = [names.index(j) for j in joints]
         t0 = rospy.get_time()
         worst = 0.0
         efforts = []
+        seen = []
         fingers = r.info.gripper.joints
         while not rospy.is_shutdown():
             t = rospy.get_time() - t0
-            if t > seconds:
+            if t > seconds + fade:
                 break
             q = q0.copy()
+            envelope = min(1.0, t / fade) if fade > 0 else 1.0
             for i in idx:
-                q[i] += amplitude * math.sin(2 * math.pi * freq * t)
+                q[i] += envelope * amplitude * math.sin(2 * math.pi * freq * t)
             r.arm.command(names, q)
             c, _ = self.glass_centre(bulb)
-            tcp = np.array(r.fk(r.arm.measured(names)))
-            worst = max(worst, float(np.linalg.norm(c - tcp)))
+            measured = r.arm.measured(names)
+            seen.append(measured[idx])
+            tcp = np.array(r.fk(measured))
+            off = float(np.linalg.norm(c - tcp))
+            if off > worst + 0.005:
+                self.log("  shaking: t=%.2f s, bulb %.1f mm from the grasp centre" % (t, 1000 * off))
+            worst = max(worst, off)
             efforts.append(float(np.mean(np.abs(r.arm.efforts(fingers)))))
             sim_sleep(0.01)
-        return worst < 0.03, worst, float(np.mean(efforts)) if efforts else float("nan")
+        swing = {}
+        if seen:
+            seen = np.array(seen)
+            swing = {j: 0.5 * float(np.ptp(seen[:, k])) for k, j in enumerate(joints)}
+        self.log("  shaken %.1f s at %.2f Hz: swing %s rad (commanded %.2f), bulb at most %.1f mm from "
+                 "the grasp centre" % (seconds, freq, ", ".join("%s %.3f" % kv for kv in swing.items()),
+                                       amplitude, 1000 * worst))
+        return worst < 0.03, worst, float(np.mean(efforts)) if efforts else float("nan"), swing
