@@ -5,6 +5,11 @@ Conventions of the physics contract: a pose is ``((x, y, z), (qx, qy, qz, qw))``
 """
 import math
 
+# The quaternion and pose primitives are the physics core's (one implementation); this module
+# adds what only the node needs: Gazebo's zero-quaternion rule, frames, twists.
+from modrob_sim.physics.transforms import (  # noqa: F401  (re-exported for the node's modules)
+    cross, pose_inv as inverse, quat_conj, quat_from_rpy, quat_mul, quat_rotate, rpy_from_quat)
+
 IDENTITY = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0))
 ZERO_TWIST = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
 
@@ -18,52 +23,6 @@ def quat_normalize(q):
     return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)
 
 
-def quat_mul(a, b):
-    ax, ay, az, aw = a
-    bx, by, bz, bw = b
-    return (aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-            aw * bw - ax * bx - ay * by - az * bz)
-
-
-def quat_conj(q):
-    return (-q[0], -q[1], -q[2], q[3])
-
-
-def quat_rotate(q, v):
-    """Rotate vector v by unit quaternion q."""
-    qx, qy, qz, qw = q
-    vx, vy, vz = v
-    # t = 2 * cross(q.xyz, v); v' = v + w * t + cross(q.xyz, t)
-    tx = 2.0 * (qy * vz - qz * vy)
-    ty = 2.0 * (qz * vx - qx * vz)
-    tz = 2.0 * (qx * vy - qy * vx)
-    return (vx + qw * tx + (qy * tz - qz * ty),
-            vy + qw * ty + (qz * tx - qx * tz),
-            vz + qw * tz + (qx * ty - qy * tx))
-
-
-def quat_from_rpy(roll, pitch, yaw):
-    """Quaternion of fixed-axis roll (x), pitch (y), yaw (z), as URDF and tf use them."""
-    cr, sr = math.cos(roll / 2.0), math.sin(roll / 2.0)
-    cp, sp = math.cos(pitch / 2.0), math.sin(pitch / 2.0)
-    cy, sy = math.cos(yaw / 2.0), math.sin(yaw / 2.0)
-    return (sr * cp * cy - cr * sp * sy,
-            cr * sp * cy + sr * cp * sy,
-            cr * cp * sy - sr * sp * cy,
-            cr * cp * cy + sr * sp * sy)
-
-
-def rpy_from_quat(q):
-    x, y, z, w = q
-    roll = math.atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y))
-    s = max(-1.0, min(1.0, 2.0 * (w * y - z * x)))
-    pitch = math.asin(s)
-    yaw = math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
-    return roll, pitch, yaw
-
-
 def add(a, b):
     return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
 
@@ -72,19 +31,9 @@ def sub(a, b):
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
-def cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
 def compose(a, b):
     """Pose a * b: b expressed in frame a, returned in a's parent frame."""
     return (add(a[0], quat_rotate(a[1], b[0])), quat_normalize(quat_mul(a[1], b[1])))
-
-
-def inverse(p):
-    qi = quat_conj(p[1])
-    t = quat_rotate(qi, p[0])
-    return ((-t[0], -t[1], -t[2]), qi)
 
 
 def relative(frame, pose):
