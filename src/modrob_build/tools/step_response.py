@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""Step response of a running generated robot with its computed gains (a check of
-modrob_build.gains; the plot goes into docs/modules.md).
+"""Step response of a running generated robot with its default gains (tuned or computed; a check of
+the gains; the plot goes into docs/modules.md).
 
     roslaunch modrob_build urdf_and_gazebo.launch orders:="59,3,55,63,64,4,66,4,67,5,56,5" \
         gripper:=true gui:=false real_time_factor:=0 &
-    python3 step_response.py OUT.png [ns] [joint=target ...]
+    python3 step_response.py OUT.png [ns] [joint=target ...] [_title:="..."]
 
 Commands every target at once (a hard test: simultaneous large steps), records
 /<ns>/joint_states for 6 s of simulated time, prints rise/overshoot/final error per joint and
@@ -28,10 +28,12 @@ DURATION = 6.0
 
 
 def main():
-    out = sys.argv[1]
-    ns = sys.argv[2] if len(sys.argv) > 2 else "/modrob0"
-    targets = dict((a.split("=")[0], float(a.split("=")[1])) for a in sys.argv[3:]) or DEFAULT_TARGETS
+    argv = rospy.myargv(sys.argv)
+    out = argv[1]
+    ns = argv[2] if len(argv) > 2 else "/modrob0"
+    targets = dict((a.split("=")[0], float(a.split("=")[1])) for a in argv[3:]) or DEFAULT_TARGETS
     rospy.init_node("step_response")
+    title = rospy.get_param("~title", "%s: simultaneous steps" % ns)
     rows, lock = [], threading.Lock()
 
     def on_state(msg):
@@ -66,7 +68,7 @@ def main():
         ax.axhline(v, ls=":", c="grey", lw=0.8)
     ax.set_xlabel("simulated time [s]")
     ax.set_ylabel("joint angle [rad]")
-    ax.set_title("%s: simultaneous steps with the computed gains" % ns)
+    ax.set_title(title)
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out, dpi=90)

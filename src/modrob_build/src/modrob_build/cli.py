@@ -5,7 +5,7 @@ Exit codes: 0 = files written; 2 = input refused (reason on stderr, nothing writ
 import argparse
 import sys
 
-from modrob_build.build import RobotSpec, build_robot_set, write_outputs
+from modrob_build.build import GAIN_SOURCES, RobotSpec, build_robot_set, write_outputs
 from modrob_build.errors import BuildError
 from modrob_build.gripper import DEFAULT_GRIP_FORCE
 from modrob_build.module_database import load_database
@@ -41,6 +41,12 @@ def make_parser(prog="create_urdf_and_gazebo"):
                    help="minimum x-y distance between bases in m; 0 (default) = off")
     p.add_argument("--database", default=None, help="module database (default: modrob_description's "
                    "config/Modules.csv)")
+    p.add_argument("--gains", choices=GAIN_SOURCES, default="tuned",
+                   help="PID gains: 'tuned' (default) takes them from the auto-tuner's table for the "
+                   "orders it holds (others fall back to 'computed', with a message); 'computed' "
+                   "derives them from the link inertias")
+    p.add_argument("--gains-table", default=None,
+                   help="the tuned gains table (default: modrob_build's config/tuned_gains.yaml)")
     p.add_argument("--out", required=True, help="output folder")
     return p
 
@@ -54,7 +60,8 @@ def run(args, out=sys.stdout):
     specs = [RobotSpec(order, base) for order, base in zip(args.order, bases)]
     db = load_database(args.database)
     result = build_robot_set(specs, gripper=args.gripper, grip_force=args.grip_force,
-                             safety_distance=args.safety_distance, db=db, out_dir=args.out)
+                             safety_distance=args.safety_distance, db=db, out_dir=args.out,
+                             gains=args.gains, gains_table=args.gains_table)
     for msg in result.messages:
         print("[create_urdf_and_gazebo] %s" % msg, file=out)
     for path in write_outputs(result, args.out):

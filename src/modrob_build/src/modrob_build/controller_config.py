@@ -26,16 +26,29 @@ def controller_names(robot, gripper=False):
     return names
 
 
-def controller_config(robot, gripper=False, grip_force=3.0, dt=gains_mod.TIME_STEP):
-    """{robot name: {controller: params}} (plain dict, insertion-ordered)."""
+def controller_config(robot, gripper=False, grip_force=3.0, dt=gains_mod.TIME_STEP, tuned=None,
+                      sources=None):
+    """{robot name: {controller: params}} (plain dict, insertion-ordered).
+
+    tuned: {joint: {p, i, d, i_clamp}} from the tuner's table (modrob_build.tuned_gains); joints
+    not in it get the gains computed from the inertias. sources (a dict, filled if given):
+    joint -> "tuned" | "computed"."""
     cfg = {"joint_state_controller": {"type": "joint_state_controller/JointStateController",
                                       "publish_rate": JOINT_STATE_RATE}}
     payload = gains_mod.GRIPPER_PAYLOAD if gripper else None
+    tuned = tuned or {}
     for load in gains_mod.joint_loads(robot, payload):
-        g = gains_mod.pid_from_load(load, dt=dt)
+        if load.joint in tuned:
+            pid = {k: round(float(tuned[load.joint][k]), 4) for k in ("p", "i", "d", "i_clamp")}
+            pid["antiwindup"] = True
+            source = "tuned"
+        else:
+            pid = gains_mod.pid_from_load(load, dt=dt).as_dict()
+            source = "computed"
+        if sources is not None:
+            sources[load.joint] = source
         cfg["%s_position_controller" % load.joint] = {
-            "type": "effort_controllers/JointPositionController", "joint": load.joint,
-            "pid": g.as_dict()}
+            "type": "effort_controllers/JointPositionController", "joint": load.joint, "pid": pid}
     if gripper:
         for joint in GRIPPER_ACTUATED_JOINTS:
             g = gains_mod.finger_gains(gains_mod.finger_load(joint, grip_force), dt=dt)
@@ -45,8 +58,9 @@ def controller_config(robot, gripper=False, grip_force=3.0, dt=gains_mod.TIME_ST
     return {robot.name: cfg}
 
 
-def controller_yaml(robot, gripper=False, grip_force=3.0, header=None):
-    text = yaml.safe_dump(controller_config(robot, gripper, grip_force), sort_keys=False,
+def controller_yaml(robot, gripper=False, grip_force=3.0, header=None, tuned=None, sources=None):
+    text = yaml.safe_dump(controller_config(robot, gripper, grip_force, tuned=tuned, sources=sources),
+                          sort_keys=False,
                           default_flow_style=False)
     if header:
         text = "".join("# %s\n" % line for line in header.splitlines()) + text

@@ -6,6 +6,7 @@ Parameters read by both nodes (private):
   ~orders, ~bases   strings, robots separated by ';'
   ~gripper (false), ~grip_force (3.0), ~safety_distance (0.0); an empty string means "not
   set" (then the robots file's value, else the default)
+  ~gains ("tuned" | "computed", default tuned), ~gains_table (default: config/tuned_gains.yaml)
 Both nodes set ~status: "ok: <robots>" or "refused: <reason>".
 """
 import os
@@ -46,8 +47,10 @@ def build_from_params(out_dir=None):
         safety = float(_param("safety_distance", options, 0.0))
     except (TypeError, ValueError) as e:
         raise BuildError("~grip_force and ~safety_distance must be numbers: %s" % e)
+    gains = str(rospy.get_param("~gains", "") or "tuned").strip()
+    table = str(rospy.get_param("~gains_table", "") or "").strip() or None
     return build_robot_set(specs, gripper=gripper, grip_force=grip_force, safety_distance=safety,
-                           out_dir=out_dir)
+                           out_dir=out_dir, gains=gains, gains_table=table)
 
 
 class RobotDescriptionPublisher(object):

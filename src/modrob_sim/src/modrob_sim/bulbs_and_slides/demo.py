@@ -54,13 +54,13 @@ def wait_for_param(name, timeout=60.0):
     return False
 
 
-def start_simulation(scenario, log_path, gui=False, rtf="0", grip_force=3.0, port=None):
+def start_simulation(scenario, log_path, gui=False, rtf="0", grip_force=3.0, port=None, gains="tuned"):
     port = port or free_port()
     os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % port
     log = open(log_path, "w")
     cmd = ["roslaunch", "-p", str(port), "modrob_sim", "bulbs_and_slides.launch", "scenario:=%s" % scenario,
            "run:=false", "gui:=%s" % ("true" if gui else "false"), "real_time_factor:=%s" % rtf,
-           "grip_force:=%s" % grip_force]
+           "grip_force:=%s" % grip_force, "gains:=%s" % gains]
     proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     return proc, log
 
@@ -100,6 +100,8 @@ def main(argv=None):
     p.add_argument("--jitter", type=float, default=0.0, help="shift the bulb by up to this much (m), seeded")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--grip-force", type=float, default=3.0)
+    p.add_argument("--gains", choices=("tuned", "computed"), default="tuned",
+                   help="arm PID gains: tune_pid's table (default) or computed from the inertias")
     p.add_argument("--arm-speed", type=float, default=0.5, help="joint speed of the free moves (rad/s)")
     args = p.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
@@ -112,7 +114,7 @@ def main(argv=None):
     print("bulbs_and_slides_demo: %s, starting the simulation (log: %s_sim.log)" % (args.scenario, stem),
           flush=True)
     proc, log = start_simulation(args.scenario, stem + "_sim.log", args.gui, args.real_time_factor,
-                                 args.grip_force)
+                                 args.grip_force, gains=args.gains)
     result = None
     try:
         if not wait_for_master() or not wait_for_param("/use_sim_time"):

@@ -40,7 +40,8 @@ def update_gains_table(path, robot_key, joint, gains, info):
     robots.setdefault(robot_key, {})[joint] = entry
     header = ("# PID gains tuned by `rosrun modrob_sim tune_pid` (relay feedback + Ziegler-Nichols tables,\n"
               "# then the seed's sinusoid check), per module order and joint, in ros_control's pid keys.\n"
-              "# modrob_build may take its default gains from here. Regenerate; do not edit by hand.\n")
+              "# create_urdf_and_gazebo (modrob_build) takes a robot's default gains from here. Regenerate\n"
+              "# with `rosrun modrob_sim tune_pid --order ... --all --defaults`; do not edit by hand.\n")
     with open(path, "w") as fh:
         fh.write(header + yaml.safe_dump(table, default_flow_style=False, sort_keys=True))
     return table
