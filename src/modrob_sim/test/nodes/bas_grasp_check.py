@@ -211,6 +211,7 @@ class GraspSanity(unittest.TestCase):
                % (1000 * np.linalg.norm(monitor.latest), np.round(1000 * monitor.latest, 1)))
         efforts = []
         share = float(rospy.get_param("~min_swing_share", 0.7))
+        sluggish = []     # reported after all phases, so that one sluggish joint does not hide the others
         for ph in phases:
             joints = list(ph["joints"])
             amplitude = float(ph["amplitude"])
@@ -222,8 +223,9 @@ class GraspSanity(unittest.TestCase):
                                 % ("+".join(joints), 1000 * monitor.worst))
             for j in joints:
                 got = swing.get(j, 0.0)
-                self.assertGreater(got, share * amplitude,
-                                   "%s swung only %.3f rad of the commanded %.2f" % (j, got, amplitude))
+                if not got > share * amplitude:
+                    sluggish.append("%s swung only %.3f rad of the commanded %.2f" % (j, got, amplitude))
+        self.assertEqual(sluggish, [], "; ".join(sluggish))
         self.assertGreater(monitor.samples, 0, "no /gazebo/link_states while shaking")
         pose = sc.world.pose(bulb)
         self.assertTrue(pose is not None and 0.9 < pose[0][2] < 2.0 and abs(pose[0][0]) < 1.1
