@@ -126,7 +126,12 @@ def test_the_shipped_table_covers_the_bulbs_and_slides_robots():
         for joint, entry in table.robots[order_key(order, True)].items():
             assert entry["method"].startswith("relay"), (order, joint)
             assert "large step" in entry["checked"] and len(entry["checked"]) >= 3, (order, joint)
+            sine = entry["checked"].get("fast sine")
+            assert sine is not None, (order, joint)     # a 1.5 Hz swing is followed
+            assert sine["amplitude_ratio"] >= min(0.8, sine["before"]["amplitude_ratio"]), (order, joint)
             for label, fig in entry["checked"].items():
+                if label == "fast sine":
+                    continue
                 # tune_pid's acceptance rule: every step settles (within 2 % in the 1.8 s observed),
                 # overshooting at most 15 % or no more than with the gains it replaced
                 assert fig["settling_time"] < 1.8, (order, joint, label)

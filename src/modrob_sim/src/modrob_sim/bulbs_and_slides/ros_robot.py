@@ -115,12 +115,20 @@ class RosArm(object):
         self.pub.publish(msg)
         self.cmd.update(zip(names, positions))
 
-    def follow(self, traj, rate=100.0):
-        """Stream the trajectory's set-points (simulated time) until its end."""
-        t0 = rospy.get_time()
+    def follow(self, traj, rate=100.0, max_advance=0.02):
+        """Stream the trajectory's set-points (simulated time) until its end.
+
+        The trajectory's clock advances with simulated time but by at most ``max_advance`` per
+        set-point: when this node is late (a loaded machine stalls it for up to 0.3 s of simulated
+        time), the arm resumes where it stopped instead of jumping to where the trajectory would
+        be, a step that the position controllers turn into a jolt."""
+        last = rospy.get_time()
+        t = 0.0
         period = 1.0 / rate
         while not rospy.is_shutdown():
-            t = rospy.get_time() - t0
+            now = rospy.get_time()
+            t += min(max(0.0, now - last), max_advance)
+            last = now
             q = traj.sample(t)
             self.command(traj.joint_names, q)
             if self.recorder:

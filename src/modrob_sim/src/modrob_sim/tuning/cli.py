@@ -169,11 +169,16 @@ def main(argv=None):
 
 
 def _check_figures(new, before):
-    """A check configuration's step figures for the table: the tuned gains' and the ones they replace."""
-    out = {"overshoot": float("%.3g" % new.overshoot), "settling_time": float("%.3g" % new.settling_time)}
+    """A check's figures for the table (step: overshoot, settling time; sinusoid: amplitude ratio,
+    saturated share): the tuned gains' and, under 'before', the ones they replace."""
+    def figures(m):
+        if hasattr(m, "amplitude_ratio"):
+            return {"amplitude_ratio": float("%.3g" % m.amplitude_ratio),
+                    "saturation": float("%.3g" % m.saturation)}
+        return {"overshoot": float("%.3g" % m.overshoot), "settling_time": float("%.3g" % m.settling_time)}
+    out = figures(new)
     if before is not None:
-        out["before"] = {"overshoot": float("%.3g" % before.overshoot),
-                         "settling_time": float("%.3g" % before.settling_time)}
+        out["before"] = figures(before)
     return out
 
 

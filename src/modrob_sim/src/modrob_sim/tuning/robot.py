@@ -30,6 +30,10 @@ T_STEP = 0.2
 LARGE_STEP = 1.0          # rad: saturates every drive of the modular arms (a motion_terminal jump)
 D_RAISE = 1.5             # factor on d per round while the large step overshoots
 D_ROUNDS = 6
+FAST_SINE_FREQ = 1.5      # Hz: a shake of the arm (the grasp sanity test) ...
+FAST_SINE_SPEED = 0.75    # ... peaking at this share of the joint's velocity limit (at most 0.25 rad)
+MIN_SINE_RATIO = 0.8      # amplitude ratio the tuned loop must reach there (or the current one's)
+COMMAND_RATE = 100.0      # Hz: set-points as motion_publisher streams them (held in between)
 MAX_BANDWIDTH = 4.0       # Hz: the closed loop's 0.35 / rise time, see slow_down
 
 
@@ -93,6 +97,13 @@ def step_check(urdf, joint, gains, config, step=0.1):
     return step_metrics(trace, T_STEP, q0, q0 + step)
 
 
+def fast_sine(loop):
+    """(amplitude, frequency) of the fast-swing check: FAST_SINE_FREQ, peaking at FAST_SINE_SPEED of
+    the joint's velocity limit (2 rad/s if none), at most 0.25 rad."""
+    vlim = getattr(loop.joint, "velocity_limit", None) or 2.0
+    return min(0.25, FAST_SINE_SPEED * vlim / (2 * math.pi * FAST_SINE_FREQ)), FAST_SINE_FREQ
+
+
 def large_step(urdf, joint, config):
     """The saturating step used in the checks: LARGE_STEP, at most 40 % of the joint's range."""
     loop = PhysicsLoop(urdf, joint, start=config)
@@ -144,15 +155,18 @@ def _slow_to(loop, res, fastest, bandwidth, centre, step, log):
         % (fastest, bandwidth, factor ** 2, factor, factor ** 3))
     slow = slow_down(res.gains, factor)
     # the plant is not a pure inertia (gravity, damping, armature): re-shape at that speed, the
-    # stiffness capped, damping and integral free
-    bounds = {"p": (0.5 * slow["p"], slow["p"]), "d": (0.5 * slow["d"], 4.0 * slow["d"]),
+    # stiffness capped, damping and integral free, on the fast swing streamed at the command rate
+    # (fast_sine; a d that brakes the whole velocity between set-points makes the loop lag)
+    bounds = {"p": (0.5 * slow["p"], slow["p"]), "d": (0.1 * slow["d"], 4.0 * slow["d"]),
               "i": (0.05 * slow["i"], 4.0 * slow["i"])}
-    slow, _ = tune_by_sine(loop, slow, centre, 0.1, 0.5, rounds=2, bounds=bounds,
-                           log=lambda m: log("  " + m))
+    amp, freq = fast_sine(loop)
+    slow, _ = tune_by_sine(loop, slow, centre, amp, freq, rounds=2, bounds=bounds,
+                           log=lambda m: log("  " + m), hold_rate=COMMAND_RATE)
     _remeasure(loop, res, slow, centre, step, "slowed to %.3g Hz" % bandwidth)
 
 
-def _check_joint(urdf, joint, res, current, best, at, configs, step, loop, max_overshoot, log):
+def _check_joint(urdf, joint, res, current, best, at, configs, step, loop, max_overshoot, log,
+                 command_rate=COMMAND_RATE):
     """(candidate gains of the robot, check rows, problems) for the joint's gains in ``res``: d
     raised for a saturating step, then small steps in every configuration."""
     # the integral's clamp: the tuner sizes it from the holding effort in the tuning pose, but the
@@ -176,6 +190,24 @@ def _check_joint(urdf, joint, res, current, best, at, configs, step, loop, max_o
             problems.append("large step: %r (limit %.0f %% overshoot)" % (new_big, 100 * limit_big))
     except (TuningError, ModrobError) as exc:
         problems.append("large step: %s" % exc)
+    try:
+        # a fast swing streamed as ROS nodes do (a set-point every 10 ms): ros_control's PID
+        # differentiates the error, so between two set-points its d term brakes on the joint's whole
+        # velocity and the kick at each new set-point is clipped at the effort limit: a loop with
+        # much d lags (joint6 of the 6-DoF arm: 0.13 of 0.25 rad at 1.5 Hz, 0.26 with a set-point
+        # every step)
+        amp, freq = fast_sine(loop)
+        centre = at.get(joint, 0.0)
+        s_new = sine_response(loop, candidate[joint], centre, amp, freq, hold_rate=command_rate)
+        s_old = sine_response(loop, current, centre, amp, freq, hold_rate=command_rate)
+        need = min(MIN_SINE_RATIO, s_old.amplitude_ratio)
+        checks.append(("fast sine", s_new, s_old))
+        log("  check %-12s new %r" % ("fast sine", s_new))
+        if s_new.amplitude_ratio < need:
+            problems.append("fast sine: %.2g rad at %.1f Hz (set-points at %g Hz) followed with an amplitude "
+                            "ratio %.2f (need %.2f)" % (amp, freq, command_rate, s_new.amplitude_ratio, need))
+    except (TuningError, ModrobError) as exc:
+        problems.append("fast sine: %s" % exc)
     for label, cfg in configs:
         try:
             new = step_check(urdf, joint, candidate, cfg, step)

@@ -25,9 +25,15 @@ class SineResult(object):
                 % (self.rms_error, self.amplitude_ratio, math.degrees(self.phase_lag), 100 * self.saturation))
 
 
-def sine_response(loop, gains, centre, amplitude=0.2, freq=0.5, periods=3):
+def sine_response(loop, gains, centre, amplitude=0.2, freq=0.5, periods=3, hold_rate=None):
+    """hold_rate: set-points held for 1/hold_rate s (a node publishing at that rate) instead of one
+    per control step."""
     duration = periods / freq
-    trace = run_pid(loop, gains, sine_setpoint(centre, amplitude, freq), duration, centre)
+    setpoint = sine_setpoint(centre, amplitude, freq)
+    if hold_rate:
+        smooth = setpoint
+        setpoint = lambda t: smooth(math.floor(t * hold_rate + 1e-9) / hold_rate)  # noqa: E731
+    trace = run_pid(loop, gains, setpoint, duration, centre)
     m = trace.t >= 1.0 / freq
     t, r, q = trace.t[m], trace.setpoint[m], trace.position[m]
     rms = float(np.sqrt(np.mean((r - q) ** 2)))
@@ -39,9 +45,9 @@ def sine_response(loop, gains, centre, amplitude=0.2, freq=0.5, periods=3):
     return SineResult(rms, aq / ar if ar > 0 else 0.0, lag, sat, trace)
 
 
-def cost(loop, gains, centre, amplitude, freq, step=0.1):
+def cost(loop, gains, centre, amplitude, freq, step=0.1, hold_rate=None):
     """Sine RMS error (normalised by the amplitude) + saturation + step overshoot penalties."""
-    s = sine_response(loop, gains, centre, amplitude, freq)
+    s = sine_response(loop, gains, centre, amplitude, freq, hold_rate=hold_rate)
     tr = run_pid(loop, gains, step_setpoint(centre, centre + step, 0.2), 2.0, centre)
     sm = step_metrics(tr, 0.2, centre, centre + step)
     c = (s.rms_error / amplitude + 0.5 * s.saturation + 2.0 * max(0.0, sm.overshoot - 0.05)
@@ -51,14 +57,15 @@ def cost(loop, gains, centre, amplitude, freq, step=0.1):
     return c, s, sm
 
 
-def tune_by_sine(loop, gains, centre, amplitude=0.2, freq=0.5, rounds=3, log=None, bounds=None):
+def tune_by_sine(loop, gains, centre, amplitude=0.2, freq=0.5, rounds=3, log=None, bounds=None,
+                 hold_rate=None):
     """Coordinate search from ``gains``: each key (p, d, then i if non-zero) is scaled by factors
     0.5 .. 2 (narrowing each round) while the cost falls, within ``bounds`` {key: (lo, hi)}
     (without bounds an effort-limited loop would only ever ask for more gain).
     Returns (best gains, best cost)."""
     bounds = bounds or {}
     best = dict(gains)
-    best_c = cost(loop, best, centre, amplitude, freq)[0]
+    best_c = cost(loop, best, centre, amplitude, freq, hold_rate=hold_rate)[0]
     keys = ["p", "d"] + (["i"] if best.get("i", 0.0) > 0 else [])
     for rnd in range(rounds):
         factors = [2.0 ** (-1.0 / (rnd + 1)), 2.0 ** (1.0 / (rnd + 1))]
@@ -73,7 +80,7 @@ def tune_by_sine(loop, gains, centre, amplitude=0.2, freq=0.5, rounds=3, log=Non
                     if not (lo <= trial[key] <= hi):
                         continue
                     try:
-                        c = cost(loop, trial, centre, amplitude, freq)[0]
+                        c = cost(loop, trial, centre, amplitude, freq, hold_rate=hold_rate)[0]
                     except (ModrobError, ValueError) as exc:   # a blow-up with these gains: reject them
                         if log:
                             log("  %s x%.2f rejected: %s" % (key, fct, exc))
