@@ -13,6 +13,7 @@ The joint -> controller map comes from the controller parameters in the robot na
 ``<ns>/robot_description`` when present. A bad message is logged (what and why) and dropped.
 """
 import threading
+import time
 
 import rospy
 from sensor_msgs.msg import JointState
@@ -24,6 +25,9 @@ from modrob_sim.motion.joint_matching import JointCommandMatcher
 from modrob_sim.motion.robot_info import chain_order, parse_urdf_joints
 
 
+REFRESH_PERIOD = 1.0   # s of wall time between re-reads of the controller parameters
+
+
 class MotionPublisher(object):
 
     def __init__(self, namespace, input_topic="motion_command", wait_timeout=30.0):
@@ -31,6 +35,7 @@ class MotionPublisher(object):
         self._lock = threading.Lock()
         self.matcher = None
         self.publishers = {}
+        self._last_refresh = 0.0
         self._wait_for_controllers(wait_timeout)
         topic = input_topic if input_topic.startswith("/") else "%s/%s" % (self.namespace, input_topic)
         self.sub = rospy.Subscriber(topic, JointState, self._on_command, queue_size=10)
@@ -69,12 +74,42 @@ class MotionPublisher(object):
         self.publishers = {j: rospy.Publisher(command_topic(self.namespace, controllers[j]), Float64,
                                               queue_size=10) for j in order}
 
+    def _refresh(self, names):
+        """Re-read the controller parameters when a command names a joint we do not know (at most
+        once a second). roslaunch sets a controller YAML one parameter at a time, so a start-up read
+        can catch a partial set (seen: 1 of 4 controllers). True if the joint set changed."""
+        unknown = [n for n in names if n not in self.publishers]
+        now = time.time()
+        if not unknown or now - self._last_refresh < REFRESH_PERIOD:
+            return False
+        self._last_refresh = now
+        before = set(self.publishers)
+        try:
+            with self._lock:
+                self._configure()
+        except (ModrobError, KeyError) as exc:
+            rospy.logwarn("motion_publisher: re-reading the controllers under %s failed: %s",
+                          self.namespace or "/", exc)
+            return False
+        if set(self.publishers) == before:
+            return False
+        rospy.loginfo("motion_publisher: controllers under %s re-read: %d joint controllers (%s)",
+                      self.namespace or "/", len(self.publishers), ", ".join(self.publishers))
+        return True
+
     def _on_command(self, msg):
         try:
             values = self.matcher.match(msg.name, msg.position)
         except ModrobError as exc:
-            rospy.logwarn("motion_publisher: command dropped: %s", exc)
-            return
+            values = None
+            if self._refresh(msg.name):
+                try:
+                    values = self.matcher.match(msg.name, msg.position)
+                except ModrobError as again:
+                    exc = again
+            if values is None:
+                rospy.logwarn("motion_publisher: command dropped: %s", exc)
+                return
         with self._lock:
             for joint, value in values.items():
                 self.publishers[joint].publish(Float64(value))
