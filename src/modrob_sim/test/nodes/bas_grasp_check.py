@@ -33,7 +33,7 @@ from gazebo_msgs.msg import LinkStates
 from std_msgs.msg import String
 
 from modrob_sim.bulbs_and_slides.layout import Layout, bulb_grasp_point
-from modrob_sim.bulbs_and_slides.ros_robot import sim_sleep
+from modrob_sim.bulbs_and_slides.ros_robot import StreamClock, sim_sleep
 from modrob_sim.bulbs_and_slides.scenario import Scenario
 from modrob_sim.motion.cartesian import default_tip
 from modrob_sim.physics.transforms import quat_conj, quat_rotate
@@ -87,31 +87,6 @@ class BulbInGripper(object):
         return self.latest is not None
 
 
-class StreamClock(object):
-    """The time of a set-point stream: simulated time, but advancing by at most ``max_step`` per
-    set-point. The simulation runs as fast as it can (real_time_factor 0) and does not wait for
-    this node: when the node is late (a loaded machine), 50-130 ms of simulated time pass between
-    two set-points, and a sinusoid sampled by the clock jumps by up to 0.25 rad -- a set-point step,
-    which the position controllers turn into a jolt at the effort limit (it threw the bulb out of
-    the gripper). Capped, a late node slows the motion down for a moment instead."""
-
-    def __init__(self, max_step=2.0 / RATE):
-        self.max_step = max_step
-        self.last = rospy.get_time()
-        self.t = 0.0
-        self.capped = 0
-
-    def tick(self):
-        now = rospy.get_time()
-        dt = now - self.last
-        self.last = now
-        if dt > self.max_step:
-            dt = self.max_step
-            self.capped += 1
-        self.t += max(0.0, dt)
-        return self.t
-
-
 def centre_inside_limits(q, lower, upper, reach):
     """q moved just far enough that q +- reach stays inside [lower, upper]; None if it cannot."""
     lo, hi = lower + reach, upper - reach
@@ -122,7 +97,7 @@ def centre_inside_limits(q, lower, upper, reach):
 
 class GraspSanity(unittest.TestCase):
     def move_smoothly(self, r, names, start, goal, duration):
-        clock = StreamClock()
+        clock = StreamClock(2.0 / RATE)
         while not rospy.is_shutdown():
             s = min(1.0, clock.tick() / duration)
             r.arm.command(names, start + (0.5 - 0.5 * math.cos(math.pi * s)) * (goal - start))
@@ -152,7 +127,7 @@ class GraspSanity(unittest.TestCase):
         monitor.arm(True)
         fingers = r.info.gripper.joints
         seen, efforts = [], []
-        clock = StreamClock()
+        clock = StreamClock(2.0 / RATE)
         t0 = rospy.get_time()
         while not rospy.is_shutdown():
             t = clock.tick()
@@ -201,8 +176,8 @@ class GraspSanity(unittest.TestCase):
         sc.world.wait()
         bulb = sc.tip_bulb()          # the bulb the scenario's grasp picks
         # the scenario's own grasp: open, pick the tip bulb, lift, raise 0.12 m clear of the slides;
-        # no shaking there (seconds=0): the phases below shake, measured as described above
-        sc.grasp_and_shake(seconds=0.0, amplitude=0.0, joints=(), fade=0.0)
+        # the phases below shake, measured as described above
+        sc.grasp_and_lift()
         r = sc.robots[0]
         tip = default_tip(rospy.get_param("/modrob0/robot_description"), r.info.gripper.joints)
         monitor = BulbInGripper(layout, "%s::link" % bulb, "modrob0::%s" % tip)

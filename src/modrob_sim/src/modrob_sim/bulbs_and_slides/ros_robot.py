@@ -52,6 +52,31 @@ class WorldMonitor(object):
         raise ScenarioError("no /gazebo/model_states within %.0f s: is the simulator running?" % timeout)
 
 
+class StreamClock(object):
+    """The time of a set-point stream: simulated time, but advancing by at most ``max_step`` per
+    set-point. The simulation runs as fast as it can and does not wait for the node streaming
+    set-points: when that node is late (a loaded machine stalls it for up to 0.3 s of simulated
+    time), a trajectory sampled by simulated time jumps -- a set-point step, which the position
+    controllers turn into a jolt at the effort limit (it threw bulbs out of the gripper). Capped,
+    a late node slows the motion down for a moment instead. ``capped`` counts the late set-points."""
+
+    def __init__(self, max_step=0.02):
+        self.max_step = max_step
+        self.last = rospy.get_time()
+        self.t = 0.0
+        self.capped = 0
+
+    def tick(self):
+        now = rospy.get_time()
+        dt = now - self.last
+        self.last = now
+        if dt > self.max_step:
+            dt = self.max_step
+            self.capped += 1
+        self.t += max(0.0, dt)
+        return self.t
+
+
 def sim_sleep(seconds, wall_guard=120.0):
     """Sleep in simulated time; ScenarioError when the clock does not move for ``wall_guard`` s."""
     end = rospy.get_time() + seconds
@@ -116,19 +141,12 @@ class RosArm(object):
         self.cmd.update(zip(names, positions))
 
     def follow(self, traj, rate=100.0, max_advance=0.02):
-        """Stream the trajectory's set-points (simulated time) until its end.
-
-        The trajectory's clock advances with simulated time but by at most ``max_advance`` per
-        set-point: when this node is late (a loaded machine stalls it for up to 0.3 s of simulated
-        time), the arm resumes where it stopped instead of jumping to where the trajectory would
-        be, a step that the position controllers turn into a jolt."""
-        last = rospy.get_time()
-        t = 0.0
+        """Stream the trajectory's set-points until its end, on a StreamClock (simulated time, at
+        most ``max_advance`` per set-point: a late node resumes instead of jumping)."""
+        clock = StreamClock(max_advance)
         period = 1.0 / rate
         while not rospy.is_shutdown():
-            now = rospy.get_time()
-            t += min(max(0.0, now - last), max_advance)
-            last = now
+            t = clock.tick()
             q = traj.sample(t)
             self.command(traj.joint_names, q)
             if self.recorder:

@@ -402,12 +402,10 @@ class Scenario(object):
                 Segment("park", [above_place, np.array(park)], fast, settle=False)]
 
     # ---- grasp sanity -------------------------------------------------------------------
-    def grasp_and_shake(self, seconds=5.0, amplitude=0.25, freq=1.0, joints=("joint1", "joint6"), fade=0.3):
-        """Pick the red-tip bulb with modrob0, lift it, then swing ``joints`` sinusoidally (amplitude
-        rad, freq Hz) for ``seconds`` at full amplitude, after a fade-in of ``fade`` s (the amplitude
-        grows linearly, so that the set-points do not start with a velocity step). Returns (held,
-        worst distance bulb-grasp centre [m], mean finger effort [N], {joint: measured swing
-        amplitude [rad], half its peak-to-peak})."""
+    def grasp_and_lift(self):
+        """Pick the red-tip bulb with modrob0 as the pick-and-place does, lift it and raise it 0.12 m
+        clear of the slides (for the grasp sanity tests, which then shake the arm). A failed segment
+        is logged, not raised: the tests measure where the bulb is. Returns the bulb's name."""
         self.setup([0])
         r = self.robots[0]
         r.arm.gripper("open", wait=0.3)
@@ -420,7 +418,7 @@ class Scenario(object):
         result = Result()
         try:
             self.run_segments(r, segs[:3], bulb, result)    # pre-grasp, descend + close, lift
-            # then well clear of the slides, so that the shaking hits nothing
+            # then well clear of the slides, so that shaking hits nothing
             from modrob_sim.bulbs_and_slides.planner import Segment
             q = r.arm.measured()
             p0 = np.array(r.fk(q))
@@ -428,40 +426,4 @@ class Scenario(object):
             self.run_segments(r, [Segment("raise", [q] + up, 0.2)], bulb, result)
         except ScenarioError as exc:
             self.log("  %s" % exc)
-        names = r.info.arm_joints
-        # swing about the last set-points, not the measured joints: their difference (the joints'
-        # steady-state error) would be a set-point step, a jolt at the start
-        q0 = np.array([r.arm.cmd.get(n, m) for n, m in zip(names, r.arm.measured(names))])
-        idx = [names.index(j) for j in joints]
-        t0 = rospy.get_time()
-        worst = 0.0
-        efforts = []
-        seen = []
-        fingers = r.info.gripper.joints
-        while not rospy.is_shutdown():
-            t = rospy.get_time() - t0
-            if t > seconds + fade:
-                break
-            q = q0.copy()
-            envelope = min(1.0, t / fade) if fade > 0 else 1.0
-            for i in idx:
-                q[i] += envelope * amplitude * math.sin(2 * math.pi * freq * t)
-            r.arm.command(names, q)
-            c, _ = self.glass_centre(bulb)
-            measured = r.arm.measured(names)
-            seen.append(measured[idx])
-            tcp = np.array(r.fk(measured))
-            off = float(np.linalg.norm(c - tcp))
-            if off > worst + 0.005:
-                self.log("  shaking: t=%.2f s, bulb %.1f mm from the grasp centre" % (t, 1000 * off))
-            worst = max(worst, off)
-            efforts.append(float(np.mean(np.abs(r.arm.efforts(fingers)))))
-            sim_sleep(0.01)
-        swing = {}
-        if seen:
-            seen = np.array(seen)
-            swing = {j: 0.5 * float(np.ptp(seen[:, k])) for k, j in enumerate(joints)}
-        self.log("  shaken %.1f s at %.2f Hz: swing %s rad (commanded %.2f), bulb at most %.1f mm from "
-                 "the grasp centre" % (seconds, freq, ", ".join("%s %.3f" % kv for kv in swing.items()),
-                                       amplitude, 1000 * worst))
-        return worst < 0.03, worst, float(np.mean(efforts)) if efforts else float("nan"), swing
+        return bulb

@@ -21,6 +21,14 @@ class TuneResult(object):
         self.method = method
 
 
+def measure(loop, gains, centre, step=0.1, sine_amplitude=0.1, sine_freq=0.5):
+    """The figures a TuneResult reports for ``gains``: (step Trace, StepMetrics, SineResult) of a
+    ``step`` at 0.2 s (2.5 s watched) and of the sinusoid."""
+    trace = run_pid(loop, gains, step_setpoint(centre, centre + step, 0.2), 2.5, centre)
+    return (trace, step_metrics(trace, 0.2, centre, centre + step),
+            sine_response(loop, gains, centre, sine_amplitude, sine_freq))
+
+
 def auto_tune(loop, centre, initial_gains, relay=None, hysteresis=None, rule="no_overshoot", refine=True,
               step=0.1, sine_amplitude=0.1, sine_freq=0.5, log=None):
     """Tune the joint of ``loop`` around position ``centre``.
@@ -59,13 +67,8 @@ def auto_tune(loop, centre, initial_gains, relay=None, hysteresis=None, rule="no
         gains, c = tune_by_sine(loop, gains, centre, sine_amplitude, sine_freq, rounds=2, log=log,
                                 bounds=bounds)
         method += "+sine"
-    sp = step_setpoint(centre, centre + step, 0.2)
-    tb = run_pid(loop, initial_gains, sp, 2.5, centre)
-    ta = run_pid(loop, gains, sp, 2.5, centre)
-    mb = step_metrics(tb, 0.2, centre, centre + step)
-    ma = step_metrics(ta, 0.2, centre, centre + step)
-    sb = sine_response(loop, initial_gains, centre, sine_amplitude, sine_freq)
-    sa = sine_response(loop, gains, centre, sine_amplitude, sine_freq)
+    tb, mb, sb = measure(loop, initial_gains, centre, step, sine_amplitude, sine_freq)
+    ta, ma, sa = measure(loop, gains, centre, step, sine_amplitude, sine_freq)
     if not all(math.isfinite(v) for v in (gains["p"], gains["i"], gains["d"])):
         raise TuningError("tuning produced non-finite gains %r" % gains)
     return TuneResult(gains, rr, mb, ma, tb, ta, sb, sa, method)

@@ -18,7 +18,7 @@ import math
 
 from modrob_sim.errors import ModrobError
 from modrob_sim.tuning import TuningError
-from modrob_sim.tuning.autotune import auto_tune
+from modrob_sim.tuning.autotune import auto_tune, measure
 from modrob_sim.tuning.experiments import run_pid, step_setpoint
 from modrob_sim.tuning.loops import PhysicsLoop
 from modrob_sim.tuning.metrics import step_metrics
@@ -132,9 +132,7 @@ def damp_for_large_steps(urdf, joint, gains, config, limit, log=None):
 def _remeasure(loop, res, gains, centre, step, how="damped"):
     """Update a TuneResult's 'after' figures (small step, sinusoid) for changed gains."""
     res.gains = dict(gains)
-    res.step_after = run_pid(loop, gains, step_setpoint(centre, centre + step, T_STEP), 2.5, centre)
-    res.after = step_metrics(res.step_after, T_STEP, centre, centre + step)
-    res.sine_after = sine_response(loop, gains, centre, 0.1, 0.5)
+    res.step_after, res.after, res.sine_after = measure(loop, gains, centre, step)
     res.method += "+" + how
 
 
