@@ -1,0 +1,93 @@
+#!/usr/bin/env python3
+"""rostest node for katana_arm.test: a katana_driver-style client of the arm and gripper actions."""
+import math
+import unittest
+
+import actionlib
+import rospy
+import rostest
+from actionlib_msgs.msg import GoalStatus
+from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryGoal, GripperCommandAction,
+                              GripperCommandGoal)
+from sensor_msgs.msg import JointState
+from trajectory_msgs.msg import JointTrajectoryPoint
+
+from katana_sim.kinematics import JOINTS
+
+TOLERANCE = 0.05  # katana_arm_controller's goal tolerance (rad)
+
+
+def wait_until(cond, timeout, what):
+    end = rospy.get_time() + timeout
+    while not rospy.is_shutdown() and rospy.get_time() < end:
+        if cond():
+            return
+        rospy.sleep(0.05)
+    raise AssertionError("timed out after %.0f s (simulated) waiting for %s" % (timeout, what))
+
+
+class KatanaArm(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("katana_arm_check")
+        cls.positions = {}
+        rospy.Subscriber("/joint_states", JointState, cls._joint_states)
+        cls.arm = actionlib.SimpleActionClient("/katana_arm_controller/follow_joint_trajectory",
+                                               FollowJointTrajectoryAction)
+        cls.gripper = actionlib.SimpleActionClient("/gripper_grasp_posture_controller", GripperCommandAction)
+        assert cls.arm.wait_for_server(rospy.Duration(60)), "no /katana_arm_controller/follow_joint_trajectory"
+        assert cls.gripper.wait_for_server(rospy.Duration(60)), "no /gripper_grasp_posture_controller"
+        wait_until(lambda: all(j in cls.positions for j in JOINTS + ("katana_r_finger_joint",)), 30,
+                   "joint states of the arm and the fingers")
+
+    @classmethod
+    def _joint_states(cls, msg):
+        for name, q in zip(msg.name, msg.position):
+            cls.positions[name] = q
+
+    def test_1_trajectory_reaches_five_joint_target(self):
+        target = [0.6, 1.1, -1.4, 0.7, 0.5]
+        goal = FollowJointTrajectoryGoal()
+        goal.trajectory.joint_names = list(JOINTS)
+        goal.trajectory.points = [
+            JointTrajectoryPoint(positions=[0.3, 1.5, -1.7, -0.3, 0.2], time_from_start=rospy.Duration(2.0)),
+            JointTrajectoryPoint(positions=target, velocities=[0.0] * 5, time_from_start=rospy.Duration(4.0))]
+        self.arm.send_goal(goal)
+        self.assertTrue(self.arm.wait_for_result(rospy.Duration(60)), "no result from the trajectory action")
+        res = self.arm.get_result()
+        self.assertEqual(self.arm.get_state(), GoalStatus.SUCCEEDED, res.error_string)
+        stamp = rospy.get_time()
+        rospy.sleep(0.1)
+        self.assertGreater(rospy.get_time(), stamp)
+        for name, want in zip(JOINTS, target):
+            self.assertLess(abs(self.positions[name] - want), TOLERANCE,
+                            "%s at %.4f, goal %.4f" % (name, self.positions[name], want))
+
+    def _grip(self, position, max_effort=0.0):
+        goal = GripperCommandGoal()
+        goal.command.position, goal.command.max_effort = position, max_effort
+        self.gripper.send_goal(goal)
+        self.assertTrue(self.gripper.wait_for_result(rospy.Duration(30)), "no result from the gripper")
+        return self.gripper.get_state(), self.gripper.get_result(), self.gripper.get_goal_status_text()
+
+    def test_2_gripper_opens_and_closes_on_nothing(self):
+        state, res, text = self._grip(0.3)
+        self.assertEqual(state, GoalStatus.SUCCEEDED, text)
+        self.assertTrue(res.reached_goal, text)
+        self.assertAlmostEqual(self.positions["katana_l_finger_joint"], 0.3, delta=0.02)
+        state, res, text = self._grip(-0.44, 0.3)
+        self.assertEqual(state, GoalStatus.SUCCEEDED, text)
+        self.assertTrue(res.reached_goal, text)
+        self.assertFalse(res.stalled, text)
+        self.assertNotIn("holding", text)
+        self.assertAlmostEqual(self.positions["katana_r_finger_joint"], -0.44, delta=0.02)
+
+    def test_3_nan_gripper_goal_is_refused(self):
+        state, res, text = self._grip(float("nan"))
+        self.assertEqual(state, GoalStatus.ABORTED)
+        self.assertIn("not a finite number", text)
+        self.assertTrue(math.isfinite(self.positions["katana_r_finger_joint"]))
+
+
+if __name__ == "__main__":
+    rostest.rosrun("katana_sim", "katana_arm_check", KatanaArm)
