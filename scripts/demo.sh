@@ -7,7 +7,7 @@ root="${MODROB_ROOT:?source scripts/env.sh first}"
 mkdir -p "$root/out"
 case "$scenario" in
   one_robot|two_robots)
-    runner="$root/src/modrob_sim/scripts/bulbs_and_slides_demo"
+    runner="$root/src/modrob_motion/scripts/bulbs_and_slides_demo"
     ;;
   ptrz|katana|polaris)
     runner=""

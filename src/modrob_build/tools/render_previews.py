@@ -25,7 +25,7 @@ from modrob_build.demo_robot import DEMO_ORDER
 from modrob_build.module_database import load_database
 from modrob_build.robot_model import build_robot_model
 from modrob_build.urdf_writer import robot_urdf
-from modrob_viz.kdl_urdf import KinematicChain
+from modrob_kinematics.kdl_urdf import KinematicChain
 
 WIDTH, HEIGHT = 800, 600
 

@@ -114,7 +114,7 @@ def build_robot_set(specs, gripper=False, grip_force=DEFAULT_GRIP_FORCE, safety_
         if table is not None and computed:
             result.messages.append(
                 "%s: no tuned gains for %s of module order %s in %s; using gains computed from the "
-                "inertias. Tune them: rosrun modrob_sim tune_pid --order %s%s --all --table %s"
+                "inertias. Tune them: rosrun modrob_motion tune_pid --order %s%s --all --table %s"
                 % (robot.name, ", ".join(computed), order_key(order, gripper), table.path,
                    order_key(order, False), " --gripper" if gripper else "", table.path))
         controllers = controller_names(robot, gripper)
@@ -145,11 +145,11 @@ def _gains_note(sources, table, order, gripper):
     computed = [j for j in sorted(sources) if sources[j] == "computed"]
     lines = []
     if tuned:
-        lines.append("Gains of %s: tuned by `rosrun modrob_sim tune_pid --all` (table %s, entry %s)."
+        lines.append("Gains of %s: tuned by `rosrun modrob_motion tune_pid --all` (table %s, entry %s)."
                      % (", ".join(tuned), table.path, order_key(order, gripper)))
     if computed:
         lines.append("Gains of %s: computed from the link inertias and effort limits (docs/modules.md); "
-                     "tune them with `rosrun modrob_sim tune_pid --all`." % ", ".join(computed))
+                     "tune them with `rosrun modrob_motion tune_pid --all`." % ", ".join(computed))
     if gripper:
         lines.append("Gripper finger gains: from the grip force (the finger saturates at it).")
     return "\n".join(lines)

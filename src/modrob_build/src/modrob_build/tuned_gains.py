@@ -1,4 +1,4 @@
-"""The table of PID gains measured by the auto-tuner (``rosrun modrob_sim tune_pid --all``), which
+"""The table of PID gains measured by the auto-tuner (``rosrun modrob_motion tune_pid --all``), which
 the generated robots take as their default gains.
 
     robots:
@@ -54,7 +54,7 @@ def _check_entry(path, key, joint, value):
     where = "%s: robots/%s/%s" % (path, key, joint)
     if not isinstance(value, dict):
         raise BuildError("%s is not a mapping of gains (p, i, d, i_clamp): regenerate the table with "
-                         "`rosrun modrob_sim tune_pid --all`" % where)
+                         "`rosrun modrob_motion tune_pid --all`" % where)
     for k in PID_KEYS:
         v = value.get(k)
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
@@ -75,7 +75,7 @@ def load_tuned_gains(path=None):
         raise BuildError("cannot read the tuned gains table %s: %s" % (path, e.strerror))
     except yaml.YAMLError as e:
         raise BuildError("the tuned gains table %s is not valid YAML (%s): fix it or regenerate it with "
-                         "`rosrun modrob_sim tune_pid --all`" % (path, str(e).replace("\n", " ")))
+                         "`rosrun modrob_motion tune_pid --all`" % (path, str(e).replace("\n", " ")))
     robots = data.get("robots") if isinstance(data, dict) else None
     if robots is None:
         robots = {}

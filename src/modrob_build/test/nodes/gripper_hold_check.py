@@ -26,7 +26,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
 from std_srvs.srv import Empty
 
-from modrob_viz.kdl_urdf import KinematicChain
+from modrob_kinematics.kdl_urdf import KinematicChain
 
 FINGERS = ("gripper_finger1",)      # the actuated finger; gripper_finger2 mimics it
 SPHERE_SDF = """<?xml version="1.0"?>

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""rostest node: KDL forward kinematics of a generated URDF (modrob_viz.kdl_urdf) agrees with the tf
+"""rostest node: KDL forward kinematics of a generated URDF (modrob_kinematics.kdl_urdf) agrees with the tf
 that robot_state_publisher computes from the same URDF, within 1 mm, for random joint angles.
 
 ~namespace: the robot's namespace (its robot_description and joint_states live there)
@@ -13,7 +13,7 @@ import rostest
 import tf2_ros
 from sensor_msgs.msg import JointState
 
-from modrob_viz.kdl_urdf import KinematicChain, tree_from_urdf_string
+from modrob_kinematics.kdl_urdf import KinematicChain, tree_from_urdf_string
 
 TOLERANCE = 0.001
 

@@ -23,7 +23,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
 from std_srvs.srv import Empty
 
-from modrob_viz.kdl_urdf import KinematicChain, tree_from_urdf_string
+from modrob_kinematics.kdl_urdf import KinematicChain, tree_from_urdf_string
 
 FK_TOLERANCE = 0.001
 

@@ -55,7 +55,7 @@ def test_tuned_joints_take_the_tables_gains_the_rest_are_computed(tmp_path, db):
     assert got["joint3"] == computed(db, ARM3)["joint3"]
     assert res.manifest["robots"][0]["gains"] == {"joint1": "tuned", "joint2": "tuned", "joint3": "computed"}
     header = res.files["modrob0_controllers.yaml"].split("modrob0:")[0]
-    assert "joint1, joint2: tuned by `rosrun modrob_sim tune_pid --all`" in header
+    assert "joint1, joint2: tuned by `rosrun modrob_motion tune_pid --all`" in header
     assert "joint3: computed" in header
     # the message says which joints fell back and how to tune them
     msg = " ".join(res.messages)

@@ -10,7 +10,7 @@ from modrob_sim.tuning.experiments import run_pid, step_setpoint
 from modrob_sim.tuning.loops import IntegratorLoop
 from modrob_sim.tuning.metrics import Trace, sine_fit, step_metrics
 from modrob_sim.tuning.relay import holding_effort, relay_test
-from modrob_sim.tuning.report import controller_yaml, update_gains_table
+from modrob_sim.tuning.report import controller_yaml
 from modrob_sim.tuning.rules import gains_from_ultimate
 from modrob_sim.tuning.sine import sine_response
 
@@ -91,16 +91,8 @@ def test_same_inputs_same_trace():
     assert np.array_equal(a.position, b.position)
 
 
-def test_yaml_outputs(tmp_path):
+def test_yaml_outputs():
     text = controller_yaml("/modrob0", "joint2", {"p": 123.456789, "i": 1.0, "d": 2.0, "i_clamp": 3.0})
     data = yaml.safe_load(text)
     c = data["modrob0"]["joint2_position_controller"]
     assert c["type"] == "effort_controllers/JointPositionController" and c["pid"]["p"] == 123.46
-    path = str(tmp_path / "gains.yaml")
-    update_gains_table(path, "59,3,55,63,57,5", "joint1", {"p": 1.0, "i": 0.0, "d": 0.1}, {"method": "x"})
-    update_gains_table(path, "59,3,55,63,57,5", "joint2", {"p": 2.0, "i": 0.0, "d": 0.2}, {"method": "y"})
-    table = yaml.safe_load(open(path))
-    assert set(table["robots"]["59,3,55,63,57,5"]) == {"joint1", "joint2"}
-    (tmp_path / "bad.yaml").write_text("robots: [unclosed")
-    with pytest.raises(TuningError, match="not valid YAML"):
-        update_gains_table(str(tmp_path / "bad.yaml"), "k", "j", {"p": 1.0}, {})

@@ -7,7 +7,7 @@ import PyKDL
 
 from modrob_viz import geometry
 from modrob_viz.errors import KinematicsError, TrajectoryError
-from modrob_viz.kdl_urdf import TreeFkSolverPos
+from modrob_kinematics.kdl_urdf import TreeFkSolverPos
 
 
 class JointPath(object):

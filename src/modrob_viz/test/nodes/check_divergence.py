@@ -11,7 +11,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64, Int32
 from trajectory_msgs.msg import JointTrajectory
 
-from modrob_viz import geometry, joint_path, kdl_urdf, samples
+from modrob_kinematics import kdl_urdf
+from modrob_viz import geometry, joint_path, samples
 from modrob_viz.ros.demo_motion import trajectory_msg
 from viz_test_utils import wait_for
 

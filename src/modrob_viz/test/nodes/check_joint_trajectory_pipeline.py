@@ -9,7 +9,8 @@ from std_msgs.msg import Int32
 from trajectory_msgs.msg import JointTrajectory
 from visualization_msgs.msg import Marker, MarkerArray
 
-from modrob_viz import bag_io, joint_path, kdl_urdf, samples
+from modrob_kinematics import kdl_urdf
+from modrob_viz import bag_io, joint_path, samples
 from modrob_viz.ros.demo_motion import trajectory_msg
 from viz_test_utils import wait_for
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""rostest: KDL FK of modrob_viz.kdl_urdf equals robot_state_publisher's tf (world -> ee_link)."""
+"""rostest: KDL FK of modrob_kinematics.kdl_urdf equals robot_state_publisher's tf (world -> ee_link)."""
 import random
 import unittest
 
@@ -7,7 +7,7 @@ import numpy as np
 import rospy
 import rostest
 
-from modrob_viz import kdl_urdf
+from modrob_kinematics import kdl_urdf
 from viz_test_utils import RobotDriver
 
 

@@ -12,7 +12,8 @@ from std_msgs.msg import Float64, Int32
 from trajectory_msgs.msg import JointTrajectory
 from visualization_msgs.msg import Marker
 
-from modrob_viz import kdl_urdf, samples
+from modrob_kinematics import kdl_urdf
+from modrob_viz import samples
 from modrob_viz.ros.demo_motion import trajectory_msg
 from viz_test_utils import RosoutWatcher, alive, wait_for
 

@@ -9,7 +9,8 @@ import rostest
 from std_msgs.msg import Int32
 from visualization_msgs.msg import Marker
 
-from modrob_viz import bag_io, kdl_urdf
+from modrob_kinematics import kdl_urdf
+from modrob_viz import bag_io
 from viz_test_utils import wait_for
 
 

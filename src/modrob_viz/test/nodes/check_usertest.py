@@ -10,7 +10,8 @@ import rostest
 from std_msgs.msg import Bool, Float64
 from visualization_msgs.msg import Marker
 
-from modrob_viz import kdl_urdf, paths
+from modrob_kinematics import kdl_urdf
+from modrob_viz import paths
 from modrob_viz.distance_log import DistanceLog
 from modrob_viz.geometry import PolylineDistance
 from viz_test_utils import RobotDriver, wait_for

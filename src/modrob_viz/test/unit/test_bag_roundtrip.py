@@ -9,7 +9,8 @@ from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 import genpy
 import rosbag
-from modrob_viz import bag_io, joint_path, kdl_urdf, paths
+from modrob_kinematics import kdl_urdf
+from modrob_viz import bag_io, joint_path, paths
 from modrob_viz.errors import BagError, TrajectoryError
 
 FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures")

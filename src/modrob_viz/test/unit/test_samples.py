@@ -3,7 +3,8 @@ import os
 
 import numpy as np
 
-from modrob_viz import kdl_urdf, paths, samples
+from modrob_kinematics import kdl_urdf
+from modrob_viz import paths, samples
 
 FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures")
 

@@ -3,8 +3,6 @@ import os
 
 import yaml
 
-from modrob_sim.tuning import TuningError
-
 
 def round_gains(g):
     out = {}
@@ -22,29 +20,6 @@ def controller_yaml(namespace, joint, gains, controller=None, comment=None):
                                                 "joint": joint, "pid": round_gains(gains)}}}
     head = "".join("# %s\n" % line for line in (comment or "").splitlines())
     return head + yaml.safe_dump(data, default_flow_style=False, sort_keys=False)
-
-
-def update_gains_table(path, robot_key, joint, gains, info):
-    """Merge one joint's tuned gains into the shared table ``path`` (YAML):
-    robots: {<order>: {<joint>: {p, i, d, i_clamp, antiwindup, method, ...}}}."""
-    table = {}
-    if os.path.exists(path):
-        with open(path) as fh:
-            try:
-                table = yaml.safe_load(fh) or {}
-            except yaml.YAMLError as exc:
-                raise TuningError("%s is not valid YAML (%s): fix or remove it" % (path, exc))
-    robots = table.setdefault("robots", {})
-    entry = round_gains(gains)
-    entry.update(info)
-    robots.setdefault(robot_key, {})[joint] = entry
-    header = ("# PID gains tuned by `rosrun modrob_sim tune_pid` (relay feedback + Ziegler-Nichols tables,\n"
-              "# then the seed's sinusoid check), per module order and joint, in ros_control's pid keys.\n"
-              "# create_urdf_and_gazebo (modrob_build) takes a robot's default gains from here. Regenerate\n"
-              "# with `rosrun modrob_sim tune_pid --order ... --all --defaults`; do not edit by hand.\n")
-    with open(path, "w") as fh:
-        fh.write(header + yaml.safe_dump(table, default_flow_style=False, sort_keys=True))
-    return table
 
 
 def plot_step(path, title, traces):

@@ -8,7 +8,7 @@ import rospy
 import tf2_ros
 
 from modrob_msgs.errors import ModrobError
-from modrob_viz import kdl_urdf
+from modrob_kinematics import kdl_urdf
 from modrob_viz.errors import ConfigError, UrdfError
 
 EXIT_OK = 0
@@ -74,7 +74,7 @@ def robot_description(name="robot_description", timeout=5.0):
 
 
 def load_tree(name="robot_description", timeout=5.0):
-    """A :class:`modrob_viz.kdl_urdf.KdlTree` from a robot-description parameter."""
+    """A :class:`modrob_kinematics.kdl_urdf.KdlTree` from a robot-description parameter."""
     try:
         tree = kdl_urdf.tree_from_urdf_string(robot_description(name, timeout))
     except UrdfError as err:

@@ -1,0 +1,169 @@
+"""``bulbs_and_slides_demo``: the whole scenario headless, as ``make demo`` runs it.
+
+Starts its own ROS master on a free port, launches the simulation (bulbs_and_slides.launch with
+run:=false, real_time_factor 0 = as fast as possible, no GUI), runs the pick-and-place in this
+process, prints progress and one RESULT line, and writes under --out:
+    bulbs_and_slides_<scenario>_ee.bag       end-effector trajectory (geometry_msgs/PointStamped)
+    bulbs_and_slides_<scenario>_joints.png   commanded vs measured joint angles
+    bulbs_and_slides_<scenario>_result.yaml  the result in numbers
+    bulbs_and_slides_<scenario>_sim.log      the simulator's output
+Exit status 0 only on success.
+"""
+import argparse
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+import yaml
+
+from modrob_motion.bulbs_and_slides import ScenarioError
+from modrob_motion.bulbs_and_slides.layout import Layout, SCENARIOS
+from modrob_msgs.errors import ModrobError
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_for_master(timeout=30.0):
+    import rosgraph
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        if rosgraph.is_master_online():
+            return True
+        time.sleep(0.2)
+    return False
+
+
+def wait_for_param(name, timeout=60.0):
+    import rosgraph
+    master = rosgraph.Master("/bulbs_and_slides_demo")
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        try:
+            if master.hasParam(name):
+                return True
+        except OSError:
+            pass
+        time.sleep(0.2)
+    return False
+
+
+def start_simulation(scenario, log_path, gui=False, rtf="0", grip_force=3.0, port=None, gains="tuned"):
+    port = port or free_port()
+    os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % port
+    log = open(log_path, "w")
+    cmd = ["roslaunch", "-p", str(port), "modrob_motion", "bulbs_and_slides.launch",
+           "scenario:=%s" % scenario,
+           "run:=false", "gui:=%s" % ("true" if gui else "false"), "real_time_factor:=%s" % rtf,
+           "grip_force:=%s" % grip_force, "gains:=%s" % gains]
+    proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    return proc, log
+
+
+def stop_simulation(proc, log):
+    if proc.poll() is None:
+        try:
+            os.killpg(proc.pid, signal.SIGINT)
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    log.close()
+
+
+def _plot_two_robot_paths(sc, layout, path):
+    from modrob_motion.bulbs_and_slides.paths_plot import plot_paths
+    paths = {}
+    for rid in sc.recorder.rows:
+        t, _, _, ee, _ = sc.recorder.arrays(rid)
+        paths[rid] = (t, ee)
+    mon = getattr(sc, "clearance", None)
+    closest = None
+    if mon is not None and mon.samples:
+        closest = (mon.closest[0], "modrob0 %s, modrob1 %s" % (mon.closest[1], mon.closest[2]))
+    plot_paths(path, layout, paths, title="Bulbs and Slides (two robots): grasp-centre paths",
+               closest=closest)
+    print("wrote %s" % path, flush=True)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="bulbs_and_slides_demo", description=__doc__.splitlines()[0])
+    p.add_argument("--scenario", choices=SCENARIOS, default="one_robot")
+    p.add_argument("--out", default="out")
+    p.add_argument("--gui", action="store_true", help="open RViz as well")
+    p.add_argument("--real-time-factor", default="0", help="0 = as fast as possible (default)")
+    p.add_argument("--jitter", type=float, default=0.0, help="shift the bulb by up to this much (m), seeded")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--grip-force", type=float, default=3.0)
+    p.add_argument("--gains", choices=("tuned", "computed"), default="tuned",
+                   help="arm PID gains: tune_pid's table (default) or computed from the inertias")
+    p.add_argument("--arm-speed", type=float, default=0.5, help="joint speed of the free moves (rad/s)")
+    args = p.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.join(args.out, "bulbs_and_slides_%s" % args.scenario)
+    try:
+        layout = Layout.load(args.scenario)
+    except ModrobError as exc:
+        print("bulbs_and_slides_demo: %s" % exc, file=sys.stderr)
+        return 2
+    print("bulbs_and_slides_demo: %s, starting the simulation (log: %s_sim.log)" % (args.scenario, stem),
+          flush=True)
+    proc, log = start_simulation(args.scenario, stem + "_sim.log", args.gui, args.real_time_factor,
+                                 args.grip_force, gains=args.gains)
+    result = None
+    try:
+        if not wait_for_master() or not wait_for_param("/use_sim_time"):
+            raise ScenarioError("the simulation did not start: see %s_sim.log" % stem)
+        import rospy
+        from modrob_motion.bulbs_and_slides.scenario import Scenario
+        rospy.init_node("bulbs_and_slides_demo", disable_signals=True)
+        sc = Scenario(layout, jitter=args.jitter, seed=args.seed, arm_speed=args.arm_speed)
+        result = sc.run_two_robots() if args.scenario == "two_robots" else sc.run_one_robot()
+        if sc.recorder and sc.recorder.rows:
+            n = sc.recorder.write_bag(stem + "_ee.bag")
+            names = {rid: r.info.arm_joints for rid, r in sc.robots.items()}
+            sc.recorder.plot_joints(stem + "_joints.png", names, title="Bulbs and Slides (%s): commanded vs "
+                                    "measured joint angles" % args.scenario)
+            print("wrote %s_ee.bag (%d end-effector points) and %s_joints.png" % (stem, n, stem), flush=True)
+            if args.scenario == "two_robots":
+                _plot_two_robot_paths(sc, layout, stem + "_paths.png")
+    except ModrobError as exc:
+        print("bulbs_and_slides_demo: %s" % exc, file=sys.stderr, flush=True)
+    finally:
+        stop_simulation(proc, log)
+    if result is None:
+        print("RESULT %s: FAILURE -- the scenario did not run (see above)" % args.scenario, flush=True)
+        return 1
+    with open(stem + "_result.yaml", "w") as fh:
+        yaml.safe_dump(dict(result.as_dict(), scenario=args.scenario, jitter=args.jitter, seed=args.seed), fh)
+    print(result.line(args.scenario), flush=True)
+    return 0 if result.success else 1
+
+
+def node_main():
+    """The ``bulbs_and_slides`` node (bulbs_and_slides.launch run:=true): runs the scenario on the
+    simulation the launch file started. ~scenario, ~layout_file, ~result_file, ~jitter, ~seed."""
+    import rospy
+    from modrob_motion.bulbs_and_slides.scenario import Scenario
+    rospy.init_node("bulbs_and_slides")
+    scenario = rospy.get_param("~scenario", "one_robot")
+    try:
+        layout = Layout.load(scenario, rospy.get_param("~layout_file", "") or None)
+        sc = Scenario(layout, log=rospy.loginfo, jitter=float(rospy.get_param("~jitter", 0.0)),
+                      seed=int(rospy.get_param("~seed", 0)))
+        result = sc.run_two_robots() if scenario == "two_robots" else sc.run_one_robot()
+    except ModrobError as exc:
+        rospy.logerr("bulbs_and_slides: %s", exc)
+        return 1
+    (rospy.loginfo if result.success else rospy.logerr)(result.line(scenario))
+    path = rospy.get_param("~result_file", "")
+    if path:
+        with open(path, "w") as fh:
+            yaml.safe_dump(dict(result.as_dict(), scenario=scenario), fh)
+    return 0 if result.success else 1

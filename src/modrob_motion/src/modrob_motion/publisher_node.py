@@ -1,0 +1,127 @@
+"""ROS layer of ``motion_publisher``: one sensor_msgs/JointState in, one std_msgs/Float64 per joint out.
+
+Topics (relative to the robot namespace ``~robot_namespace``, default the node's namespace):
+    in   motion_command                       sensor_msgs/JointState (names + positions; names may be
+                                              empty when every controlled joint is given in order)
+    out  <controller>/command                 std_msgs/Float64, one per position controller
+Parameters:
+    ~robot_namespace   e.g. /modrob0 (default: the node's namespace)
+    ~input_topic       default motion_command
+    ~wait_timeout      seconds to wait for the controller parameters at start (default 30)
+The joint -> controller map comes from the controller parameters in the robot namespace
+(``type: effort_controllers/JointPositionController``, ``joint: ...``); joint limits from
+``<ns>/robot_description`` when present. A bad message is logged (what and why) and dropped.
+"""
+import threading
+import time
+
+import rospy
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64
+
+from modrob_msgs.errors import ModrobError
+from modrob_motion.controller_map import command_topic, natural_key, position_controllers
+from modrob_motion.joint_matching import JointCommandMatcher
+from modrob_motion.robot_info import chain_order, parse_urdf_joints
+
+
+REFRESH_PERIOD = 1.0   # s of wall time between re-reads of the controller parameters
+
+
+class MotionPublisher(object):
+
+    def __init__(self, namespace, input_topic="motion_command", wait_timeout=30.0):
+        self.namespace = "/" + namespace.strip("/") if namespace.strip("/") else ""
+        self._lock = threading.Lock()
+        self.matcher = None
+        self.publishers = {}
+        self._last_refresh = 0.0
+        self._wait_for_controllers(wait_timeout)
+        topic = input_topic if input_topic.startswith("/") else "%s/%s" % (self.namespace, input_topic)
+        self.sub = rospy.Subscriber(topic, JointState, self._on_command, queue_size=10)
+        rospy.loginfo("motion_publisher: %s -> %d joint controllers under %s",
+                      topic, len(self.publishers), self.namespace or "/")
+
+    def _wait_for_controllers(self, timeout):
+        deadline = rospy.get_time() + timeout
+        last_error = None
+        while not rospy.is_shutdown():
+            try:
+                self._configure()
+                return
+            except (ModrobError, KeyError) as exc:
+                last_error = exc
+            if rospy.get_time() > deadline:
+                break
+            rospy.sleep(0.2)
+        raise ModrobError("motion_publisher for %s: %s" % (self.namespace or "/", last_error))
+
+    def _configure(self):
+        params = rospy.get_param(self.namespace or "/", {})
+        controllers = position_controllers(params, self.namespace or "/")
+        limits, order = {}, sorted(controllers, key=natural_key)
+        urdf = params.get("robot_description") if isinstance(params, dict) else None
+        if isinstance(urdf, str) and urdf.strip():
+            try:
+                joints = chain_order(parse_urdf_joints(urdf))
+                limits = {j.name: j.limits for j in joints}
+                chain = [j.name for j in joints if j.name in controllers]
+                order = chain + [j for j in order if j not in chain]
+            except ModrobError as exc:
+                rospy.logwarn("motion_publisher: %s/robot_description unusable (%s); "
+                              "joint limits not checked", self.namespace, exc)
+        self.matcher = JointCommandMatcher(order, limits, robot=self.namespace.strip("/") or "robot")
+        self.publishers = {j: rospy.Publisher(command_topic(self.namespace, controllers[j]), Float64,
+                                              queue_size=10) for j in order}
+
+    def _refresh(self, names):
+        """Re-read the controller parameters when a command names a joint we do not know (at most
+        once a second). roslaunch sets a controller YAML one parameter at a time, so a start-up read
+        can catch a partial set (seen: 1 of 4 controllers). True if the joint set changed."""
+        unknown = [n for n in names if n not in self.publishers]
+        now = time.time()
+        if not unknown or now - self._last_refresh < REFRESH_PERIOD:
+            return False
+        self._last_refresh = now
+        before = set(self.publishers)
+        try:
+            with self._lock:
+                self._configure()
+        except (ModrobError, KeyError) as exc:
+            rospy.logwarn("motion_publisher: re-reading the controllers under %s failed: %s",
+                          self.namespace or "/", exc)
+            return False
+        if set(self.publishers) == before:
+            return False
+        rospy.loginfo("motion_publisher: controllers under %s re-read: %d joint controllers (%s)",
+                      self.namespace or "/", len(self.publishers), ", ".join(self.publishers))
+        return True
+
+    def _on_command(self, msg):
+        try:
+            values = self.matcher.match(msg.name, msg.position)
+        except ModrobError as exc:
+            values = None
+            if self._refresh(msg.name):
+                try:
+                    values = self.matcher.match(msg.name, msg.position)
+                except ModrobError as again:
+                    exc = again
+            if values is None:
+                rospy.logwarn("motion_publisher: command dropped: %s", exc)
+                return
+        with self._lock:
+            for joint, value in values.items():
+                self.publishers[joint].publish(Float64(value))
+
+
+def main():
+    rospy.init_node("motion_publisher")
+    ns = rospy.get_param("~robot_namespace", rospy.get_namespace())
+    try:
+        MotionPublisher(ns, rospy.get_param("~input_topic", "motion_command"),
+                        float(rospy.get_param("~wait_timeout", 30.0)))
+    except ModrobError as exc:
+        rospy.logfatal("%s", exc)
+        raise SystemExit(1)
+    rospy.spin()
