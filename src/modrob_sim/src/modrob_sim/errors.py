@@ -17,3 +17,8 @@ class SimulationError(ModrobError):
 
 class ControllerError(ModrobError):
     """A controller that cannot be loaded or run (unknown type, missing parameter ...)."""
+
+
+class PluginError(ModrobError):
+    """A /gazebo plugin that cannot be loaded as configured (a missing or malformed <plugin>
+    parameter, a sensor without its link ...). The message names the model, plugin and tag."""

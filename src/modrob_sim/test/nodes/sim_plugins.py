@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """rostest node: the plugin contract of /gazebo with a probe plugin: the spawn robot_namespace
-reaches plugins without their own, update(t, dt) runs once per physics step at the step's time,
-reset() on reset_simulation, shutdown() on delete_model; an unknown plugin file is only warned."""
+reaches plugins without their own, before_step(t, dt) runs once per physics step at the step's
+time, reset() on reset_simulation (random stream re-seeded), shutdown() on delete_model; an
+unknown plugin file is only warned."""
 import sys
 import unittest
 
@@ -41,8 +42,11 @@ class SimPlugins(unittest.TestCase):
         # update(t, dt) of the last step ran at the time before that step
         self.assertAlmostEqual(float(fields(p1.get())["last_t"]), step.sim_time - 0.001, places=6)
         self.assertEqual(step.iterations, it0 + 100)
+        first_random = fields(p1.get())["first_random"]
         self.gz.reset_simulation()
         self.assertTrue(wait_for(lambda: fields(p1.get())["state"] == "reset", 10.0), p1.get().data)
+        # reset_simulation re-seeds the plugin's random stream: the same first draw again
+        self.assertEqual(fields(p1.get())["first_random"], first_random)
         self.gz.delete_model(model_name="p1")
         self.assertTrue(wait_for(lambda: fields(p1.get())["state"] == "shutdown", 10.0), p1.get().data)
 

@@ -5,7 +5,6 @@ runs the plugins in the World's before-step hook (read -> controllers.update(t, 
 publishes from the after-step hook (decimated), and runs every request that ROS callbacks hand to
 it between two steps. Service callbacks never touch the World themselves.
 """
-import collections
 import logging
 import math
 import sys
@@ -25,6 +24,8 @@ from modrob_msgs.srv import StepSimulation, StepSimulationResponse
 from modrob_sim.errors import ModelError, ModrobError
 from modrob_sim.gazebo_ros import description, markers, plugins
 from modrob_sim.gazebo_ros import transforms as tf
+from modrob_sim.gazebo_ros.plugin_host import PluginHost
+from modrob_sim.gazebo_ros.publishing import PublishQueue, ros_advertiser
 from modrob_sim.gazebo_ros.resources import ResourceResolver
 from modrob_sim.gazebo_ros.sim_loop import SimulationLoop
 from modrob_sim.gazebo_ros.world_file import find_world, world_physics
@@ -184,9 +185,6 @@ class GazeboRosNode(object):
         self.params = params
         self.node_name = node_name or rospy.get_name()
         self.resolve = ResourceResolver()
-        self._warned_plugins = set()
-        self._plugins = collections.OrderedDict()    # model name -> [(spec, plugin)]
-        self._updates, self._after_steps = [], []
         self._effort_jobs, self._wrench_jobs = [], []
         self._spawn_ns = {}
         self._guard_hint = {}
@@ -242,10 +240,13 @@ class GazeboRosNode(object):
 
         self.loop = SimulationLoop(self.world, real_time_factor=rtf, paused=params.paused,
                                    on_rtf=self._on_rtf, on_error=self._on_step_error)
+        self._publish_queue = PublishQueue()
+        self.plugins = PluginHost(self.world, self.node_name, self.resolve, call=self.loop.call,
+                                  advertise=ros_advertiser(self._publish_queue))
         if world_text is not None:
             try:
                 for m in self.world.add_sdf(world_text):
-                    self._load_plugins(m, "")
+                    self.plugins.load(m, "")
             except ModrobError as exc:
                 raise ModelError("world file %s: %s" % (params.world_name, exc))
             # the core applies the world's <physics>; explicit ~time_step / gravity win over it
@@ -264,8 +265,8 @@ class GazeboRosNode(object):
 
     def shutdown(self):
         self.loop.stop()
-        for name in list(self._plugins):
-            self._shutdown_plugins(name)
+        self.plugins.shutdown()
+        self._publish_queue.stop()
 
     def _advertise(self):
         S = rospy.Service
@@ -321,14 +322,12 @@ class GazeboRosNode(object):
             rospy.rostime._set_rostime(ros_time(t))
         if self._wrench_jobs:
             self._activate_wrenches(t)
-        for update in self._updates:
-            update(t, dt)
+        self.plugins.before_step(t, dt)
         if self._effort_jobs:
             self._apply_efforts(t, dt)
 
     def _after_step(self, t, dt):
-        for after in self._after_steps:
-            after(t, dt)
+        self.plugins.after_step(t, dt)
         now_t = self.world.time
         if self._clock_period <= 0.0:
             self._publish_clock()
@@ -415,76 +414,6 @@ class GazeboRosNode(object):
         else:
             rospy.logerr("plugin module %s failed to import, its plugins will be ignored: %s"
                          % (module, text))
-
-    def _load_plugins(self, model, spawn_ns):
-        loaded = []
-        for spec in getattr(model, "plugins", []):
-            factory = plugins.plugin_factory(spec.filename)
-            if factory is None:
-                if spec.filename not in self._warned_plugins:
-                    self._warned_plugins.add(spec.filename)
-                    rospy.logwarn("model '%s': plugin %s (%s) is not provided by this simulator; ignored "
-                                  "(registered: %s)" % (model.name, spec.filename, spec.name,
-                                                        ", ".join(plugins.registered_plugins()) or "none"))
-                continue
-            ns = spec.robot_namespace or spawn_ns or ""
-            if ns != spec.robot_namespace and hasattr(spec, "_replace"):
-                spec = spec._replace(robot_namespace=ns)
-            ctx = plugins.PluginContext(self.world, self.node_name, self.resolve, model.name, ns)
-            try:
-                plugin = factory(model, spec, ctx)
-            except ModrobError as exc:
-                rospy.logerr("model '%s': plugin %s not loaded: %s" % (model.name, spec.filename, exc))
-                continue
-            except Exception as exc:  # noqa: B902 - a faulty plugin must not take the simulator down
-                rospy.logerr("model '%s': plugin %s raised while loading (a bug in the plugin): %s\n%s"
-                             % (model.name, spec.filename, exc, traceback.format_exc()))
-                continue
-            loaded.append((spec, plugin))
-        self._plugins[model.name] = loaded
-        self._rebuild_plugin_calls()
-
-    def _guarded(self, model_name, spec, fn):
-        def call(t, dt):
-            try:
-                fn(t, dt)
-            except Exception as exc:  # noqa: B902 - disable the plugin, keep simulating
-                rospy.logerr("model '%s': plugin %s failed in its update and is disabled: %s\n%s"
-                             % (model_name, spec.filename, exc, traceback.format_exc()))
-                self._plugins[model_name] = [(s, p) for s, p in self._plugins.get(model_name, [])
-                                             if s is not spec]
-                self._rebuild_plugin_calls()
-        return call
-
-    def _rebuild_plugin_calls(self):
-        updates, afters = [], []
-        for mname, items in self._plugins.items():
-            for spec, plugin in items:
-                if hasattr(plugin, "update"):
-                    updates.append(self._guarded(mname, spec, plugin.update))
-                if hasattr(plugin, "after_step"):
-                    afters.append(self._guarded(mname, spec, plugin.after_step))
-        self._updates, self._after_steps = updates, afters
-
-    def _shutdown_plugins(self, model_name):
-        for spec, plugin in self._plugins.pop(model_name, []):
-            if hasattr(plugin, "shutdown"):
-                try:
-                    plugin.shutdown()
-                except Exception as exc:  # noqa: B902
-                    rospy.logerr("model '%s': plugin %s failed to shut down: %s"
-                                 % (model_name, spec.filename, exc))
-        self._rebuild_plugin_calls()
-
-    def _reset_plugins(self):
-        for mname, items in self._plugins.items():
-            for spec, plugin in items:
-                if hasattr(plugin, "reset"):
-                    try:
-                        plugin.reset()
-                    except Exception as exc:  # noqa: B902
-                        rospy.logerr("model '%s': plugin %s failed to reset: %s"
-                                     % (mname, spec.filename, exc))
 
     # ---- lookup (loop thread) -----------------------------------------------------------------
     def _model(self, name, what="model"):
@@ -587,7 +516,7 @@ class GazeboRosNode(object):
                 raise RequestError("could not spawn [%s]: %s" % (name, exc))
             for m in models:
                 self._spawn_ns[m.name] = ns
-                self._load_plugins(m, ns)
+                self.plugins.load(m, ns)
             self._publish_markers(force=True)
             return "Successfully spawned entity [%s]" % ", ".join(m.name for m in models)
         if service_kind != description.xml_kind(xml) and description.xml_kind(xml) is not None:
@@ -598,7 +527,7 @@ class GazeboRosNode(object):
     def _delete_model(self, req):
         def do():
             self._model(req.model_name)
-            self._shutdown_plugins(req.model_name)
+            self.plugins.unload(req.model_name)
             links = set(id(lk) for lk in self.world.models[req.model_name].links.values())
             self._wrench_jobs = [j for j in self._wrench_jobs if id(j.link) not in links]
             joints = set(id(j) for j in self.world.models[req.model_name].joints.values())
@@ -922,12 +851,12 @@ class GazeboRosNode(object):
         self.loop.set_paused(False)
         return EmptyResponse()
 
-    def _after_reset(self):
+    def _after_reset(self, reseed):
         self._wrench_jobs, self._effort_jobs = [], []
         self.loop.reset_pacing()
         self._next_state_t = 0.0
         self._next_marker_t = 0.0
-        self._reset_plugins()
+        self.plugins.reset(reseed)
         self._publish_clock(force=True)
         self._publish_states()
         self._publish_markers(force=True)
@@ -935,7 +864,7 @@ class GazeboRosNode(object):
     def _reset_simulation(self, req):
         def do():
             self.world.reset()
-            self._after_reset()
+            self._after_reset(reseed=True)
             return "reset"
         self._run(do, _Status(), "ResetSimulation")
         return EmptyResponse()
@@ -943,7 +872,7 @@ class GazeboRosNode(object):
     def _reset_world(self, req):
         def do():
             self.world.reset_world()
-            self._after_reset()
+            self._after_reset(reseed=False)
             return "reset"
         self._run(do, _Status(), "ResetWorld")
         return EmptyResponse()

@@ -3,11 +3,14 @@
 For each model with ``<plugin filename="libgazebo_ros_control.so">`` it builds the simulated
 hardware from the model's ``<transmission>`` tags and joints, reads the per-joint
 ``gazebo_ros_control/pid_gains``, and serves controller_manager's services under the robot
-namespace. ``update(t, dt)`` runs in the simulation loop: queued goals in, read -> controllers ->
-write, outputs published.
-"""
-import threading
+namespace. ``before_step(t, dt)`` runs in the simulation loop: queued goals in, read ->
+controllers -> write, outputs published.
 
+Threads (the plugin contract, docs/plugins.md): the controller manager and the adapters' table
+belong to the simulation loop thread. The controller_manager service callbacks hand their work
+to it with ``context.call`` and do only the ROS side (parameter reads, creating and shutting down
+the controllers' topics) in their own thread.
+"""
 import rospy
 from controller_manager_msgs.msg import ControllerState, HardwareInterfaceResources
 from controller_manager_msgs.srv import (ListControllers, ListControllersResponse, ListControllerTypes,
@@ -17,6 +20,7 @@ from controller_manager_msgs.srv import (ListControllers, ListControllersRespons
                                          UnloadControllerResponse)
 
 from modrob_sim.errors import ModrobError
+from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
 from modrob_sim.ros_control.hardware import RobotHWSim
 from modrob_sim.ros_control.manager import BEST_EFFORT, ControllerManager
@@ -39,10 +43,10 @@ def _get_param(name):
         return None
 
 
-class GazeboRosControlPlugin(object):
-    def __init__(self, model, spec, context):
+class GazeboRosControlPlugin(ModelPlugin):
+    def load(self, model, spec, context):
         cfg = PluginConfig.from_element(spec.element, model.name,
-                                        spec.robot_namespace or getattr(context, "robot_namespace", ""))
+                                        spec.robot_namespace or context.robot_namespace)
         self.config = cfg
         self.model_name = model.name
         self.namespace = cfg.robot_namespace
@@ -61,10 +65,9 @@ class GazeboRosControlPlugin(object):
                              warn=lambda m: rospy.logwarn("model '%s': %s" % (model.name, m)))
         for note in self.hw.notes:
             rospy.loginfo("model '%s': %s" % (model.name, note))
-        self.lock = threading.RLock()
         self.manager = ControllerManager(self.hw, self.namespace,
                                          log=lambda level, msg: _LOG[level]("%s: %s" % (self.namespace, msg)))
-        self.adapters = {}
+        self.adapters = {}      # controller name -> ROS adapter; changed only in the loop thread
         self.reconfigure = [PidReconfigure(res.pid, res.pid_source) for res in self.hw.pid_joints().values()]
         for name, res in self.hw.pid_joints().items():
             rospy.loginfo("model '%s': joint %s driven by the PID at %s (%s)"
@@ -84,49 +87,48 @@ class GazeboRosControlPlugin(object):
                          ", ".join("%s:%s" % (n, self.hw.joints[n].method) for n in self.hw.order)))
 
     # ---- simulation loop ------------------------------------------------------------------
-    def update(self, t, dt):
+    def before_step(self, t, dt):
         period = self.config.control_period
         if period is not None and self._last_update is not None and t - self._last_update < period - 1e-9:
             return
         step = dt if self._last_update is None or period is None else t - self._last_update
         self._last_update = t
-        with self.lock:
-            adapters = list(self.adapters.values())
-            for a in adapters:
-                a.before_update(t)
-            self.manager.update(t, step)
+        adapters = list(self.adapters.values())
+        for a in adapters:
+            a.before_update(t)
+        self.manager.update(t, step)
         for a in adapters:
             a.after_update(t)
 
     def reset(self):
-        with self.lock:
-            self._last_update = None
-            self.manager.time = 0.0
-            self.hw.reset_commands()
-            running = [c for c in self.manager.list_controllers() if c.state == "running"]
-            for c in running:
-                c.starting(0.0)
+        self._last_update = None
+        self.manager.time = 0.0
+        self.hw.reset_commands()
+        running = [c for c in self.manager.list_controllers() if c.state == "running"]
+        for c in running:
+            c.starting(0.0)
 
     def shutdown(self):
-        with self.lock:
-            self.manager.stop_all()
-            for a in self.adapters.values():
-                a.shutdown()
-            self.adapters = {}
+        self.manager.stop_all()
+        adapters, self.adapters = list(self.adapters.values()), {}
+        for a in adapters:
+            a.shutdown()
         for s in self.services:
             s.shutdown()
         for r in self.reconfigure:
             r.shutdown()
 
-    # ---- controller_manager services (service threads) -----------------------------------
+    # ---- controller_manager services (service threads; the work runs in the loop) ------------
     def _list(self, req):
-        out = []
-        with self.lock:
-            for c in self.manager.list_controllers():
-                res = [HardwareInterfaceResources(hardware_interface=iface, resources=joints)
-                       for iface, joints in c.claimed_resources]
-                out.append(ControllerState(name=c.name, state=c.state, type=c.TYPE, claimed_resources=res))
-        return ListControllersResponse(controller=out)
+        def read():
+            return [ControllerState(name=c.name, state=c.state, type=c.TYPE, claimed_resources=[
+                HardwareInterfaceResources(hardware_interface=iface, resources=list(joints))
+                for iface, joints in c.claimed_resources]) for c in self.manager.list_controllers()]
+        try:
+            return ListControllersResponse(controller=self.context.call(read))
+        except ModrobError as exc:
+            rospy.logwarn("%s: list_controllers: %s" % (self.namespace, exc))
+            return ListControllersResponse()
 
     def _types(self, req):
         types = self.manager.list_types()
@@ -136,16 +138,13 @@ class GazeboRosControlPlugin(object):
         name = req.name
         params = _get_param(join(self.namespace, name))
         try:
-            with self.lock:
-                controller = self.manager.load(name, params)
+            controller = self.context.call(lambda: self.manager.load(name, params))
             try:
-                adapter = adapter_for(self, controller)
+                adapter = adapter_for(self, controller)     # topics and services: this thread
             except Exception:
-                with self.lock:
-                    self.manager.unload(name)
+                self.context.call(lambda: self.manager.unload(name))
                 raise
-            with self.lock:
-                self.adapters[name] = adapter
+            self.context.call(lambda: self.adapters.__setitem__(name, adapter))
         except ModrobError as exc:
             rospy.logerr("%s: %s" % (self.namespace, exc))
             return LoadControllerResponse(ok=False)
@@ -153,10 +152,11 @@ class GazeboRosControlPlugin(object):
         return LoadControllerResponse(ok=True)
 
     def _unload(self, req):
+        def unload():
+            self.manager.unload(req.name)
+            return self.adapters.pop(req.name, None)
         try:
-            with self.lock:
-                self.manager.unload(req.name)
-                adapter = self.adapters.pop(req.name, None)
+            adapter = self.context.call(unload)
         except ModrobError as exc:
             rospy.logerr("%s: %s" % (self.namespace, exc))
             return UnloadControllerResponse(ok=False)
@@ -166,9 +166,11 @@ class GazeboRosControlPlugin(object):
         return UnloadControllerResponse(ok=True)
 
     def _switch(self, req):
-        with self.lock:
-            ok, msg = self.manager.switch(list(req.start_controllers), list(req.stop_controllers),
-                                          req.strictness)
+        try:
+            ok, msg = self.context.call(lambda: self.manager.switch(
+                list(req.start_controllers), list(req.stop_controllers), req.strictness))
+        except ModrobError as exc:
+            ok, msg = False, str(exc)
         if not ok:
             rospy.logerr("%s: switch_controller failed: %s" % (self.namespace, msg))
         elif req.start_controllers or req.stop_controllers:
@@ -178,17 +180,25 @@ class GazeboRosControlPlugin(object):
         return SwitchControllerResponse(ok=ok)
 
     def _reload(self, req):
-        with self.lock:
+        def kill_all():
             names = [c.name for c in self.manager.list_controllers()]
             if names and not req.force_kill:
-                rospy.logerr("%s: Controller manager: Cannot reload controller libraries because there are "
-                             "still %d controllers loaded (%s); call with force_kill: true"
-                             % (self.namespace, len(names), ", ".join(names)))
-                return ReloadControllerLibrariesResponse(ok=False)
+                return names, None
             self.manager.switch([], [n for n in names if self.manager.get(n).state == "running"], BEST_EFFORT)
             adapters = [self.adapters.pop(n) for n in names if n in self.adapters]
             for n in names:
                 self.manager.unload(n)
+            return names, adapters
+        try:
+            names, adapters = self.context.call(kill_all)
+        except ModrobError as exc:
+            rospy.logerr("%s: reload_controller_libraries: %s" % (self.namespace, exc))
+            return ReloadControllerLibrariesResponse(ok=False)
+        if adapters is None:
+            rospy.logerr("%s: Controller manager: Cannot reload controller libraries because there are "
+                         "still %d controllers loaded (%s); call with force_kill: true"
+                         % (self.namespace, len(names), ", ".join(names)))
+            return ReloadControllerLibrariesResponse(ok=False)
         for a in adapters:
             a.shutdown()
         rospy.loginfo("%s: controller types reloaded (%d controllers were killed)" % (self.namespace,
@@ -196,8 +206,4 @@ class GazeboRosControlPlugin(object):
         return ReloadControllerLibrariesResponse(ok=True)
 
 
-def factory(model, spec, context):
-    return GazeboRosControlPlugin(model, spec, context)
-
-
-register_plugin(FILENAME, factory)
+register_plugin(FILENAME, GazeboRosControlPlugin)

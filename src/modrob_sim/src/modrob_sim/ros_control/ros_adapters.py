@@ -165,13 +165,13 @@ class TrajectoryAdapter(Adapter):
             self.inbox.append(("cancel", gh))
 
     def _on_query(self, req):
-        with self.plugin.lock:
+        def sample():       # in the loop thread: the trajectory and the joints belong to it
             traj = self.c.trajectory
             t = req.time.to_sec() if req.time.to_sec() > 0 else self.plugin.manager.time
             if traj is None:
-                pos, vel, acc = [j.position for j in self.c.joints], [0.0] * self.c.n, [0.0] * self.c.n
-            else:
-                pos, vel, acc = traj.sample(t)
+                return [j.position for j in self.c.joints], [0.0] * self.c.n, [0.0] * self.c.n
+            return traj.sample(t)
+        pos, vel, acc = self.plugin.context.call(sample)
         return QueryTrajectoryStateResponse(name=list(self.c.joint_names), position=pos, velocity=vel,
                                             acceleration=acc)
 
