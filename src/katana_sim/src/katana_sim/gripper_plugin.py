@@ -29,6 +29,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 from katana_sim.errors import ConfigError
 from katana_sim.gripper import GripperController
+from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
 
 FILENAME = "libgazebo_ros_katana_gripper.so"
@@ -61,8 +62,8 @@ def read_config(element, model):
     return cfg
 
 
-class KatanaGripperPlugin(object):
-    def __init__(self, model, spec, context):
+class KatanaGripperPlugin(ModelPlugin):
+    def load(self, model, spec, context):
         cfg = read_config(spec.element, model)
         self.model_name = model.name
         self.joints = [model.joints[cfg["r_finger_joint"]], model.joints[cfg["l_finger_joint"]]]
@@ -86,7 +87,7 @@ class KatanaGripperPlugin(object):
                       % (model.name, self.action_name, ", ".join(self.names), cfg["max_torque"]))
 
     # -- simulation loop -------------------------------------------------------------------
-    def update(self, t, dt):
+    def before_step(self, t, dt):
         positions = [j.position for j in self.joints]
         velocities = [j.velocity for j in self.joints]
         with self.lock:
@@ -162,8 +163,4 @@ def _header(stamp):
     return Header(stamp=stamp)
 
 
-def factory(model, spec, context):
-    return KatanaGripperPlugin(model, spec, context)
-
-
-register_plugin(FILENAME, factory)
+register_plugin(FILENAME, KatanaGripperPlugin)
