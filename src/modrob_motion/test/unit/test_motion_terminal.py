@@ -114,3 +114,23 @@ def test_no_robot_yet():
     t = MotionTerminal(DictDirectory({}))
     r = t.handle("0 0")
     assert not r.ok and "no robot is running yet" in r.text
+
+
+def test_one_command_table_drives_parsing_help_and_docs():
+    """Every word of the command table parses to its command, appears in help, and the docs show
+    the table as the terminal has it (regenerate: python3 -m modrob_motion.terminal_parser)."""
+    samples = {None: "0.1 0.2", "#": "#1", "deg": "deg 10", "degrees": "degrees 10", "xyz": "xyz 0 0 1"}
+    help_lines = tp.help_text()
+    for spec in tp.COMMANDS:
+        for word in spec.words:
+            line = samples.get(word, word)
+            expected = type(spec.parse(word if word not in (None, "#") else line.split()[0],
+                                       line.split()[1:] if word else line.split()))
+            assert type(tp.parse_line(line)) is expected, line
+            if word not in (None, "#"):
+                assert word in help_lines, "help does not mention '%s'" % word
+    docs = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "..", "docs",
+                        "bulbs_and_slides.md")
+    with open(docs) as f:
+        assert tp.markdown_table() in f.read(), \
+            "docs/bulbs_and_slides.md's terminal table differs: python3 -m modrob_motion.terminal_parser"
