@@ -8,8 +8,8 @@ torque, and the torque is clamped to the goal's ``max_effort`` (never above ``ma
 plugin's force limit). A goal ends when
 
 * both fingers are within ``goal_tolerance`` of the goal: ``reached_goal``;
-* the set-point has arrived but the fingers have not moved for ``stall_time``: ``stalled`` (the
-  fingers press on something);
+* the set-point has arrived but neither finger has moved more than ``stall_motion`` for
+  ``stall_time``: ``stalled`` (the fingers press on something);
 * ``timeout`` seconds have passed (katana_gazebo_plugins' GRIPPER_OPENING_CLOSING_DURATION, 6 s).
 
 An object is held when the fingers stalled on the way to closing above
@@ -37,14 +37,14 @@ class GripperController(object):
     """``update(t, dt, positions, velocities) -> efforts`` for the two finger joints."""
 
     def __init__(self, max_torque=0.5, p=3.0, d=0.02, speed=0.7, goal_tolerance=0.01,
-                 stall_velocity=0.02, stall_time=0.3, timeout=6.0,
+                 stall_motion=0.004, stall_time=0.3, timeout=6.0,
                  lower=CLOSED_ANGLE, upper=OPEN_ANGLE, presence_threshold=PRESENCE_THRESHOLD):
         for name, v in (("max_torque", max_torque), ("p", p), ("speed", speed)):
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ConfigError("gripper %s must be a positive number, got %r" % (name, v))
         self.max_torque, self.p, self.d = float(max_torque), float(p), float(d)
         self.speed, self.goal_tolerance = float(speed), float(goal_tolerance)
-        self.stall_velocity, self.stall_time, self.timeout = stall_velocity, stall_time, timeout
+        self.stall_motion, self.stall_time, self.timeout = stall_motion, stall_time, timeout
         self.lower, self.upper, self.presence_threshold = lower, upper, presence_threshold
         self.setpoint = None          # current (ramped) set-point, None until the first update
         self.goal = None              # final angle of the active goal (or the hold angle)
@@ -54,6 +54,7 @@ class GripperController(object):
         self.result = None            # GripperResult of the last finished goal
         self._start = None
         self._still_since = None
+        self._still_at = None
         self._pending = None
         self.efforts = (0.0, 0.0)
         self.positions = (0.0, 0.0)
@@ -116,17 +117,19 @@ class GripperController(object):
             self.active = False
             self.result = self._make_result(False, True, "reached %.3f rad" % self.goal)
             return
-        still = all(abs(v) < self.stall_velocity for v in velocities)
-        if arrived and still:
-            if self._still_since is None:
-                self._still_since = t
+        # still: neither finger moved more than stall_motion over the last stall_time (contact
+        # chatter makes the instantaneous velocity a poor test)
+        still = False
+        if arrived:
+            if self._still_since is None or any(abs(q - q0) > self.stall_motion
+                                                for q, q0 in zip(positions, self._still_at)):
+                self._still_since, self._still_at = t, tuple(positions)
             elif t - self._still_since >= self.stall_time:
+                still = True
                 self.active = False
                 self.result = self._make_result(True, False, "stalled at %.3f rad (goal %.3f)" % (
                     0.5 * sum(positions), self.goal))
                 return
-        else:
-            self._still_since = None
         if t - self._start > self.timeout:
             self.active = False
             self.result = self._make_result(still, False, "timed out after %.1f s at %.3f rad (goal %.3f)"

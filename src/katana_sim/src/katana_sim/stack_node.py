@@ -1,0 +1,171 @@
+"""``can_stacker`` node: find two cans (from the laser detections or the simulator's model
+states), pick the farther one, stand it on the nearer one, judge the stack, print a RESULT line.
+
+Parameters (~): source (detection | model_states, default detection), top / bottom (model names,
+model_states source only; default: the farther can is picked), result_file (YAML with the
+outcome), plot_dir (joint tracking PNG + data there), wait (s, how long to wait for the arm and
+the detections, default 120), approach, clearance, grip_effort, cart_speed (the planner's).
+"""
+import math
+import os
+
+import numpy as np
+import rospy
+import tf2_ros
+from geometry_msgs.msg import PoseArray
+
+from katana_sim.errors import KatanaError
+from katana_sim.planner import Can, StackPlanner
+from katana_sim.stacker import ArmInterface, Stacker, StackError
+
+BASE_FRAME = "katana_base_link"
+CAN_HEIGHT = 0.122
+CAN_RADIUS = 0.033
+
+
+def _lookup(buffer, target, source, wait):
+    try:
+        return buffer.lookup_transform(target, source, rospy.Time(0), rospy.Duration(wait))
+    except (tf2_ros.LookupException, tf2_ros.ConnectivityException, tf2_ros.ExtrapolationException) as exc:
+        raise StackError("no transform %s -> %s after %.0f s (is robot_state_publisher running?): %s"
+                         % (source, target, wait, exc))
+
+
+def _apply(tf, p):
+    """Transform point p by a geometry_msgs TransformStamped."""
+    t, r = tf.transform.translation, tf.transform.rotation
+    x, y, z, w = r.x, r.y, r.z, r.w
+    rot = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                    [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                    [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    return rot.dot(np.asarray(p, float)) + np.array([t.x, t.y, t.z])
+
+
+class CanStackNode(object):
+    def __init__(self):
+        self.source = rospy.get_param("~source", "detection")
+        if self.source not in ("detection", "model_states"):
+            raise StackError("~source must be 'detection' or 'model_states', got %r" % self.source)
+        self.wait = float(rospy.get_param("~wait", 120.0))
+        self.result_file = rospy.get_param("~result_file", "")
+        self.plot_dir = rospy.get_param("~plot_dir", "")
+        self.planner = StackPlanner(approach=rospy.get_param("~approach", 0.07),
+                                    clearance=rospy.get_param("~clearance", 0.04),
+                                    grip_effort=rospy.get_param("~grip_effort", 0.5),
+                                    cart_speed=rospy.get_param("~cart_speed", 0.05))
+        self.tf_buffer = tf2_ros.Buffer()
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        progress("waiting for the arm (katana.launch)")
+        self.arm = ArmInterface(wait=self.wait)
+        self.stacker = Stacker(self.arm, self.planner, log=progress)
+
+    # -- where are the cans ----------------------------------------------------------------------
+    def cans_from_model_states(self):
+        end = rospy.get_time() + self.wait
+        names = []
+        while not rospy.is_shutdown():
+            with self.arm.lock:
+                names = sorted(n for n in self.arm.models if "can" in n)
+            if len(names) >= 2 or rospy.get_time() > end:
+                break
+            rospy.sleep(0.1)
+        if len(names) < 2:
+            raise StackError("the simulator reports %d models with 'can' in the name (%s); two are needed"
+                             % (len(names), ", ".join(names)))
+        tf = _lookup(self.tf_buffer, BASE_FRAME, "world", self.wait)
+        cans = []
+        for n in names:
+            (p, _) = self.arm.model_pose(n)
+            c = _apply(tf, p)
+            cans.append(Can(c[0], c[1], c[2] - 0.5 * CAN_HEIGHT, CAN_RADIUS, CAN_HEIGHT))
+        return cans
+
+    def cans_from_detection(self):
+        progress("waiting for /katana/detected_objects (the laser detector)")
+        msg = None
+        end = rospy.get_time() + self.wait
+        while not rospy.is_shutdown() and rospy.get_time() < end:
+            try:
+                msg = rospy.wait_for_message("/katana/detected_objects", PoseArray, timeout=5.0)
+            except rospy.ROSException:
+                continue
+            if len(msg.poses) >= 2:
+                break
+        if msg is None or len(msg.poses) < 2:
+            raise StackError("the detector found %d objects within %.0f s; two cans are needed"
+                             % (0 if msg is None else len(msg.poses), self.wait))
+        tf = _lookup(self.tf_buffer, BASE_FRAME, msg.header.frame_id, self.wait)
+        cans = []
+        for pose in msg.poses:
+            c = _apply(tf, (pose.position.x, pose.position.y, pose.position.z))
+            # the cans stand on the table the arm stands on: the base's foot plane
+            cans.append(Can(c[0], c[1], 0.0, CAN_RADIUS, CAN_HEIGHT))
+        return cans
+
+    def model_near(self, can):
+        """The simulator's can model nearest to a can (for judging the result)."""
+        tf = _lookup(self.tf_buffer, BASE_FRAME, "world", self.wait)
+        best, dist = None, float("inf")
+        with self.arm.lock:
+            items = list(self.arm.models.items())
+        for name, (p, _) in items:
+            if "can" not in name:
+                continue
+            c = _apply(tf, p)
+            d = math.hypot(c[0] - can.x, c[1] - can.y)
+            if d < dist:
+                best, dist = name, d
+        return best, dist
+
+    def run(self):
+        cans = self.cans_from_detection() if self.source == "detection" else self.cans_from_model_states()
+        cans.sort(key=lambda c: -math.hypot(c.x, c.y))
+        top, bottom = cans[0], cans[1]
+        top_name, top_err = self.model_near(top)
+        bottom_name, bottom_err = self.model_near(bottom)
+        progress("cans (%s): pick %s at (%.3f, %.3f) [%s, %.1f mm off], stack on %s at (%.3f, %.3f) [%s, %.1f mm off]"
+                 % (self.source, "the farther", top.x, top.y, top_name, top_err * 1000, "the nearer",
+                    bottom.x, bottom.y, bottom_name, bottom_err * 1000))
+        t0 = rospy.get_time()
+        try:
+            self.stacker.run(top, bottom)
+        except StackError as exc:
+            return self.finish(False, "%s" % exc, t0, top_name, bottom_name, None)
+        progress("released; judging the stack 5 s after the release")
+        outcome = self.stacker.judge(top_name, bottom_name)
+        return self.finish(outcome.success, "%s on %s %s" % (top_name, bottom_name, outcome.text), t0,
+                           top_name, bottom_name, outcome)
+
+    def finish(self, ok, text, t0, top_name, bottom_name, outcome):
+        line = "RESULT: %s: %s (%.1f s simulated)" % ("success" if ok else "failure", text, rospy.get_time() - t0)
+        print(line, flush=True)
+        rospy.loginfo(line)
+        if self.result_file:
+            with open(self.result_file, "w") as f:
+                f.write("success: %s\ntop: %s\nbottom: %s\n" % ("true" if ok else "false", top_name, bottom_name))
+                if outcome is not None:
+                    f.write("tilt_deg: %.3f\noffset_m: %.5f\nheight_error_m: %.5f\n"
+                            % (outcome.tilt_deg, outcome.offset, outcome.height_error))
+                f.write("text: \"%s\"\n" % text.replace('"', "'"))
+        if self.plot_dir:
+            from katana_sim.plots import plot_joint_tracking
+            os.makedirs(self.plot_dir, exist_ok=True)
+            path = plot_joint_tracking(self.arm.joint_log, os.path.join(self.plot_dir, "katana_joint_tracking.png"))
+            progress("joint tracking plot: %s" % path)
+        return ok
+
+
+def progress(text):
+    print("[katana] %s" % text, flush=True)
+
+
+def main():
+    rospy.init_node("can_stacker")
+    try:
+        node = CanStackNode()
+        ok = node.run()
+    except KatanaError as exc:
+        print("RESULT: failure: %s" % exc, flush=True)
+        rospy.logerr("can_stacker: %s" % exc)
+        return 2
+    return 0 if ok else 1
