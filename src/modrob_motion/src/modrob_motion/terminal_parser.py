@@ -162,9 +162,11 @@ def aliases(spec):
 
 def help_text():
     width = max(len(usage(c)) for c in COMMANDS)
-    return "\n".join("  %-*s  %s%s" % (width, usage(c), c.does,
-                                        " (also: %s)" % ", ".join(aliases(c)) if aliases(c) else "")
-                     for c in COMMANDS)
+    lines = []
+    for c in COMMANDS:
+        also = " (also: %s)" % ", ".join(aliases(c)) if aliases(c) else ""
+        lines.append("  %-*s  %s%s" % (width, usage(c), c.does, also))
+    return "\n".join(lines)
 
 
 def markdown_table():
