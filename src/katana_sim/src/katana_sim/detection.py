@@ -37,7 +37,8 @@ class Detection(object):
         return self.last - self.first + 1
 
     def __repr__(self):
-        return "Detection(x=%.4f, y=%.4f, beams %d..%d, r=%.4f)" % (self.x, self.y, self.first, self.last, self.radius)
+        return "Detection(x=%.4f, y=%.4f, beams %d..%d, r=%.4f)" % (
+            self.x, self.y, self.first, self.last, self.radius)
 
 
 def in_range(r, range_min, range_max):
@@ -88,7 +89,8 @@ def detect(ranges, angle_min, angle_increment, range_min, range_max, radius=None
     ``min_beams``: shorter runs are noise. Raises DetectionError on malformed input."""
     if not all(math.isfinite(v) for v in (angle_min, angle_increment, range_min, range_max)):
         raise DetectionError("scan angles/limits must be finite (angle_min %r, angle_increment %r, "
-                             "range_min %r, range_max %r)" % (angle_min, angle_increment, range_min, range_max))
+                             "range_min %r, range_max %r)"
+                             % (angle_min, angle_increment, range_min, range_max))
     if angle_increment == 0 or range_max <= range_min:
         raise DetectionError("scan with angle_increment %r and range [%r, %r] cannot be split into objects"
                              % (angle_increment, range_min, range_max))

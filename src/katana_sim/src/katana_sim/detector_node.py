@@ -51,7 +51,8 @@ class ObjectDetectorNode(object):
             p.position.x, p.position.y, p.position.z = d.x, d.y, d.z
             p.orientation.w = 1.0
             poses.poses.append(p)
-            m = Marker(header=scan.header, ns="detected_objects", id=i, type=Marker.CYLINDER, action=Marker.ADD)
+            m = Marker(header=scan.header, ns="detected_objects", id=i, type=Marker.CYLINDER,
+                       action=Marker.ADD)
             m.pose = p
             m.scale.x = m.scale.y = 2 * d.radius
             m.scale.z = self.height

@@ -64,15 +64,16 @@ class GripperController(object):
         """Start a goal: ``position`` finger angle (rad), ``max_effort`` torque limit per finger
         (N m; <= 0 means the plugin's max_torque). Returns (accepted, text)."""
         if not (isinstance(position, (int, float)) and math.isfinite(position)):
-            return False, "gripper command position %r is not a finite number (rad, %.2f closed .. %.2f open)" % (
-                position, self.lower, self.upper)
+            return False, ("gripper command position %r is not a finite number (rad, %.2f closed .. "
+                           "%.2f open)" % (position, self.lower, self.upper))
         if not (isinstance(max_effort, (int, float)) and math.isfinite(max_effort)):
             return False, "gripper command max_effort %r is not a finite number (N m; 0 = %.2f)" % (
                 max_effort, self.max_torque)
         text = ""
         target = min(max(float(position), self.lower), self.upper)
         if target != position:
-            text = "position %.3f clamped to the finger limits [%.2f, %.2f]" % (position, self.lower, self.upper)
+            text = "position %.3f clamped to the finger limits [%.2f, %.2f]" % (
+                position, self.lower, self.upper)
         limit = self.max_torque if max_effort <= 0 else min(float(max_effort), self.max_torque)
         self._pending = (target, limit)
         return True, text

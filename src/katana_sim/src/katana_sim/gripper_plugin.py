@@ -54,7 +54,8 @@ def read_config(element, model):
         raise ConfigError("model '%s': <max_torque>%s</max_torque> of %s is not a number (N m)"
                           % (model.name, raw, FILENAME))
     if not (math.isfinite(cfg["max_torque"]) and cfg["max_torque"] > 0):
-        raise ConfigError("model '%s': <max_torque> of %s must be > 0 N m, got %s" % (model.name, FILENAME, raw))
+        raise ConfigError("model '%s': <max_torque> of %s must be > 0 N m, got %s"
+                          % (model.name, FILENAME, raw))
     for key in ("r_finger_joint", "l_finger_joint"):
         if cfg[key] not in model.joints:
             raise ConfigError("model '%s' has no joint '%s' (<%s> of %s); its joints: %s"

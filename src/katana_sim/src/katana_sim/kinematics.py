@@ -106,7 +106,8 @@ def limit_violations(q):
 def _check_target(p):
     p = [float(v) for v in p]
     if len(p) != 3 or not all(math.isfinite(v) for v in p):
-        raise UnreachableError("target must be three finite numbers (x y z in katana_base_link), got %s" % (p,))
+        raise UnreachableError("target must be three finite numbers (x y z in katana_base_link), got %s"
+                               % (p,))
     return p
 
 

@@ -197,13 +197,12 @@ def judge_stack(top_pose, bottom_pose, can_height=0.122, max_tilt_deg=10.0, max_
     """Whether the top can stands on the bottom one: poses ((x, y, z), (qx, qy, qz, qw)) of the
     cans' centres in the world. Success = tilt < max_tilt_deg, horizontal centre offset <
     max_offset, and the top centre one can height above the bottom centre (+- max_height_error)."""
-    (tp, tq), (bp, bq) = top_pose, bottom_pose
+    (tp, tq), (bp, _) = top_pose, bottom_pose
     tilt = math.degrees(tilt_of(tq))
     offset = math.hypot(tp[0] - bp[0], tp[1] - bp[1])
     dz = (tp[2] - bp[2]) - can_height
     ok = tilt < max_tilt_deg and offset < max_offset and abs(dz) < max_height_error
-    text = ("stands" if ok else "does not stand") + (": tilt %.1f deg (< %.0f), centres %.1f mm apart (< %.0f), "
-                                                     "height error %.1f mm"
-                                                     % (tilt, max_tilt_deg, offset * 1000, max_offset * 1000,
-                                                        dz * 1000))
+    text = ("stands" if ok else "does not stand") + (
+        ": tilt %.1f deg (< %.0f), centres %.1f mm apart (< %.0f), height error %.1f mm"
+        % (tilt, max_tilt_deg, offset * 1000, max_offset * 1000, dz * 1000))
     return StackOutcome(ok, tilt, offset, dz, text)

@@ -31,7 +31,8 @@ def plot_joint_tracking(log, path):
     return path
 
 
-def plot_scan(angles, ranges, range_min, range_max, detections, path, title="laser scan and detected objects"):
+def plot_scan(angles, ranges, range_min, range_max, detections, path,
+              title="laser scan and detected objects"):
     """Top view in the laser frame: beams in range (blue), out of range (grey, at range_max),
     detected centres (green crosses) with their radius circles."""
     fig, ax = plt.subplots(figsize=(7, 7))
@@ -46,7 +47,8 @@ def plot_scan(angles, ranges, range_min, range_max, detections, path, title="las
     ax.plot(xout, yout, ".", color="0.8", markersize=2, label="no return")
     ax.plot(xin, yin, ".", color="tab:blue", markersize=4, label="in range")
     for i, d in enumerate(detections):
-        ax.plot(d.x, d.y, "x", color="tab:green", markersize=10, mew=2, label="detected centre" if i == 0 else None)
+        ax.plot(d.x, d.y, "x", color="tab:green", markersize=10, mew=2,
+                label="detected centre" if i == 0 else None)
         ax.add_patch(plt.Circle((d.x, d.y), d.radius, fill=False, color="tab:green"))
         ax.annotate("%d: (%.3f, %.3f)" % (i, d.x, d.y), (d.x, d.y), textcoords="offset points", xytext=(8, 8))
     ax.plot([0], [0], "s", color="k", label="laser")

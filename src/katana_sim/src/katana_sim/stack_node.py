@@ -123,8 +123,9 @@ class CanStackNode(object):
         top, bottom = cans[0], cans[1]
         top_name, top_err = self.model_near(top)
         bottom_name, bottom_err = self.model_near(bottom)
-        progress("cans (%s): pick %s at (%.3f, %.3f) [%s, %.1f mm off], stack on %s at (%.3f, %.3f) [%s, %.1f mm off]"
-                 % (self.source, "the farther", top.x, top.y, top_name, top_err * 1000, "the nearer",
+        progress("cans (%s): pick the farther at (%.3f, %.3f) [%s, %.1f mm off], stack it on the nearer at "
+                 "(%.3f, %.3f) [%s, %.1f mm off]"
+                 % (self.source, top.x, top.y, top_name, top_err * 1000,
                     bottom.x, bottom.y, bottom_name, bottom_err * 1000))
         t0 = rospy.get_time()
         try:
@@ -137,12 +138,14 @@ class CanStackNode(object):
                            top_name, bottom_name, outcome)
 
     def finish(self, ok, text, t0, top_name, bottom_name, outcome):
-        line = "RESULT: %s: %s (%.1f s simulated)" % ("success" if ok else "failure", text, rospy.get_time() - t0)
+        line = "RESULT: %s: %s (%.1f s simulated)" % ("success" if ok else "failure", text,
+                                                      rospy.get_time() - t0)
         print(line, flush=True)
         rospy.loginfo(line)
         if self.result_file:
             with open(self.result_file, "w") as f:
-                f.write("success: %s\ntop: %s\nbottom: %s\n" % ("true" if ok else "false", top_name, bottom_name))
+                f.write("success: %s\ntop: %s\nbottom: %s\n"
+                        % ("true" if ok else "false", top_name, bottom_name))
                 if outcome is not None:
                     f.write("tilt_deg: %.3f\noffset_m: %.5f\nheight_error_m: %.5f\n"
                             % (outcome.tilt_deg, outcome.offset, outcome.height_error))
@@ -150,7 +153,8 @@ class CanStackNode(object):
         if self.plot_dir:
             from katana_sim.plots import plot_joint_tracking
             os.makedirs(self.plot_dir, exist_ok=True)
-            path = plot_joint_tracking(self.arm.joint_log, os.path.join(self.plot_dir, "katana_joint_tracking.png"))
+            path = plot_joint_tracking(self.arm.joint_log,
+                                       os.path.join(self.plot_dir, "katana_joint_tracking.png"))
             progress("joint tracking plot: %s" % path)
         return ok
 

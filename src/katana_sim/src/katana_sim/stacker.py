@@ -14,8 +14,8 @@ import threading
 import actionlib
 import rospy
 from actionlib_msgs.msg import GoalStatus
-from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryGoal, FollowJointTrajectoryResult,
-                              GripperCommandAction, GripperCommandGoal)
+from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryGoal,
+                              FollowJointTrajectoryResult, GripperCommandAction, GripperCommandGoal)
 from gazebo_msgs.msg import ModelStates
 from geometry_msgs.msg import Point
 from sensor_msgs.msg import JointState
@@ -110,7 +110,8 @@ class ArmInterface(object):
 
 
 class Stacker(object):
-    def __init__(self, arm, planner, settle_tolerance=0.004, settle_iterations=6, marker_frame="katana_base_link",
+    def __init__(self, arm, planner, settle_tolerance=0.004, settle_iterations=6,
+                 marker_frame="katana_base_link",
                  log=rospy.loginfo):
         self.arm, self.planner = arm, planner
         self.settle_tolerance, self.settle_iterations = settle_tolerance, settle_iterations

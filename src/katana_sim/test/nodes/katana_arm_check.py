@@ -35,7 +35,8 @@ class KatanaArm(unittest.TestCase):
         cls.arm = actionlib.SimpleActionClient("/katana_arm_controller/follow_joint_trajectory",
                                                FollowJointTrajectoryAction)
         cls.gripper = actionlib.SimpleActionClient("/gripper_grasp_posture_controller", GripperCommandAction)
-        assert cls.arm.wait_for_server(rospy.Duration(60)), "no /katana_arm_controller/follow_joint_trajectory"
+        assert cls.arm.wait_for_server(rospy.Duration(60)), \
+            "no /katana_arm_controller/follow_joint_trajectory"
         assert cls.gripper.wait_for_server(rospy.Duration(60)), "no /gripper_grasp_posture_controller"
         wait_until(lambda: all(j in cls.positions for j in JOINTS + ("katana_r_finger_joint",)), 30,
                    "joint states of the arm and the fingers")
