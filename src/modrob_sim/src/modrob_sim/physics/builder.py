@@ -16,7 +16,7 @@ import numpy as np
 import ode
 
 from ..errors import ModelError
-from . import odelib
+from . import limits, odelib
 from .description import PluginSpec
 from .model import Group, Joint, Link, Model
 from .transforms import (IDENTITY_POSE, pose_inv, pose_mul, quat_rotate,
@@ -135,8 +135,11 @@ def build_model(world, desc, pose, robot_namespace, prepared_meshes):
 def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
     for jd in desc.joints.values():
         if jd.type == "planar":
-            raise ModelError("model '%s' joint '%s': planar joints are not supported yet; use two "
-                             "prismatic joints" % (model.name, jd.name))
+            # as Gazebo's URDF -> SDF conversion: no joint is made, the child link moves freely
+            world._warn_once("planar:%s:%s" % (model.name, jd.name),
+                             "model '%s' joint '%s' is planar: as in Gazebo, which converts no joint for "
+                             "it, link '%s' is a free body (nothing keeps it in the plane)"
+                             % (model.name, jd.name, jd.child))
     order = joint_order(desc)
     model._root_name = desc.root
     model._world_pose = pose if desc.root == "world" else IDENTITY_POSE
@@ -155,6 +158,8 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
         model.plugins.append(PluginSpec(p.name, p.filename, p.element, ns, p.link, p.sensor))
 
     poses = zero_configuration_poses(desc, order, pose)
+    for ln, p in poses.items():
+        limits.check_link_extent(model.name, ln, p[0])
 
     # ---- groups: union over fixed joints ----------------------------------------------------
     group_of = {}
@@ -269,7 +274,7 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
     # ---- joints -----------------------------------------------------------------------------
     for j in model._joint_order:
         jd = desc.joints[j.name]
-        if j.type in ("fixed", "floating"):
+        if j.type in ("fixed", "floating", "planar"):
             continue
         child = model.links[j.child]
         if child._body is None:

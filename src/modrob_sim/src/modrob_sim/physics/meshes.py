@@ -177,14 +177,14 @@ def _node_matrix(node):
 def _read_dae(data, path):
     """Minimal COLLADA: <triangles> and <polylist>/<polygons> (fan-triangulated) of every
     <geometry>, placed by the <visual_scene> node transforms that instance them (each geometry
-    once as-is if no scene instances it); <unit meter> and <up_axis> Y_UP (rotated to Z up, as
-    RViz shows it) are applied."""
+    once as-is if no scene instances it); <unit meter> is applied. <up_axis> is ignored, as
+    Gazebo classic's COLLADA loader and RViz do (RViz drops the root transform in which Assimp
+    puts the up-axis rotation): a Y_UP file modelled along z stands on z, as it does there."""
     try:
         root = ET.fromstring(data)
     except ET.ParseError as e:
         raise MeshError("DAE '%s' is not valid XML: %s" % (path, e))
     unit = 1.0
-    up = "Z_UP"
     for el in root.iter():
         t = _strip(el.tag)
         if t == "unit" and el.get("meter"):
@@ -192,8 +192,6 @@ def _read_dae(data, path):
                 unit = float(el.get("meter"))
             except ValueError:
                 pass
-        elif t == "up_axis" and el.text:
-            up = el.text.strip()
     geoms = {}
     for g in root.iter():
         if _strip(g.tag) != "geometry":
@@ -282,17 +280,11 @@ def _read_dae(data, path):
                     walk(node, _eye())
     if not instanced:
         instanced = [(gid, _eye()) for gid in geoms]
-    base = _eye()
-    if up == "Y_UP":
-        base = [[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
-    elif up == "X_UP":
-        base = [[0.0, -1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
     verts = []
     out = []
     for gid, m in instanced:
         if gid not in geoms:
             continue
-        m = _mat_mul(base, m)
         sources, tris = geoms[gid]
         cache = {}
         for src, a, b, c in tris:

@@ -6,14 +6,17 @@ to it by fixed joints), oriented like the group's root link. Each Link keeps ``_
 link frame in its body frame, so link poses go both ways without loss (also for links behind
 fixed joints, which Gazebo loses).
 """
+import logging
 import math
 import weakref
 
 from ..errors import SimulationError
 from . import odelib
+from .limits import JOINT_POSITION_LIMIT, LENGTH_LIMIT
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, pose_inv, pose_mul,
                          quat_from_axis_angle, quat_rotate, from_ode_quat, to_ode_quat)
 
+LOG = logging.getLogger("modrob_sim.physics")
 TWO_PI = 2.0 * math.pi
 #: forces/torques beyond this (N, N m) are clamped before they reach ODE: finite but astronomic
 #: values overflow ODE's integrator into NaN, which aborts the process.
@@ -170,6 +173,9 @@ class Link(object):
         f = _capped(check_vec3(force, what + " force"))
         t = _capped(check_vec3(torque, what + " torque"))
         p = check_vec3(reference_point, what + " reference_point")
+        if max(abs(x) for x in p) > LENGTH_LIMIT:
+            raise ValueError("%s: reference_point %r is beyond %g m from the link origin (limits: "
+                             "docs/simulator.md); nothing applied" % (what, p, LENGTH_LIMIT))
         if duration is not None:
             duration = float(duration)
             if not math.isfinite(duration) or duration <= 0:
@@ -249,6 +255,21 @@ class Joint(object):
         if f < -FORCE_CAP:
             return -FORCE_CAP
         return f
+
+    def _bounded_position(self, q):
+        """A position to teleport to: refused beyond JOINT_POSITION_LIMIT (ValueError), clamped
+        into [lower, upper] with a warning (the joint's stops would otherwise fire it back)."""
+        if abs(q) > JOINT_POSITION_LIMIT:
+            raise ValueError("model '%s' joint '%s': position %g is beyond %g (limits: "
+                             "docs/simulator.md); nothing changed"
+                             % (self.model.name, self.name, q, JOINT_POSITION_LIMIT))
+        lo, hi = self.lower, self.upper
+        if lo is not None and hi is not None and not lo <= q <= hi:
+            c = min(max(q, lo), hi)
+            LOG.warning("model '%s' joint '%s': position %g is outside its limits [%g, %g]: set to %g",
+                        self.model.name, self.name, q, lo, hi, c)
+            return c
+        return q
 
     def _check_effort(self, f):
         try:
@@ -446,7 +467,7 @@ class Model(object):
             if j.type in ("fixed", "floating", "planar"):
                 raise ValueError("model '%s' joint '%s' is %s: it has no position to set"
                                  % (self.name, n, j.type))
-            targets[n] = q
+            targets[n] = j._bounded_position(q)
         if not targets:
             return
         self._apply_configuration(targets, rigid_velocity=False)

@@ -15,6 +15,7 @@ other than the defaults is not supported and is refused.
 import os
 
 from ..errors import ModelError
+from . import limits
 from .description import (GeometryDesc, JointDesc, LinkDesc, ModelDesc, PluginSpec, Surface)
 from .transforms import IDENTITY_POSE, pose_inv, pose_mul, quat_from_rpy, quat_rotate
 from .xml_util import Reader, local, parse_xml
@@ -233,10 +234,8 @@ def _model(rd, me, name, warn):
         if ae is not None:
             xyz_e = _child(ae, "xyz")
             axis = rd.floats(_text(ae, "xyz", "0 0 1"), 3, where, "<axis><xyz>")
-            n = sum(a * a for a in axis) ** 0.5
-            if n < 1e-9:
-                rd.fail(where, "<axis><xyz> has zero length")
-            axis = tuple(a / n for a in axis)
+            limits.check_axis(name, where, "<axis><xyz>", axis)
+            axis = limits.normalized_axis(axis)
             in_model = rd.bool(_text(ae, "use_parent_model_frame", "false"), where,
                                "<use_parent_model_frame>") or \
                 (xyz_e is not None and xyz_e.get("expressed_in") == "__model__")
@@ -302,7 +301,7 @@ def _model(rd, me, name, warn):
         desc.root_offset = rp
     else:
         desc.root_offset = IDENTITY_POSE
-    return desc
+    return limits.validate_model(desc)
 
 
 def read_sdf(xml_text, name, warn, resolver=None):
@@ -338,13 +337,19 @@ def _world(rd, we, warn, resolver, xml_text):
     settings = {}
     g = _text(we, "gravity")
     if g:
-        settings["gravity"] = rd.floats(g, 3, "<world><gravity>", "gravity")
+        settings["gravity"] = _checked(rd, limits.check_gravity,
+                                       rd.floats(g, 3, "<world><gravity>", "gravity"), "<world><gravity>")
     ph = _child(we, "physics")
     if ph is not None:
         if _text(ph, "max_step_size"):
-            settings["time_step"] = rd.float(_text(ph, "max_step_size"), "<physics>", "<max_step_size>")
+            settings["time_step"] = _checked(
+                rd, limits.check_time_step,
+                rd.float(_text(ph, "max_step_size"), "<physics>", "<max_step_size>"),
+                "<physics><max_step_size>")
         if _text(ph, "gravity"):
-            settings["gravity"] = rd.floats(_text(ph, "gravity"), 3, "<physics>", "gravity")
+            settings["gravity"] = _checked(rd, limits.check_gravity,
+                                           rd.floats(_text(ph, "gravity"), 3, "<physics>", "gravity"),
+                                           "<physics><gravity>")
         ode_e = _child(ph, "ode")
         if ode_e is not None:
             solver = _child(ode_e, "solver")
@@ -389,6 +394,13 @@ def _world(rd, we, warn, resolver, xml_text):
                        "atmosphere", "spherical_coordinates", "state", "wind"):
             warn("sdf-world-tag:" + t, "SDF world <%s> is not supported; ignored" % t)
     return descs, settings
+
+
+def _checked(rd, check, value, what):
+    try:
+        return check(value, what)
+    except ValueError as e:
+        rd.fail("<world>", str(e))
 
 
 def _included_model(rd, uri, resolver):

@@ -6,6 +6,8 @@ a unit quaternion ``(x, y, z, w)`` (ROS order). ODE stores quaternions as ``(w, 
 """
 import math
 
+from .limits import LENGTH_LIMIT
+
 IDENTITY_QUAT = (0.0, 0.0, 0.0, 1.0)
 IDENTITY_POSE = ((0.0, 0.0, 0.0), IDENTITY_QUAT)
 
@@ -151,8 +153,9 @@ def check_pose(pose, what):
         raise ValueError("%s: a pose is ((x, y, z), (qx, qy, qz, qw)), got %r" % (what, pose))
     if not all(math.isfinite(x) for x in p + q):
         raise ValueError("%s: pose has a non-finite value: %r" % (what, pose))
-    if max(abs(x) for x in p) > 1e9:
-        raise ValueError("%s: position %r is beyond 1e9 m" % (what, p))
+    if max(abs(x) for x in p) > LENGTH_LIMIT:
+        raise ValueError("%s: position %r is beyond %g m (limits: docs/simulator.md)"
+                         % (what, p, LENGTH_LIMIT))
     try:
         q = quat_normalize(q)
     except ValueError:

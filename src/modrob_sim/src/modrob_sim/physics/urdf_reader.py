@@ -4,8 +4,8 @@ Read with ElementTree rather than urdf_parser_py: we need the <gazebo> extension
 urdf_parser_py drops), the <sensor>/<plugin> Elements for plugins, and error messages that name
 the model, link and joint (urdf_parser_py prints to stderr and carries on).
 """
-import math
 
+from . import limits
 from .description import (JOINT_TYPES, GeometryDesc, JointDesc, LinkDesc, ModelDesc,
                           PluginSpec)
 from .transforms import IDENTITY_POSE, quat_from_rpy
@@ -161,11 +161,9 @@ def read_urdf(name, xml_text, warn):
         ae = je.find("axis")
         if ae is not None:
             axis = rd.floats(ae.get("xyz", "1 0 0"), 3, where, "<axis xyz>")
-            n = math.sqrt(sum(a * a for a in axis))
-            if n < 1e-9 and jtype in ("revolute", "continuous", "prismatic", "planar"):
-                rd.fail(where, "<axis xyz='%s'> has zero length" % ae.get("xyz"))
-            if n > 0:
-                j.axis = tuple(a / n for a in axis)
+            if jtype in ("revolute", "continuous", "prismatic", "planar"):
+                limits.check_axis(name, where, "<axis xyz>", axis)
+                j.axis = limits.normalized_axis(axis)
         le = je.find("limit")
         if le is not None:
             j.effort_limit = rd.float(le.get("effort"), where, "<limit effort>", 0.0)
@@ -234,7 +232,7 @@ def read_urdf(name, xml_text, warn):
         rd.fail("tree", "links not connected to the root '%s': %s" % (desc.root, ", ".join(unreached)))
 
     _read_gazebo(rd, root, desc, name, warn)
-    return desc
+    return limits.validate_model(desc)
 
 
 def _read_gazebo(rd, root, desc, name, warn):
