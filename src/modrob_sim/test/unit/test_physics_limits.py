@@ -215,3 +215,17 @@ def test_collada_up_axis_is_ignored_as_gazebo_and_rviz_do(tmp_path):
     z_up = meshes.bounds(meshes.load_mesh(cube)[0])
     y_up = meshes.bounds(meshes.load_mesh(str(path))[0])
     assert y_up == z_up
+
+
+@pytest.mark.parametrize("field, value, words", [
+    ("gravity", (0, 0, 1e308), "within +-1000 m/s^2"),
+    ("time_step", 5e-324, "must be in [1e-06, 0.1] s"),
+])
+def test_world_gravity_and_time_step_beyond_limits_are_refused(field, value, words):
+    world = scene()
+    before = signature(world)
+    with pytest.raises(ValueError) as err:
+        setattr(world, field, value)
+    assert words in str(err.value)
+    assert signature(world) == before
+    world.step(20)

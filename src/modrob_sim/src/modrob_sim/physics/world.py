@@ -13,6 +13,7 @@ from collections import OrderedDict, namedtuple
 import ode
 
 from ..errors import ModelError, SimulationError
+from . import limits
 from . import meshes as meshlib
 from . import native as native_mod
 from . import odelib
@@ -81,7 +82,7 @@ class World(object):
         """``native`` (addition): None = use the C hot loop when it is available, False = the
         pure-Python path, True = require the C loop (SimulationError if it cannot be built)."""
         self._dt = self._check_dt(time_step)
-        self._gravity = check_vec3(gravity, "World gravity")
+        self._gravity = limits.check_gravity(check_vec3(gravity, "World gravity"), "World gravity")
         try:
             self._seed = int(seed)
         except (TypeError, ValueError):
@@ -146,13 +147,7 @@ class World(object):
     # ---- properties --------------------------------------------------------------------------
     @staticmethod
     def _check_dt(dt):
-        try:
-            dt = float(dt)
-        except (TypeError, ValueError):
-            raise ValueError("time_step must be a number of seconds, got %r" % (dt,))
-        if not (math.isfinite(dt) and 0.0 < dt <= 0.1):
-            raise ValueError("time_step must be in (0, 0.1] s, got %r" % dt)
-        return dt
+        return limits.check_time_step(dt)
 
     @property
     def time_step(self):
@@ -170,7 +165,7 @@ class World(object):
 
     @gravity.setter
     def gravity(self, g):
-        self._gravity = check_vec3(g, "World gravity")
+        self._gravity = limits.check_gravity(check_vec3(g, "World gravity"), "World gravity")
         self._ode_world.setGravity(self._gravity)
         for m in self.models.values():
             for b in m._bodies:
