@@ -12,8 +12,10 @@ from urdf_parser_py.urdf import URDF
 
 ARM = """<robot name="arm">
   <link name="base"/>
-  <link name="upper"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
-  <link name="lower"><inertial><mass value="0.5"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="upper"><inertial><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="lower"><inertial><mass value="0.5"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
   <link name="tool"/>
   <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/>
     <origin xyz="0 0 0.5"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="1"/></joint>
@@ -55,7 +57,8 @@ def test_model_file_and_string_agree(tmp_path):
     assert tips[0] == pytest.approx(tips[1]) and tips[0] == pytest.approx(tips[2])
 
 
-@pytest.mark.parametrize("xml", ["", "<robot name='x'>", "<robot name='x'><link name='a'/><link name='b'/></robot>"])
+@pytest.mark.parametrize("xml", ["", "<robot name='x'>",
+                                 "<robot name='x'><link name='a'/><link name='b'/></robot>"])
 def test_bad_description_is_not_ok(xml, caplog):
     ok, tree = treeFromString(xml)
     assert not ok and tree is None

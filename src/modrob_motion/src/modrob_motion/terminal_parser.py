@@ -11,6 +11,7 @@ import sys
 
 from modrob_motion.errors import ParseError
 
+
 class Command(object):
     """Base of the parsed commands; equality by type and fields (handy in tests)."""
     __slots__ = ()
