@@ -1,0 +1,1 @@
+"""ROS layers of ptrz_camera: one class per node."""

@@ -1,0 +1,66 @@
+"""Helpers of the ptrz_camera rostest nodes: waiting on wall and simulated time, controllers,
+the latest message of a topic."""
+import threading
+import time
+
+import rospy
+from controller_manager_msgs.srv import ListControllers
+from sensor_msgs.msg import JointState
+
+CONTROLLERS = ["joint_state_controller", "roll_position_controller", "tilt_position_controller",
+               "pan_position_controller"]
+
+
+def wait_until(pred, wall_timeout, what, period=0.01):
+    start = time.monotonic()
+    while time.monotonic() - start < wall_timeout and not rospy.is_shutdown():
+        if pred():
+            return True
+        time.sleep(period)
+    raise AssertionError("timed out after %.0f s waiting for %s" % (wall_timeout, what))
+
+
+def wait_running(ns, names=CONTROLLERS, timeout=60):
+    rospy.wait_for_service(ns + "/controller_manager/list_controllers", timeout=timeout)
+    srv = rospy.ServiceProxy(ns + "/controller_manager/list_controllers", ListControllers)
+    wait_until(lambda: all({c.name: c.state for c in srv().controller}.get(n) == "running" for n in names),
+               timeout, "controllers %s running in %s" % (names, ns), period=0.2)
+
+
+def sim_sleep(seconds, wall_timeout=60):
+    end = rospy.get_time() + seconds
+    wait_until(lambda: rospy.get_time() >= end, wall_timeout, "%.1f s of simulated time" % seconds)
+
+
+class Latest(object):
+    """The latest message of a topic, and every message with its receive (sim) time."""
+
+    def __init__(self, topic, cls, keep=True):
+        self.msg = None
+        self.history = []
+        self.keep = keep
+        self.lock = threading.Lock()
+        self.sub = rospy.Subscriber(topic, cls, self._cb, queue_size=1000)
+
+    def _cb(self, msg):
+        with self.lock:
+            self.msg = msg
+            if self.keep:
+                self.history.append((rospy.get_time(), msg))
+
+    def clear(self):
+        with self.lock:
+            self.history = []
+
+
+class Joints(Latest):
+    def __init__(self, ns):
+        Latest.__init__(self, ns + "/joint_states", JointState)
+
+    def position(self, joint):
+        msg = self.msg
+        return msg.position[msg.name.index(joint)]
+
+    def positions_since(self, joint, t0):
+        with self.lock:
+            return [m.position[m.name.index(joint)] for t, m in self.history if t >= t0]

@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""rostest node of scanner.test: scanner_joint_control.py _joints:=tilt commands positions in
+[0, pi + step], turning at both ends, one step (0.05 rad) per 0.05 s of simulated time, and the
+tilt joint follows."""
+import math
+import os
+import sys
+import unittest
+
+import rospy
+import rostest
+from std_msgs.msg import Float64
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ptrz_test_common import Joints, Latest, wait_running, wait_until  # noqa: E402
+
+NS = "/ptrz"
+STEP = 0.05
+
+
+class ScannerBounds(unittest.TestCase):
+    def test_scanner_goes_back_and_forth_between_0_and_pi(self):
+        rospy.init_node("scanner_check")
+        wait_running(NS)
+        joints = Joints(NS)
+        cmd = Latest(NS + "/tilt_position_controller/command", Float64)
+        pan = Latest(NS + "/pan_position_controller/command", Float64)
+
+        def values():
+            with cmd.lock:
+                return [m.data for _, m in cmd.history]
+
+        # up to pi (63 steps), down to 0, up again: a bit more than 1.5 cycles
+        wait_until(lambda: len(values()) > 63 * 3 + 5, 85, "1.5 scan cycles of tilt commands")
+        v = values()
+        self.assertGreaterEqual(min(v), 0.0)
+        self.assertLessEqual(max(v), math.pi + STEP)
+        self.assertGreaterEqual(max(v), math.pi)
+        steps = [b - a for a, b in zip(v, v[1:])]
+        self.assertTrue(all(abs(abs(s) - STEP) < 1e-9 for s in steps), "every step is 0.05 rad")
+        turns = [i for i in range(1, len(steps)) if (steps[i] > 0) != (steps[i - 1] > 0)]
+        self.assertGreaterEqual(len(turns), 2, "turned at both ends")
+        top, bottom = v[turns[0]], v[turns[1]]
+        self.assertGreaterEqual(top, math.pi)
+        self.assertAlmostEqual(bottom, 0.0, places=9)
+        with cmd.lock:
+            times = [t for t, _ in cmd.history]
+        period = (times[-1] - times[0]) / (len(times) - 1)
+        self.assertAlmostEqual(period, 0.05, delta=0.02, msg="one step per 0.05 s of simulated time")
+        with joints.lock:
+            tilts = [m.position[m.name.index("tilt")] for _, m in joints.history]
+        self.assertGreater(max(tilts), 2.9, "the tilt joint followed the scan up")
+        self.assertIsNone(pan.msg, "only the chosen joint is commanded")
+
+
+if __name__ == "__main__":
+    rostest.rosrun("ptrz_camera", "scanner", ScannerBounds)
