@@ -24,6 +24,7 @@ from modrob_sim.errors import PluginError
 #: to import is logged with its error and skipped.
 PLUGIN_MODULES = [
     "modrob_sim.ros_control.plugin",
+    "modrob_sim.camera.plugin",
 ]
 
 _log = logging.getLogger(__name__)

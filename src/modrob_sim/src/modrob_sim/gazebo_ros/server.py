@@ -22,6 +22,7 @@ from visualization_msgs.msg import MarkerArray
 
 from modrob_msgs.srv import StepSimulation, StepSimulationResponse
 from modrob_sim.errors import ModelError, ModrobError
+from modrob_sim.camera.scene import ScenePublisher
 from modrob_sim.gazebo_ros import description, markers, plugins
 from modrob_sim.gazebo_ros import transforms as tf
 from modrob_sim.gazebo_ros.plugin_host import PluginHost
@@ -229,6 +230,8 @@ class GazeboRosNode(object):
         self._guard_pub = rospy.Publisher("~guard_events", String, queue_size=20)
         self._marker_pub = rospy.Publisher("~world_markers", MarkerArray, queue_size=1, latch=True)
         self._markers = markers.WorldMarkers(self.world, params.marker_models)
+        # every model's visuals + per-link tf for RViz and the camera renderer (modrob_sim.camera)
+        self._scene = ScenePublisher.for_world(self.world, float(rospy.get_param("~scene_rate", 30.0)))
 
         self._clock_period = 1.0 / params.pub_clock_frequency if params.pub_clock_frequency > 0 else 0.0
         self._last_clock_wall = -1e9
@@ -343,6 +346,7 @@ class GazeboRosNode(object):
         if self._marker_period > 0.0 and now_t + 1e-12 >= self._next_marker_t:
             self._next_marker_t = now_t + self._marker_period
             self._publish_markers()
+        self._scene.after_step(now_t)
 
     def _publish_clock(self, force=False):
         t = self.world.time

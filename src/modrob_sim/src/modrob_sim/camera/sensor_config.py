@@ -1,0 +1,128 @@
+"""A Gazebo camera sensor and its ``libgazebo_ros_camera.so`` plugin, read from XML (pure).
+
+SDF ``<sensor type="camera">``: ``<update_rate>``, ``<pose>``, ``<camera>`` with
+``<horizontal_fov>`` (default 1.047 rad), ``<image><width><height><format>`` (320 x 240, R8G8B8),
+``<clip><near><far>`` (0.1, 100), ``<noise><type>gaussian</type><mean><stddev>``.
+Plugin: ``cameraName`` (""), ``imageTopicName`` (image_raw), ``cameraInfoTopicName``
+(camera_info), ``frameName`` (world), ``updateRate`` (0 = the sensor's rate), ``hackBaseline``
+(0), ``robotNamespace``; ``distortionK1..K3``, ``distortionT1``, ``distortionT2``, ``CxPrime``,
+``Cx``, ``Cy``, ``focalLength``, ``borderCrop``, ``alwaysOn`` are accepted (the image itself is
+rendered undistorted; the k/t values go into CameraInfo's D).
+"""
+import collections
+import math
+
+from modrob_sim.errors import ModelError
+
+CameraSensorConfig = collections.namedtuple(
+    "CameraSensorConfig",
+    "sensor_name link pose update_rate hfov width height format near far noise_mean noise_stddev "
+    "camera_name image_topic info_topic frame_name hack_baseline distortion robot_namespace")
+
+FORMATS = ("R8G8B8", "B8G8R8", "L8", "RGB_INT8", "BGR_INT8")
+DEFAULT_RATE = 30.0      # Hz, when neither the sensor nor the plugin gives one (Gazebo: unlimited)
+
+
+def _text(elem, path, default=None):
+    if elem is None:
+        return default
+    node = elem.find(path)
+    if node is None or node.text is None or not node.text.strip():
+        return default
+    return node.text.strip()
+
+
+def _float(elem, path, default, where):
+    text = _text(elem, path)
+    if text is None:
+        return default
+    try:
+        value = float(text)
+    except ValueError:
+        raise ModelError("%s: <%s> must be a number, got %r" % (where, path, text))
+    if not math.isfinite(value):
+        raise ModelError("%s: <%s> must be finite, got %r" % (where, path, text))
+    return value
+
+
+def _pose(text, where):
+    if text is None:
+        return (0.0,) * 6
+    try:
+        v = tuple(float(x) for x in text.split())
+    except ValueError:
+        v = ()
+    if len(v) != 6:
+        raise ModelError("%s: <pose> needs 6 numbers 'x y z roll pitch yaw', got %r" % (where, text))
+    return v
+
+
+def parse(sensor, plugin, link, model_name, spawn_namespace=""):
+    """CameraSensorConfig from the <sensor> and <plugin> Elements, or ModelError naming the model,
+    the sensor and the element."""
+    sname = sensor.get("name", "camera") if sensor is not None else "camera"
+    where = "model '%s' sensor '%s'" % (model_name, sname)
+    if sensor is None:
+        raise ModelError("%s: libgazebo_ros_camera.so must be inside a <sensor type=\"camera\">" % where)
+    stype = sensor.get("type", "")
+    if stype not in ("camera", "wideanglecamera"):
+        raise ModelError("%s: libgazebo_ros_camera.so needs <sensor type=\"camera\">, not type=%r"
+                         % (where, stype))
+    cam = sensor.find("camera")
+    hfov = _float(cam, "horizontal_fov", 1.047, where)
+    if not 0.01 <= hfov <= 3.1:
+        raise ModelError("%s: <horizontal_fov> %g rad is outside [0.01, 3.1]" % (where, hfov))
+    width = _float(cam, "image/width", 320, where)
+    height = _float(cam, "image/height", 240, where)
+    if not (1 <= width <= 8192 and 1 <= height <= 8192) or width != int(width) or height != int(height):
+        raise ModelError("%s: <image> width/height must be whole numbers 1..8192, got %g x %g"
+                         % (where, width, height))
+    fmt = _text(cam, "image/format", "R8G8B8")
+    if fmt not in FORMATS:
+        raise ModelError("%s: <image><format> %r is not supported; use one of %s"
+                         % (where, fmt, ", ".join(FORMATS)))
+    near = _float(cam, "clip/near", 0.1, where)
+    far = _float(cam, "clip/far", 100.0, where)
+    if not 0 < near < far:
+        raise ModelError("%s: <clip> needs 0 < near < far, got near %g far %g" % (where, near, far))
+    noise = cam.find("noise") if cam is not None else None
+    mean = stddev = 0.0
+    if noise is not None:
+        ntype = _text(noise, "type", "gaussian")
+        if ntype not in ("gaussian", "none"):
+            raise ModelError("%s: <noise><type> %r is not supported; use gaussian" % (where, ntype))
+        if ntype == "gaussian":
+            mean = _float(noise, "mean", 0.0, where)
+            stddev = _float(noise, "stddev", 0.0, where)
+            if stddev < 0:
+                raise ModelError("%s: <noise><stddev> must not be negative" % where)
+    rate = _float(plugin, "updateRate", 0.0, where)
+    if rate <= 0:
+        rate = _float(sensor, "update_rate", 0.0, where)
+    if rate <= 0:
+        rate = DEFAULT_RATE
+    where_p = "%s plugin" % where
+    distortion = [_float(plugin, k, 0.0, where_p) for k in
+                  ("distortionK1", "distortionK2", "distortionT1", "distortionT2", "distortionK3")]
+    ns = _text(plugin, "robotNamespace", None)
+    ns = spawn_namespace if ns is None else ns
+    return CameraSensorConfig(
+        sensor_name=sname, link=link, pose=_pose(_text(sensor, "pose"), where), update_rate=rate, hfov=hfov,
+        width=int(width), height=int(height), format=fmt, near=near, far=far, noise_mean=mean,
+        noise_stddev=stddev, camera_name=_text(plugin, "cameraName", ""),
+        image_topic=_text(plugin, "imageTopicName", "image_raw"),
+        info_topic=_text(plugin, "cameraInfoTopicName", "camera_info"),
+        frame_name=_text(plugin, "frameName", "world"),
+        hack_baseline=_float(plugin, "hackBaseline", 0.0, where_p),
+        distortion=distortion, robot_namespace=ns.strip("/"))
+
+
+def topic(cfg, name):
+    """'/<robotNamespace>/<cameraName>/<name>' without empty parts."""
+    parts = [p.strip("/") for p in (cfg.robot_namespace, cfg.camera_name, name) if p and p.strip("/")]
+    return "/" + "/".join(parts)
+
+
+#: Gazebo's camera looks along its link's +x with +z up; the optical frame (z forward, x right,
+#: y down) is that frame turned by roll -pi/2, yaw -pi/2 (as in every Gazebo camera URDF).
+OPTICAL_RPY = (-math.pi / 2.0, 0.0, -math.pi / 2.0)

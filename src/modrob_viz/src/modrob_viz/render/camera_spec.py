@@ -1,0 +1,152 @@
+"""Validated camera definitions for the renderer (pure).
+
+A camera is a dict (from the ``~cameras`` parameter, or from a simulator camera sensor under
+``/gazebo/camera_sensors``) with these keys::
+
+    name          unique id (also names the renderer's internal topics)
+    image         output sensor_msgs/Image topic                                 (required)
+    camera_info   input sensor_msgs/CameraInfo topic giving the pinhole (and, in its header,
+                  the frame) - the seed's rviz_camera_stream interface
+    width height fx [fy cx cy]   fixed intrinsics instead of a camera_info topic
+    frame         tf frame to render from (optical convention: z forward, x right, y down);
+                  default: the camera_info header's frame_id
+    header_frame  frame_id written into the output (default: frame)
+    camera_info_out  output CameraInfo topic, stamped like each image (default: none)
+    rate          frames per second (default: the node's ~rate)
+    format        rgb8 | bgr8 | mono8, or Gazebo's R8G8B8 | B8G8R8 | L8 (default rgb8)
+    noise_mean noise_stddev   Gazebo's gaussian image noise, in units of full scale (0..1)
+    hack_baseline  Gazebo's hackBaseline [m]: P[3] = -fx * baseline
+"""
+import math
+import re
+
+from modrob_viz.errors import ConfigError
+from modrob_viz.render import pinhole
+
+FORMATS = {"rgb8": "rgb8", "bgr8": "bgr8", "mono8": "mono8",
+           "R8G8B8": "rgb8", "B8G8R8": "bgr8", "L8": "mono8", "RGB_INT8": "rgb8", "BGR_INT8": "bgr8"}
+
+
+def internal_name(name):
+    """A topic-safe id: 'ptrz/camera1' -> 'ptrz_camera1'."""
+    return re.sub(r"[^A-Za-z0-9_]", "_", name.strip("/")) or "camera"
+
+
+def _num(spec, key, default, where):
+    value = spec.get(key, default)
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ConfigError("%s: %s must be a number, got %r" % (where, key, spec.get(key)))
+    if not math.isfinite(value):
+        raise ConfigError("%s: %s must be finite, got %r" % (where, key, value))
+    return value
+
+
+def parse(spec, default_rate, where="camera"):
+    """A normalised camera dict, or ConfigError naming the camera and the key."""
+    if not isinstance(spec, dict):
+        raise ConfigError("%s must be a dict with at least 'name' and 'image', got %r" % (where, spec))
+    name = str(spec.get("name", "")).strip()
+    if not name:
+        raise ConfigError("%s has no 'name'" % where)
+    where = "camera '%s'" % name
+    image = str(spec.get("image", "")).strip()
+    if not image:
+        raise ConfigError("%s has no 'image' output topic" % where)
+    out = dict(name=name, id=internal_name(name), image=image,
+               camera_info=str(spec.get("camera_info", "") or ""),
+               frame=str(spec.get("frame", "") or ""),
+               header_frame=str(spec.get("header_frame", "") or ""),
+               camera_info_out=str(spec.get("camera_info_out", "") or ""))
+    out["rate"] = _num(spec, "rate", default_rate, where)
+    if out["rate"] <= 0:
+        raise ConfigError("%s: rate must be > 0, got %r" % (where, out["rate"]))
+    fmt = str(spec.get("format", "rgb8"))
+    if fmt not in FORMATS:
+        raise ConfigError("%s: format %r is not supported; use one of %s"
+                          % (where, fmt, ", ".join(sorted(FORMATS))))
+    out["format"] = FORMATS[fmt]
+    out["noise_mean"] = _num(spec, "noise_mean", 0.0, where)
+    out["noise_stddev"] = _num(spec, "noise_stddev", 0.0, where)
+    if out["noise_stddev"] < 0:
+        raise ConfigError("%s: noise_stddev must be >= 0" % where)
+    out["hack_baseline"] = _num(spec, "hack_baseline", 0.0, where)
+    out["intrinsics"] = None
+    if not out["camera_info"]:
+        if "width" not in spec or "fx" not in spec and "hfov" not in spec:
+            raise ConfigError("%s needs a 'camera_info' topic or fixed intrinsics "
+                              "(width, height and fx or hfov)" % where)
+        w, h = pinhole.check_size(spec.get("width"), spec.get("height"), where)
+        if "hfov" in spec:
+            out["intrinsics"] = pinhole.gazebo_intrinsics(w, h, spec["hfov"])
+        else:
+            fx = _num(spec, "fx", 0.0, where)
+            fy = _num(spec, "fy", fx, where)
+            out["intrinsics"] = pinhole.Intrinsics(w, h, fx, fy, _num(spec, "cx", w / 2.0, where),
+                                                   _num(spec, "cy", h / 2.0, where))
+            if fx <= 0 or fy <= 0:
+                raise ConfigError("%s: fx and fy must be > 0" % where)
+        if not out["frame"]:
+            raise ConfigError("%s: fixed intrinsics need a 'frame' to render from" % where)
+    return out
+
+
+def parse_all(specs, default_rate, where="~cameras"):
+    """List of camera dicts; names must be unique."""
+    if specs in (None, ""):
+        return []
+    if isinstance(specs, dict):
+        specs = [dict(v, name=v.get("name", k)) if isinstance(v, dict) else v
+                 for k, v in sorted(specs.items())]
+    if not isinstance(specs, list):
+        raise ConfigError("%s must be a list of camera dicts, got %r" % (where, specs))
+    cams, seen = [], set()
+    for i, spec in enumerate(specs):
+        cam = parse(spec, default_rate, "%s[%d]" % (where, i))
+        if cam["id"] in seen:
+            raise ConfigError("%s: two cameras are named %r" % (where, cam["name"]))
+        seen.add(cam["id"])
+        cams.append(cam)
+    return cams
+
+
+def apply_noise(img, mean, stddev, rng):
+    """Gazebo's gaussian pixel noise (units of full scale), clipped to 0..255; img uint8."""
+    if stddev <= 0 and mean == 0:
+        return img
+    import numpy as np
+    noisy = img.astype(np.float32) + rng.normal(mean * 255.0, stddev * 255.0, img.shape).astype(np.float32)
+    return np.clip(noisy, 0, 255).astype(np.uint8)
+
+
+def convert(img, fmt):
+    """RGB uint8 (h, w, 3) -> (array, encoding, step) in the camera's format."""
+    if fmt == "bgr8":
+        img = img[:, :, ::-1]
+    elif fmt == "mono8":
+        img = (0.299 * img[:, :, 0] + 0.587 * img[:, :, 1] + 0.114 * img[:, :, 2]).astype("uint8")
+        return img, "mono8", img.shape[1]
+    return img, fmt, img.shape[1] * 3
+
+
+def screen_size(text):
+    """'4096x2304' -> (4096, 2304), or ConfigError."""
+    try:
+        w, h = (int(v) for v in str(text).lower().split("x"))
+    except ValueError:
+        raise ConfigError("~screen must look like 4096x2304, got %r" % (text,))
+    if w < 64 or h < 64:
+        raise ConfigError("~screen %dx%d is too small" % (w, h))
+    return w, h
+
+
+def colour(text):
+    """'178,178,178' -> (178, 178, 178), or ConfigError."""
+    try:
+        rgb = tuple(int(v) for v in str(text).split(","))
+    except ValueError:
+        rgb = ()
+    if len(rgb) != 3 or not all(0 <= c <= 255 for c in rgb):
+        raise ConfigError("~background must be 'r,g,b' with values 0..255, got %r" % (text,))
+    return rgb

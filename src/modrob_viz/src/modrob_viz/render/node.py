@@ -1,0 +1,338 @@
+"""ROS layer of the ``camera_renderer`` node: cameras from ``~cameras`` and from the simulator's
+camera sensors (``~sensors_param``), rendered by :class:`RvizScene`, published as
+``sensor_msgs/Image`` (+ ``CameraInfo`` when asked) stamped with ROS (sim) time.
+
+Callbacks only store the latest CameraInfo; a Qt timer in the main thread does all the work
+(RViz is not thread-safe). Problems with one camera (no intrinsics, zero-size CameraInfo, frame
+missing from tf) are logged once with what to do, and only that camera waits.
+"""
+import os
+import threading
+import time
+
+import numpy as np
+import rospy
+import tf2_ros
+from python_qt_binding.QtCore import QTimer
+from sensor_msgs.msg import CameraInfo, Image
+from std_srvs.srv import Trigger, TriggerResponse
+
+from modrob_msgs.errors import ModrobError
+from modrob_viz.errors import ConfigError
+from modrob_viz.render import camera_spec, pinhole
+from modrob_viz.render.video import VideoRecorder, save_png
+
+
+class _Camera(object):
+    def __init__(self, spec):
+        self.spec = spec
+        self.info = None            # latest input CameraInfo (or None)
+        self.intrinsics = spec["intrinsics"]
+        self.shown = None           # (frame, intrinsics) given to RViz last
+        self.next_t = 0.0
+        self.problem = None         # text of the problem logged last (logged once)
+        self.sub = None
+        self.pub_image = rospy.Publisher(spec["image"], Image, queue_size=1)
+        self.pub_info = rospy.Publisher(spec["camera_info_out"], CameraInfo, queue_size=1) \
+            if spec["camera_info_out"] else None
+        prefix = rospy.get_name() + "/" + spec["id"]
+        self.pub_blank = rospy.Publisher(prefix + "/image", Image, queue_size=1, latch=True)
+        self.pub_rviz_info = rospy.Publisher(prefix + "/camera_info", CameraInfo, queue_size=1, latch=True)
+        self.last_rgb = None
+        self.frames = 0
+        self.recorder = None
+
+    def close(self):
+        for p in (self.pub_image, self.pub_info, self.pub_blank, self.pub_rviz_info, self.sub):
+            if p is not None:
+                p.unregister()
+        if self.recorder is not None:
+            self.recorder.close()
+
+
+class CameraRendererNode(object):
+    def __init__(self, scene, cameras, rate, fixed_frame="world", sensors_param="/gazebo/camera_sensors",
+                 output_dir="/tmp/modrob_viz/cameras", record=(), video_fps=None, seed=0,
+                 background=(178, 178, 178)):
+        self.scene = scene
+        self.rate = rate
+        self.background = bytes(bytearray(int(c) & 255 for c in background))
+        self.fixed_frame = fixed_frame
+        self.sensors_param = sensors_param
+        self.output_dir = output_dir
+        self.video_fps = video_fps
+        self.rng = np.random.default_rng(seed)
+        self.lock = threading.Lock()
+        self.cams = {}
+        self.static_ids = set()
+        self.tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(10.0))
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        for spec in cameras:
+            self._add(spec)
+            self.static_ids.add(spec["id"])
+        self._sensor_specs = {}
+        self._next_sensor_poll = 0.0
+        rospy.Service("~save_frame", Trigger, self._srv_save_frame)
+        rospy.Service("~start_recording", Trigger, self._srv_start_recording)
+        rospy.Service("~stop_recording", Trigger, self._srv_stop_recording)
+        if record:
+            self._start_recording(None if record == ["all"] else record)
+        self.timer = QTimer()
+        self.timer.timeout.connect(self._tick)
+        self.timer.start(5)
+        rospy.on_shutdown(self._on_shutdown)
+
+    # ---- cameras --------------------------------------------------------------------------------
+    def _add(self, spec):
+        try:
+            self.scene.add_camera(spec["id"], rospy.get_name() + "/" + spec["id"])
+        except ConfigError as err:
+            rospy.logerr("%s", err)
+            return
+        cam = _Camera(spec)
+        if spec["camera_info"]:
+            cam.sub = rospy.Subscriber(spec["camera_info"], CameraInfo, self._on_info, cam, queue_size=1)
+        with self.lock:
+            self.cams[spec["id"]] = cam
+            rates = [c.spec["rate"] for c in self.cams.values()]
+        self.scene.set_frame_rate(min(60.0, 1.5 * max(rates + [self.rate])))
+        rospy.loginfo("camera '%s': %s -> %s at %.1f Hz", spec["name"],
+                      spec["camera_info"] or "fixed intrinsics",
+                      spec["image"], spec["rate"])
+
+    def _remove(self, cid):
+        with self.lock:
+            cam = self.cams.pop(cid, None)
+        if cam is not None:
+            cam.close()
+            self.scene.remove_camera(cid)
+            rospy.loginfo("camera '%s' removed", cam.spec["name"])
+
+    def _on_info(self, msg, cam):
+        cam.info = msg      # stored only; the Qt thread uses it
+
+    def _poll_sensors(self):
+        """Cameras registered by the simulator's camera sensor plugins (added/removed/changed)."""
+        if not self.sensors_param:
+            return
+        try:
+            raw = rospy.get_param(self.sensors_param, {})
+        except (KeyError, OSError):
+            raw = {}
+        if not isinstance(raw, dict):
+            raw = {}
+        specs = {}
+        for key, value in raw.items():
+            try:
+                if isinstance(value, dict):
+                    value = dict(value, name=value.get("name", key))
+                spec = camera_spec.parse(value,
+                                         self.rate, "%s/%s" % (self.sensors_param, key))
+            except ModrobError as err:
+                if self._sensor_specs.get(key) != "bad":
+                    rospy.logerr("camera sensor %s ignored: %s", key, err)
+                specs[key] = "bad"
+                continue
+            specs[key] = spec
+        for key, spec in specs.items():
+            old = self._sensor_specs.get(key)
+            if spec == "bad" or old == spec:
+                continue
+            if isinstance(old, dict):
+                self._remove(old["id"])
+            if spec["id"] in self.static_ids:
+                rospy.logerr("camera sensor %s: id %s is already used by ~cameras", key, spec["id"])
+                continue
+            self._add(spec)
+        for key, old in self._sensor_specs.items():
+            if key not in specs and isinstance(old, dict):
+                self._remove(old["id"])
+        self._sensor_specs = specs
+
+    def _problem(self, cam, text):
+        if cam.problem != text:
+            cam.problem = text
+            rospy.logwarn("camera '%s': %s", cam.spec["name"], text)
+
+    def _ready(self, cam):
+        """(frame, intrinsics) to render with, or None after logging why not."""
+        spec = cam.spec
+        info = cam.info
+        if spec["camera_info"]:
+            if info is None:
+                self._problem(cam, "waiting for its CameraInfo on %s" % spec["camera_info"])
+                return None
+            try:
+                intr = pinhole.from_matrices(info.width, info.height, info.K, info.P)
+            except ConfigError as err:
+                self._problem(cam, "unusable CameraInfo on %s (%s); waiting for a valid one"
+                              % (spec["camera_info"], err))
+                return None
+            frame = spec["frame"] or info.header.frame_id
+        else:
+            intr, frame = cam.intrinsics, spec["frame"]
+        if not frame:
+            self._problem(cam, "no frame to render from: the CameraInfo header has no frame_id and "
+                               "the camera no 'frame'")
+            return None
+        if not self.tf_buffer.can_transform(self.fixed_frame, frame.lstrip("/"), rospy.Time(0)):
+            self._problem(cam, "frame '%s' is not in tf (no transform to '%s'); waiting for it"
+                          % (frame, self.fixed_frame))
+            return None
+        if cam.problem is not None:
+            rospy.loginfo("camera '%s': rendering (frame '%s', %dx%d)", spec["name"], frame,
+                          intr.width, intr.height)
+            cam.problem = None
+        return frame.lstrip("/"), intr
+
+    def _show(self, cam, frame, intr):
+        """Give RViz the camera's frame and pinhole (only when they change)."""
+        if cam.shown == (frame, intr):
+            return
+        cam.shown = (frame, intr)
+        info = CameraInfo()
+        info.header.frame_id = frame
+        info.width, info.height = intr.width, intr.height
+        info.K = pinhole.k_matrix(intr)
+        info.P = pinhole.p_matrix(intr)
+        info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+        info.distortion_model = "plumb_bob"
+        info.D = [0.0] * 5
+        blank = Image()
+        blank.header.frame_id = frame           # stamp 0: RViz uses the latest transform
+        blank.width = blank.height = 1
+        blank.encoding, blank.step, blank.data = "rgb8", 3, self.background
+        cam.pub_rviz_info.publish(info)
+        cam.pub_blank.publish(blank)
+        self.scene.resize_camera(cam.spec["id"], intr.width, intr.height)
+        if not self.scene.fits(cam.spec["id"]):
+            sw, sh = self.scene.screen_size()
+            self._problem(cam, "does not fit on the X screen (%dx%d) beside the other cameras: "
+                               "fewer/smaller cameras or a larger screen (~screen)" % (sw, sh))
+
+    def _out_info(self, cam, intr, stamp, header_frame):
+        info = CameraInfo()
+        info.header.stamp, info.header.frame_id = stamp, header_frame
+        info.width, info.height = intr.width, intr.height
+        info.K = pinhole.k_matrix(intr)
+        info.P = pinhole.p_matrix(intr, -intr.fx * cam.spec["hack_baseline"])
+        info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
+        src = cam.info
+        info.distortion_model = (src.distortion_model if src is not None and src.distortion_model
+                                 else "plumb_bob")
+        info.D = list(src.D) if src is not None and len(src.D) else [0.0] * 5
+        return info
+
+    # ---- the loop (Qt thread) ----------------------------------------------------------------------
+    def _tick(self):
+        if rospy.is_shutdown():
+            self.scene.app.quit()
+            return
+        now = time.monotonic()
+        if now >= self._next_sensor_poll:
+            self._next_sensor_poll = now + 1.0
+            self._poll_sensors()
+        with self.lock:
+            cams = list(self.cams.values())
+        for cam in cams:
+            if now < cam.next_t:
+                continue
+            cam.next_t = max(cam.next_t + 1.0 / cam.spec["rate"], now - 0.5 / cam.spec["rate"])
+            ready = self._ready(cam)
+            if ready is None:
+                continue
+            frame, intr = ready
+            shown_before = cam.shown == (frame, intr)
+            self._show(cam, frame, intr)
+            if not shown_before:
+                continue            # RViz renders the new pinhole on its next frame
+            rgb = self.scene.grab(cam.spec["id"])
+            if rgb is None:
+                continue
+            self._publish(cam, rgb, intr, frame)
+
+    def _publish(self, cam, rgb, intr, frame):
+        spec = cam.spec
+        rgb = camera_spec.apply_noise(rgb, spec["noise_mean"], spec["noise_stddev"], self.rng)
+        cam.last_rgb = rgb
+        cam.frames += 1
+        stamp = rospy.Time.now()
+        info_frame = cam.info.header.frame_id if cam.info is not None else ""
+        header_frame = spec["header_frame"] or info_frame or frame
+        arr, encoding, step = camera_spec.convert(rgb, spec["format"])
+        msg = Image()
+        msg.header.stamp, msg.header.frame_id = stamp, header_frame
+        msg.height, msg.width = arr.shape[0], arr.shape[1]
+        msg.encoding, msg.is_bigendian, msg.step = encoding, 0, step
+        msg.data = arr.tobytes()
+        cam.pub_image.publish(msg)
+        if cam.pub_info is not None:
+            cam.pub_info.publish(self._out_info(cam, intr, stamp, header_frame))
+        if cam.recorder is not None:
+            try:
+                cam.recorder.write(rgb)
+            except ConfigError as err:
+                rospy.logerr("camera '%s': recording stopped: %s", spec["name"], err)
+                cam.recorder = None
+
+    # ---- services --------------------------------------------------------------------------------
+    def _srv_save_frame(self, _req):
+        saved, missing = [], []
+        stamp = "%.3f" % rospy.Time.now().to_sec()
+        with self.lock:
+            cams = list(self.cams.values())
+        for cam in cams:
+            if cam.last_rgb is None:
+                missing.append(cam.spec["name"])
+                continue
+            path = os.path.join(self.output_dir, "%s_%s.png" % (cam.spec["id"], stamp))
+            try:
+                saved.append(save_png(path, cam.last_rgb))
+            except ConfigError as err:
+                return TriggerResponse(False, str(err))
+        text = " ".join(saved)
+        if missing:
+            text += (" " if text else "") + "(no frame yet: %s)" % ", ".join(missing)
+        return TriggerResponse(bool(saved), text)
+
+    def _start_recording(self, names=None):
+        started = []
+        with self.lock:
+            cams = list(self.cams.values())
+        for cam in cams:
+            if names is not None and cam.spec["name"] not in names and cam.spec["id"] not in names:
+                continue
+            if cam.recorder is None:
+                path = os.path.join(self.output_dir, "%s.avi" % cam.spec["id"])
+                cam.recorder = VideoRecorder(path, self.video_fps or cam.spec["rate"])
+            started.append(cam.recorder.path)
+        return started
+
+    def _srv_start_recording(self, _req):
+        try:
+            started = self._start_recording()
+        except ConfigError as err:
+            return TriggerResponse(False, str(err))
+        return TriggerResponse(bool(started), " ".join(started) or "no cameras")
+
+    def _srv_stop_recording(self, _req):
+        done = []
+        with self.lock:
+            cams = list(self.cams.values())
+        for cam in cams:
+            if cam.recorder is not None:
+                n = cam.recorder.close()
+                done.append("%s (%d frames)" % (cam.recorder.path, n))
+                cam.recorder = None
+        return TriggerResponse(bool(done), " ".join(done) or "nothing was recording")
+
+    def close(self):
+        self._on_shutdown()
+
+    def _on_shutdown(self):
+        with self.lock:
+            cams = list(self.cams.values())
+        for cam in cams:
+            if cam.recorder is not None:
+                cam.recorder.close()
+                cam.recorder = None

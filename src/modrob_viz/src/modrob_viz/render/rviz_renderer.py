@@ -1,0 +1,160 @@
+"""RViz hosted in this process as a 3D renderer: one VisualizationFrame loads a scene config
+(MarkerArray of the world, lights, background), one ``rviz/Camera`` display per camera renders
+that scene through the pinhole of a ``sensor_msgs/CameraInfo`` from a tf frame, and its render
+panel (a native window on the X server) is grabbed into a numpy image.
+
+Everything here must run in the Qt (main) thread. Each camera's panel is a floating dock placed
+so that no two overlap (an X server without compositing only keeps visible pixels).
+"""
+import numpy as np
+
+from python_qt_binding.QtCore import QPoint
+from python_qt_binding.QtWidgets import QApplication, QDockWidget
+from rviz import bindings as rviz
+
+from modrob_viz.errors import ConfigError
+
+TITLE_SPACE = 40     # px left above each panel for the dock's title bar
+MARGIN = 8
+
+
+class RvizScene(object):
+    """``config`` is an .rviz file with the scene displays (no cameras)."""
+
+    def __init__(self, config, frame_rate=30.0, max_cameras=8):
+        self.app = QApplication.instance() or QApplication(["camera_renderer"])
+        self.frame = rviz.VisualizationFrame()
+        self.frame.setSplashPath("")
+        self.frame.initialize()
+        cfg = rviz.Config()
+        reader = rviz.YamlConfigReader()
+        reader.readFile(cfg, config)
+        if reader.error():
+            raise ConfigError("cannot read the scene config %s (an .rviz YAML file): %s"
+                              % (config, reader.errorMessage()))
+        self.frame.load(cfg)
+        self.frame.setMenuBar(None)
+        self.frame.setStatusBar(None)
+        self.frame.setHideButtonVisibility(False)
+        self.manager = self.frame.getManager()
+        self.set_frame_rate(frame_rate)
+        self.frame.resize(160, 120)
+        self.frame.move(0, 0)
+        self.frame.show()
+        for dock in self.frame.findChildren(QDockWidget):    # Displays, Views, Time ... panels
+            dock.hide()
+        central = self.frame.centralWidget()
+        if central is not None:     # the main 3D view costs a render per frame: keep it tiny
+            central.setFixedSize(8, 8)
+        self.cameras = {}           # name -> dict(display, dock, panel, size)
+        self.max_cameras = max_cameras
+        self._pool = [self._make_display(i) for i in range(max_cameras)]
+        self._origin = (0, 130)
+
+    def set_frame_rate(self, rate):
+        opts = self.manager.getRootDisplayGroup().subProp("Global Options")
+        prop = opts.subProp("Frame Rate") if opts is not None else None
+        if prop is not None:
+            prop.setValue(int(max(1, min(120, round(rate)))))
+
+    def screen_size(self):
+        g = self.app.primaryScreen().geometry()
+        return g.width(), g.height()
+
+    def _make_display(self, slot):
+        disp = self.manager.createDisplay("rviz/Camera", "cam%d" % slot, False)
+        if disp is None:
+            raise ConfigError("RViz could not create an rviz/Camera display (is the rviz package complete?)")
+        disp.subProp("Image Rendering").setValue("background")   # a 1x1 image of the background colour
+        disp.subProp("Overlay Alpha").setValue(0.0)
+        disp.subProp("Zoom Factor").setValue(1.0)
+        dock = None
+        for d in self.frame.findChildren(QDockWidget):
+            if d.windowTitle() == "cam%d" % slot:
+                dock = d
+        if dock is None or dock.widget() is None:
+            raise ConfigError("the Camera display cam%d has no render panel" % slot)
+        dock.setFloating(True)
+        dock.hide()
+        return dict(display=disp, dock=dock, panel=dock.widget(), size=None)
+
+    def add_camera(self, name, topic_prefix):
+        """Give a Camera display of the pool to ``name``: it reads ``<prefix>/image`` (a 1x1 image
+        of the background colour whose header names the tf frame) and ``<prefix>/camera_info``
+        (the pinhole). RViz crashes when displays are created inside the event loop, so the
+        displays are made at start-up and only enabled here."""
+        if name in self.cameras:
+            return
+        if not self._pool:
+            raise ConfigError("camera '%s': all %d camera slots are in use (raise ~max_cameras)"
+                              % (name, self.max_cameras))
+        cam = self._pool.pop(0)
+        cam["size"] = None
+        cam["display"].subProp("Image Topic").setValue(topic_prefix + "/image")
+        cam["display"].setEnabled(True)
+        cam["dock"].setFloating(True)
+        self.cameras[name] = cam
+
+    def resize_camera(self, name, width, height):
+        cam = self.cameras[name]
+        if cam["size"] == (width, height):
+            return
+        cam["size"] = (width, height)
+        cam["panel"].setFixedSize(width, height)
+        cam["dock"].adjustSize()
+        self._layout()
+
+    def _layout(self):
+        """Shelf packing of the panels on the screen, in insertion order."""
+        sw, sh = self.screen_size()
+        x, y = self._origin
+        row = 0
+        for name, cam in self.cameras.items():
+            if cam["size"] is None:
+                continue
+            w, h = cam["size"]
+            if x + w > sw and x > 0:
+                x, y, row = 0, y + row + TITLE_SPACE + MARGIN, 0
+            cam["dock"].move(x, y)
+            cam["dock"].show()
+            x += w + MARGIN
+            row = max(row, h)
+            cam["fits"] = x - MARGIN <= sw and y + TITLE_SPACE + h <= sh
+
+    def fits(self, name):
+        return self.cameras[name].get("fits", False)
+
+    def remove_camera(self, name):
+        cam = self.cameras.pop(name, None)
+        if cam is None:
+            return
+        cam["display"].setEnabled(False)
+        cam["dock"].hide()
+        cam["size"] = None
+        cam["panel"].setMinimumSize(0, 0)
+        cam["panel"].setMaximumSize(16777215, 16777215)
+        self._pool.append(cam)
+        self._layout()
+
+    def process_events(self):
+        self.app.processEvents()
+
+    def grab(self, name):
+        """RGB uint8 array (height, width, 3) of what the camera's panel shows, or None."""
+        cam = self.cameras.get(name)
+        if cam is None or cam["size"] is None:
+            return None
+        w, h = cam["size"]
+        panel = cam["panel"]
+        pos = panel.mapToGlobal(QPoint(0, 0))
+        pix = self.app.primaryScreen().grabWindow(0, pos.x(), pos.y(), w, h)
+        img = pix.toImage().convertToFormat(4)    # QImage.Format_RGB32 (B, G, R, 255 in memory)
+        if img.width() != w or img.height() != h:
+            return None
+        ptr = img.constBits()
+        ptr.setsize(img.byteCount())
+        arr = np.frombuffer(ptr, np.uint8).reshape(h, img.bytesPerLine() // 4, 4)
+        return np.ascontiguousarray(arr[:, :w, 2::-1])
+
+    def close(self):
+        self.frame.close()

@@ -1,0 +1,62 @@
+"""A private X server for off-screen OpenGL (Mesa llvmpipe) when there is no display."""
+import os
+import random
+import shutil
+import subprocess
+import time
+
+from modrob_viz.errors import ConfigError
+
+
+def free_display(rng=None):
+    """A display number in 100..899 with no X socket or lock file."""
+    rng = rng or random.Random()
+    for n in rng.sample(range(100, 900), 800):
+        if not os.path.exists("/tmp/.X11-unix/X%d" % n) and not os.path.exists("/tmp/.X%d-lock" % n):
+            return n
+    raise ConfigError("no free X display number in 100..899 (stale /tmp/.X*-lock files?)")
+
+
+class Xvfb(object):
+    """``Xvfb :N -screen 0 WxHx24`` started on a free N; ``stop()`` ends it. ``display`` is ":N"."""
+
+    def __init__(self, width=4096, height=2304, timeout=15.0):
+        if shutil.which("Xvfb") is None:
+            raise ConfigError("no DISPLAY and no Xvfb: install the Debian package xvfb "
+                              "(scripts/debian-packages.txt) or run with a display")
+        last = None
+        for _attempt in range(3):
+            n = free_display()
+            proc = subprocess.Popen(["Xvfb", ":%d" % n, "-screen", "0", "%dx%dx24" % (width, height),
+                                     "-nolisten", "tcp"],
+                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                    start_new_session=True)   # roslaunch's SIGINT must not end it first
+            deadline = time.monotonic() + timeout
+            while time.monotonic() < deadline and proc.poll() is None:
+                if os.path.exists("/tmp/.X11-unix/X%d" % n):
+                    self.proc, self.number, self.display = proc, n, ":%d" % n
+                    return
+                time.sleep(0.05)
+            last = proc.poll()
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+        raise ConfigError("Xvfb did not start (exit code %r) on three display numbers" % (last,))
+
+    def stop(self):
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(5)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+
+
+def ensure_display(width=4096, height=2304):
+    """Return an Xvfb (caller stops it) when $DISPLAY is unset, else None (use the user's)."""
+    if os.environ.get("DISPLAY"):
+        return None
+    x = Xvfb(width, height)
+    os.environ["DISPLAY"] = x.display
+    return x
