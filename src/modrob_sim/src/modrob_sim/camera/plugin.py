@@ -22,6 +22,7 @@ from std_msgs.msg import Float64
 from modrob_sim.camera import sensor_config
 from modrob_sim.camera.scene import ScenePublisher
 from modrob_sim.gazebo_ros import transforms as tf
+from modrob_sim.gazebo_ros.plugin_base import SensorPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
 
 FILENAME = "libgazebo_ros_camera.so"
@@ -47,8 +48,10 @@ def camera_info(cfg, hfov, frame_id):
     return info
 
 
-class GazeboRosCameraPlugin(object):
-    def __init__(self, model, spec, context):
+class GazeboRosCameraPlugin(SensorPlugin):
+    """No per-step work: the renderer renders at the update rate from the published frame."""
+
+    def load(self, model, spec, context):
         cfg = sensor_config.parse(spec.sensor, spec.element, spec.link, model.name,
                                   spec.robot_namespace or getattr(context, "robot_namespace", "") or "")
         if cfg.link is None or cfg.link not in model.links:
@@ -114,7 +117,7 @@ class GazeboRosCameraPlugin(object):
         err = self.set_hfov(2.0 * math.atan(self.cfg.width / (2.0 * fx)))
         return SetCameraInfoResponse(not err, err or "hfov %.4f rad" % self.hfov)
 
-    def reset(self):
+    def after_step(self, t, dt):
         pass
 
     def shutdown(self):
