@@ -25,6 +25,7 @@ from modrob_sim.errors import PluginError
 PLUGIN_MODULES = [
     "modrob_sim.ros_control.plugin",
     "modrob_sim.camera.plugin",
+    "modrob_sim.sensors.ros_plugins",
 ]
 
 _log = logging.getLogger(__name__)

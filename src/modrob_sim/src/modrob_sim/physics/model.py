@@ -83,6 +83,7 @@ class Link(object):
         self.collisions = desc.collisions  # addition: GeometryDesc list (link frame)
         self.visuals = desc.visuals        # addition: GeometryDesc list (link frame)
         self.sensors = desc.sensors        # addition: <sensor> Elements
+        self.extra = getattr(desc, "extra", {})  # addition: accepted <gazebo> tags (laserRetro ...)
         self.material = desc.material
         self.self_collide = desc.self_collide
         self._gravity = desc.gravity

@@ -1,0 +1,209 @@
+/* modrob_raycast: batched ray casting against the physics' own ODE geoms (boxes, spheres,
+ * capsules, cylinders, planes and the native triangle meshes), for the simulated ray, gpu_ray
+ * and Velodyne sensors. Loaded with ctypes (see __init__.py); plain C on Debian's libode-dev.
+ *
+ * rc_cast() casts n rays from one origin: direction i is R * local_dirs[i] (R row-major, the
+ * sensor's world rotation). A ray starts at origin + rmin * d and is rmax - rmin long, as
+ * Gazebo's ray sensor does; out[i] is the distance from the origin to the closest hit, or
+ * INFINITY when nothing is hit. Geoms are culled per call (bounding sphere beyond rmax) and per
+ * ray (slab test against the geom's AABB, nearest-first with early exit) before ODE's exact
+ * ray collider runs, so a world of many objects costs little more than its visible ones.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <ode/ode.h>
+
+typedef struct {
+    dGeomID g;
+    double lo[3], hi[3];
+    int infinite;          /* planes (and anything with an unbounded AABB) */
+    int index;             /* caller's index (hit id) */
+} RcGeom;
+
+/* distance along the ray where it enters the box, or +inf if it misses within [t0, t1] */
+static inline double rc_slab(const double *o, const double *inv, const double *lo, const double *hi,
+                             double t0, double t1)
+{
+    for (int k = 0; k < 3; ++k) {
+        double a = (lo[k] - o[k]) * inv[k];
+        double b = (hi[k] - o[k]) * inv[k];
+        if (a > b) { double t = a; a = b; b = t; }
+        if (a != a) a = -INFINITY;   /* 0 * inf when the ray lies in a face plane */
+        if (b != b) b = INFINITY;
+        if (a > t0) t0 = a;
+        if (b < t1) t1 = b;
+        if (t0 > t1) return INFINITY;
+    }
+    return t0;
+}
+
+typedef struct { double t; int k; } RcCand;
+
+static int rc_cand_cmp(const void *a, const void *b)
+{
+    double x = ((const RcCand *)a)->t, y = ((const RcCand *)b)->t;
+    return (x > y) - (x < y);
+}
+
+#define RC_NAZ 512                /* azimuth bins of the per-scan angular index */
+
+int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, const double *dirs,
+            int n, double rmin, double rmax, double *out, int *hit)
+{
+    if (n <= 0) return 0;
+    if (!(rmax > rmin)) {
+        for (int i = 0; i < n; ++i) { out[i] = INFINITY; if (hit) hit[i] = -1; }
+        return 0;
+    }
+    int cap = ng > 0 ? ng : 1;
+    RcGeom *gs = (RcGeom *)malloc(sizeof(RcGeom) * cap);
+    RcCand *cand = (RcCand *)malloc(sizeof(RcCand) * cap);
+    double *el_lo = (double *)malloc(sizeof(double) * cap), *el_hi = (double *)malloc(sizeof(double) * cap);
+    int *planes = (int *)malloc(sizeof(int) * cap);
+    double *pl = (double *)malloc(sizeof(double) * 4 * cap);
+    int *bin_start = (int *)calloc(RC_NAZ + 1, sizeof(int));
+    int *bin_list = NULL;
+    int *always = (int *)malloc(sizeof(int) * cap);
+    if (!gs || !cand || !el_lo || !el_hi || !planes || !pl || !bin_start || !always) {
+        free(gs); free(cand); free(el_lo); free(el_hi); free(planes); free(pl); free(bin_start); free(always);
+        return -1;
+    }
+    /* 1. geoms in reach; planes apart (analytic, exact: ODE's plane is n.x = d); for the rest the
+     *    azimuth/elevation interval their bounding sphere covers as seen from the origin */
+    int m = 0, np_ = 0, na = 0;
+    int *az0 = (int *)malloc(sizeof(int) * cap), *az1 = (int *)malloc(sizeof(int) * cap);
+    for (int j = 0; j < ng; ++j) {
+        dGeomID g = geoms[j];
+        if (!g) continue;
+        if (dGeomGetClass(g) == dPlaneClass) {
+            dVector4 p;
+            dGeomPlaneGetParams(g, p);
+            pl[4 * np_] = p[0]; pl[4 * np_ + 1] = p[1]; pl[4 * np_ + 2] = p[2]; pl[4 * np_ + 3] = p[3];
+            planes[np_++] = j;
+            continue;
+        }
+        dReal aabb[6];
+        dGeomGetAABB(g, aabb);
+        RcGeom *r = &gs[m];
+        r->g = g;
+        r->index = j;
+        r->infinite = 0;
+        for (int k = 0; k < 3; ++k) {
+            r->lo[k] = aabb[2 * k];
+            r->hi[k] = aabb[2 * k + 1];
+            if (!isfinite(r->lo[k]) || !isfinite(r->hi[k]) || r->hi[k] - r->lo[k] > 1e12) r->infinite = 1;
+        }
+        if (r->infinite) { always[na++] = m; az0[m] = 1; az1[m] = 0;   /* empty bin range */ ++m; continue; }
+        double c[3], c2 = 0, rad2 = 0;
+        for (int k = 0; k < 3; ++k) {
+            c[k] = 0.5 * (r->lo[k] + r->hi[k]) - origin[k];
+            double h = 0.5 * (r->hi[k] - r->lo[k]);
+            c2 += c[k] * c[k];
+            rad2 += h * h;
+        }
+        double dist = sqrt(c2), rad = sqrt(rad2) * 1.0001 + 1e-9;
+        if (dist - rad > rmax) continue;                    /* out of reach */
+        if (dist <= rad * 1.01 + 1e-6) {                    /* origin (nearly) inside */
+            always[na++] = m; az0[m] = 1; az1[m] = 0;   /* empty bin range */ ++m; continue;
+        }
+        double half = asin(rad / dist);
+        double el = asin(c[2] / dist);
+        el_lo[m] = el - half;
+        el_hi[m] = el + half;
+        double horiz = sqrt(c[0] * c[0] + c[1] * c[1]);
+        /* the azimuth half-width grows towards the poles; near them take every bin */
+        if (horiz <= rad * 1.01) { az0[m] = 0; az1[m] = RC_NAZ - 1; ++m; continue; }
+        double azh = asin(fmin(1.0, rad / horiz));
+        double az = atan2(c[1], c[0]);
+        double b0 = (az - azh + M_PI) / (2 * M_PI) * RC_NAZ, b1 = (az + azh + M_PI) / (2 * M_PI) * RC_NAZ;
+        int i0 = (int)floor(b0), i1 = (int)floor(b1);
+        if (i1 - i0 >= RC_NAZ - 1) { i0 = 0; i1 = RC_NAZ - 1; }
+        az0[m] = i0; az1[m] = i1;
+        ++m;
+    }
+    /* 2. bins -> geoms (counting sort) */
+    for (int k = 0; k < m; ++k) {
+        for (int b = az0[k]; b <= az1[k]; ++b) bin_start[((b % RC_NAZ) + RC_NAZ) % RC_NAZ + 1]++;
+    }
+    for (int b = 0; b < RC_NAZ; ++b) bin_start[b + 1] += bin_start[b];
+    bin_list = (int *)malloc(sizeof(int) * (bin_start[RC_NAZ] > 0 ? bin_start[RC_NAZ] : 1));
+    int *fill = (int *)malloc(sizeof(int) * RC_NAZ);
+    for (int b = 0; b < RC_NAZ; ++b) fill[b] = bin_start[b];
+    for (int k = 0; k < m; ++k) {
+        for (int b = az0[k]; b <= az1[k]; ++b) { int bb = ((b % RC_NAZ) + RC_NAZ) % RC_NAZ; bin_list[fill[bb]++] = k; }
+    }
+    free(fill);
+
+    dGeomID ray = dCreateRay(0, rmax - rmin);
+    dGeomRaySetFirstContact(ray, 0);
+    dGeomRaySetBackfaceCull(ray, 0);
+    dGeomRaySetClosestHit(ray, 1);         /* triangle meshes: the nearest triangle */
+    double len = rmax - rmin;
+    int nhit = 0;
+    for (int i = 0; i < n; ++i) {
+        const double *l = dirs + 3 * i;
+        double d[3], s[3], inv[3];
+        for (int k = 0; k < 3; ++k) d[k] = rot[3 * k] * l[0] + rot[3 * k + 1] * l[1] + rot[3 * k + 2] * l[2];
+        double nn = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (nn > 0) { d[0] /= nn; d[1] /= nn; d[2] /= nn; }
+        for (int k = 0; k < 3; ++k) { s[k] = origin[k] + rmin * d[k]; inv[k] = 1.0 / d[k]; }
+        double best = INFINITY;
+        int besti = -1;
+        /* planes */
+        for (int q = 0; q < np_; ++q) {
+            const double *p = pl + 4 * q;
+            double den = p[0] * d[0] + p[1] * d[1] + p[2] * d[2];
+            if (den == 0) continue;
+            double t = (p[3] - (p[0] * s[0] + p[1] * s[1] + p[2] * s[2])) / den;
+            if (t >= 0 && t <= len && t < best) { best = t; besti = planes[q]; }
+        }
+        /* candidates: this ray's azimuth bin, elevation interval, AABB slab; nearest first */
+        int nc = 0;
+        double el = asin(fmax(-1.0, fmin(1.0, d[2])));
+        int bin = (int)floor((atan2(d[1], d[0]) + M_PI) / (2 * M_PI) * RC_NAZ);
+        if (bin < 0) bin = 0;
+        if (bin >= RC_NAZ) bin = RC_NAZ - 1;
+        double lim = best < len ? best : len;
+        for (int e = bin_start[bin]; e < bin_start[bin + 1]; ++e) {
+            int k = bin_list[e];
+            if (el < el_lo[k] || el > el_hi[k]) continue;
+            double t = rc_slab(s, inv, gs[k].lo, gs[k].hi, 0.0, lim);
+            if (t <= lim) { cand[nc].t = t; cand[nc].k = k; ++nc; }
+        }
+        for (int e = 0; e < na; ++e) {
+            int k = always[e];
+            double t = gs[k].infinite ? 0.0 : rc_slab(s, inv, gs[k].lo, gs[k].hi, 0.0, lim);
+            if (t <= lim) { cand[nc].t = t; cand[nc].k = k; ++nc; }
+        }
+        if (nc > 0) {
+            if (nc > 1) qsort(cand, nc, sizeof(RcCand), rc_cand_cmp);
+            dGeomRaySet(ray, s[0], s[1], s[2], d[0], d[1], d[2]);
+            dGeomRaySetLength(ray, len);
+            for (int c = 0; c < nc; ++c) {
+                if (cand[c].t > best) break;     /* every later box starts behind the best hit */
+                dContactGeom cg;
+                int got = dCollide(ray, gs[cand[c].k].g, 1, &cg, sizeof(dContactGeom));
+                if (got > 0 && cg.depth >= 0 && cg.depth < best) {
+                    best = cg.depth;
+                    besti = gs[cand[c].k].index;
+                }
+            }
+        }
+        if (besti >= 0) { out[i] = rmin + best; ++nhit; }
+        else out[i] = INFINITY;
+        if (hit) hit[i] = besti;
+    }
+    dGeomDestroy(ray);
+    free(gs); free(cand); free(el_lo); free(el_hi); free(planes); free(pl); free(bin_start);
+    free(bin_list); free(always); free(az0); free(az1);
+    return nhit;
+}
+
+/* the world AABB of a geom (for tests and the numpy baseline's culling) */
+void rc_geom_aabb(dGeomID g, double *out6)
+{
+    dReal a[6];
+    dGeomGetAABB(g, a);
+    for (int k = 0; k < 6; ++k) out6[k] = a[k];
+}

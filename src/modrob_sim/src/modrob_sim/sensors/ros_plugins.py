@@ -1,0 +1,351 @@
+"""The ROS layer of the simulated sensors: registers Gazebo's plugin file names with the /gazebo
+node (modrob_sim.gazebo_ros.plugins) and publishes what the pure cores measure.
+
+The plugins follow the node's plugin contract (docs/plugins.md: ModelPlugin / SensorPlugin, hooks
+in the simulation loop thread, a seed per plugin). Each decimates to its own rate in simulated
+time and measures only when its topic has subscribers (a sensor nobody listens to costs its
+bookkeeping only); big messages (LaserScan, PointCloud2) are built and serialised on the node's
+publishing thread (publish_later) from arrays copied in the hook.
+"""
+import rospy
+from geometry_msgs.msg import Vector3, Vector3Stamped, Wrench
+from gazebo_msgs.msg import ContactsState, ContactState
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import Imu, LaserScan, NavSatFix, PointCloud2, PointField
+from std_srvs.srv import Empty, EmptyResponse
+
+from modrob_sim.gazebo_ros.plugin_base import ModelPlugin, SensorPlugin
+from modrob_sim.gazebo_ros.plugins import register_plugin
+
+from . import laser, velodyne
+from .contact import ContactSensor
+from .core import where
+from .errors import SensorConfigError
+from .gps import HectorGps
+from .imu import ImuModelPlugin, ImuSensor, covariance
+from .p3d import P3d
+from .ray_sensor import RaySensor
+from .sdf import Params, join_ns, tf_resolve
+
+
+def _ns(spec, context):
+    ns = spec.robot_namespace if spec.robot_namespace is not None else getattr(context, "robot_namespace", "")
+    return ns or ""
+
+
+def _tf_prefix(ns):
+    try:
+        return rospy.get_param(join_ns(ns, "tf_prefix"), "")
+    except (KeyError, rospy.ROSException):
+        return ""
+
+
+def _stamp(t):
+    return rospy.Time.from_sec(max(0.0, t))
+
+
+def _check_type(plugin, types):
+    if plugin.sensor_type not in types:
+        raise SensorConfigError("%s: needs a sensor of type %s, not '%s'"
+                                % (plugin.name, " or ".join(types), plugin.sensor_type))
+
+
+def _reseed(context):
+    """reset() follows reset_simulation (time back to 0: noise restarts from the seed) or
+    reset_world (time kept: the noise goes on)."""
+    return context.world.time == 0.0
+
+
+class _Publishing(object):
+    """Publisher gating shared by the sensor plugins."""
+
+    pubs = ()
+
+    def active(self):
+        return any(p.has_subscribers for p in self.pubs)
+
+    def shutdown(self):
+        for p in self.pubs:
+            p.unregister()
+        self.pubs = ()
+
+
+class LaserPlugin(_Publishing, SensorPlugin):
+    """libgazebo_ros_laser.so / libgazebo_ros_gpu_laser.so -> sensor_msgs/LaserScan."""
+
+    def load(self, model, spec, context):
+        _check_type(self, ("ray", "gpu_ray"))
+        w = where(model, spec.link, spec.filename, spec.sensor)
+        p = Params(spec.element, w)
+        self.ray = RaySensor(context.world, model, spec.link, spec.sensor, spec.filename, seed=context.seed)
+        ns = _ns(spec, context)
+        self.topic = join_ns(ns, p.string("topicName", "/world"))
+        self.frame = tf_resolve(_tf_prefix(ns), p.string("frameName", "/world"))
+        self.fields = laser.laser_fields(self.ray.spec)
+        self.pub = context.advertise(self.topic, LaserScan, queue_size=2)
+        self.pubs = (self.pub,)
+        rospy.loginfo("%s: LaserScan on %s (frame %s, %d x %d rays, %g Hz)"
+                      % (w, self.topic, self.frame, self.ray.spec.count, self.ray.spec.v_count,
+                         self.update_rate))
+
+    def reset(self):
+        SensorPlugin.reset(self)
+        if _reseed(self.context):
+            self.ray.reseed()
+
+    def sense(self, t):
+        if not self.active():
+            return
+        ranges, intensities = self.ray.scan()
+        r32, i32 = ranges.astype("float32"), intensities.astype("float32")
+        self.pub.publish_later(lambda: self._message(t, r32, i32))
+
+    def _message(self, t, ranges, intensities):
+        msg = LaserScan()
+        msg.header.stamp = _stamp(t)
+        msg.header.frame_id = self.frame
+        for k, v in self.fields.items():
+            setattr(msg, k, v)
+        msg.ranges = ranges.tolist()
+        msg.intensities = intensities.tolist()
+        return msg
+
+
+class VelodynePlugin(_Publishing, SensorPlugin):
+    """libgazebo_ros_velodyne_laser.so / _gpu_laser.so -> sensor_msgs/PointCloud2 (22-byte points)."""
+
+    def load(self, model, spec, context):
+        _check_type(self, ("ray", "gpu_ray"))
+        w = where(model, spec.link, spec.filename, spec.sensor)
+        p = Params(spec.element, w)
+        self.ray = RaySensor(context.world, model, spec.link, spec.sensor, spec.filename, seed=context.seed)
+        self.cfg = velodyne.VelodyneConfig(p, self.ray.spec)
+        ns = spec.robot_namespace or "/"
+        self.topic = join_ns(ns, p.string("topicName", "/points"))
+        prefix = _tf_prefix(ns) if ns in ("/", "") else ns
+        self.frame = tf_resolve(prefix.strip("/"), p.string("frameName", "/world"))
+        self.fields = [PointField(name=n, offset=o, datatype=d, count=c) for n, o, d, c in velodyne.FIELDS]
+        self.pub = context.advertise(self.topic, PointCloud2, queue_size=1)
+        self.pubs = (self.pub,)
+        rospy.loginfo("%s: Velodyne PointCloud2 on %s (frame %s, %d lasers x %d samples, %g Hz)"
+                      % (w, self.topic, self.frame, self.ray.spec.v_count, self.ray.spec.count,
+                         self.update_rate))
+
+    def reset(self):
+        SensorPlugin.reset(self)
+        if _reseed(self.context):
+            self.ray.reseed()
+
+    def sense(self, t):
+        if not self.active():
+            return
+        ranges, intensities = self.ray.scan()      # fresh arrays: safe to use after the hook
+        noise = self.ray.rng.normal(0.0, self.cfg.gaussian_noise, ranges.shape) if self.cfg.gaussian_noise \
+            else None
+        self.pub.publish_later(lambda: self._message(t, ranges, intensities, noise))
+
+    def _message(self, t, ranges, intensities, noise):
+        data, width, height, row_step, dense = velodyne.pack_cloud(
+            self.ray.spec, self.cfg, ranges, intensities, noise=noise)
+        msg = PointCloud2()
+        msg.header.stamp = _stamp(t)
+        msg.header.frame_id = self.frame
+        msg.fields = self.fields
+        msg.is_bigendian = False
+        msg.point_step = velodyne.POINT_STEP
+        msg.width, msg.height, msg.row_step, msg.is_dense = width, height, row_step, dense
+        msg.data = data
+        return msg
+
+
+def _imu_msg(r, frame, t, sigma):
+    msg = Imu()
+    msg.header.stamp = _stamp(t)
+    msg.header.frame_id = frame
+    q = r.orientation
+    msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
+    msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = r.angular_velocity
+    msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = r.linear_acceleration
+    c = covariance(sigma)
+    msg.orientation_covariance = c
+    msg.angular_velocity_covariance = c
+    msg.linear_acceleration_covariance = c
+    return msg
+
+
+class ImuSensorPlugin(_Publishing, SensorPlugin):
+    """libgazebo_ros_imu_sensor.so on a <sensor type="imu">."""
+
+    def load(self, model, spec, context):
+        _check_type(self, ("imu",))
+        self.imu = ImuSensor(context.world, model, spec.link, spec.sensor, spec.element, spec.filename,
+                             seed=context.seed)
+        ns = _ns(spec, context)
+        self.topic = join_ns(ns, self.imu.topic)
+        self.frame = self.imu.frame
+        self.pub = context.advertise(self.topic, Imu, queue_size=10)
+        self.pubs = (self.pub,)
+        rospy.loginfo("%s: Imu on %s (frame %s, %g Hz)"
+                      % (self.imu.where, self.topic, self.frame, self.imu.publish_rate))
+
+    def reset(self):
+        SensorPlugin.reset(self)
+        self.imu.reset(_reseed(self.context))
+
+    def after_step(self, t, dt):
+        r = self.imu.step(t)        # keeps the velocity history even without subscribers
+        if r is not None and self.active():
+            self.pub.publish(_imu_msg(r, self.frame, t, self.imu.noise))
+
+
+class ImuModelRosPlugin(_Publishing, ModelPlugin):
+    """libgazebo_ros_imu.so (model plugin) with its serviceName (std_srvs/Empty, a no-op
+    calibration as in gazebo_ros_imu)."""
+
+    def load(self, model, spec, context):
+        w = where(model, None, spec.filename)
+        self.imu = ImuModelPlugin(context.world, model, spec.element, w, seed=context.seed)
+        ns = _ns(spec, context)
+        self.topic = join_ns(ns, self.imu.topic)
+        self.frame = self.imu.frame
+        self.pub = context.advertise(self.topic, Imu, queue_size=10)
+        self.pubs = (self.pub,)
+        self.srv = rospy.Service(join_ns(ns, self.imu.service), Empty, lambda req: EmptyResponse())
+        rospy.loginfo("%s: Imu on %s (link %s)" % (w, self.topic, self.imu.link.name))
+
+    def reset(self):
+        self.imu.reset(_reseed(self.context))
+
+    def after_step(self, t, dt):
+        r = self.imu.step(t)
+        if r is not None and self.active():
+            self.pub.publish(_imu_msg(r, self.frame, t, self.imu.noise))
+
+    def shutdown(self):
+        _Publishing.shutdown(self)
+        self.srv.shutdown()
+
+
+class GpsPlugin(_Publishing, ModelPlugin):
+    """libhector_gazebo_ros_gps.so -> sensor_msgs/NavSatFix + geometry_msgs/Vector3Stamped."""
+
+    def load(self, model, spec, context):
+        w = where(model, None, spec.filename)
+        self.gps = HectorGps(context.world, model, spec.element, w, seed=context.seed)
+        ns = _ns(spec, context)
+        self.fix_pub = context.advertise(join_ns(ns, self.gps.topic), NavSatFix, queue_size=10)
+        self.vel_pub = context.advertise(join_ns(ns, self.gps.velocity_topic), Vector3Stamped, queue_size=10)
+        self.pubs = (self.fix_pub, self.vel_pub)
+        rospy.loginfo("%s: NavSatFix on %s, velocity on %s" % (w, self.fix_pub.name, self.vel_pub.name))
+
+    def reset(self):
+        self.gps.reset(_reseed(self.context))
+
+    def after_step(self, t, dt):
+        f = self.gps.step(t)       # the error processes run whether or not anyone listens
+        if f is None or not self.active():
+            return
+        fix = NavSatFix()
+        fix.header.stamp = _stamp(t)
+        fix.header.frame_id = self.gps.frame_id
+        fix.status.status = self.gps.status
+        fix.status.service = self.gps.service
+        fix.latitude, fix.longitude, fix.altitude = f.latitude, f.longitude, f.altitude
+        fix.position_covariance = f.covariance
+        fix.position_covariance_type = NavSatFix.COVARIANCE_TYPE_DIAGONAL_KNOWN
+        vel = Vector3Stamped()
+        vel.header = fix.header
+        vel.vector.x, vel.vector.y, vel.vector.z = f.velocity
+        self.fix_pub.publish(fix)
+        self.vel_pub.publish(vel)
+
+
+class P3dPlugin(_Publishing, ModelPlugin):
+    """libgazebo_ros_p3d.so -> nav_msgs/Odometry."""
+
+    def load(self, model, spec, context):
+        w = where(model, None, spec.filename)
+        self.p3d = P3d(context.world, model, spec.element, w, seed=context.seed)
+        ns = _ns(spec, context)
+        self.topic = join_ns(ns, self.p3d.topic)
+        self.frame = tf_resolve(_tf_prefix(ns), self.p3d.frame)
+        self.pub = context.advertise(self.topic, Odometry, queue_size=10)
+        self.pubs = (self.pub,)
+        rospy.loginfo("%s: Odometry of %s on %s" % (w, self.p3d.body, self.topic))
+
+    def reset(self):
+        self.p3d.reset(_reseed(self.context))
+
+    def after_step(self, t, dt):
+        if not self.active():
+            return
+        s = self.p3d.step(t)
+        if s is None:
+            return
+        pos, rot, v, w = s
+        msg = Odometry()
+        msg.header.stamp = _stamp(t)
+        msg.header.frame_id = self.frame
+        msg.child_frame_id = self.p3d.body
+        pp = msg.pose.pose
+        pp.position.x, pp.position.y, pp.position.z = pos
+        pp.orientation.x, pp.orientation.y, pp.orientation.z, pp.orientation.w = rot
+        msg.twist.twist.linear.x, msg.twist.twist.linear.y, msg.twist.twist.linear.z = v
+        msg.twist.twist.angular.x, msg.twist.twist.angular.y, msg.twist.twist.angular.z = w
+        c = self.p3d.covariance()
+        msg.pose.covariance = c
+        msg.twist.covariance = c
+        self.pub.publish(msg)
+
+
+class BumperPlugin(_Publishing, SensorPlugin):
+    """libgazebo_ros_bumper.so on a <sensor type="contact"> -> gazebo_msgs/ContactsState."""
+
+    def load(self, model, spec, context):
+        _check_type(self, ("contact",))
+        self.contact = ContactSensor(context.world, model, spec.link, spec.sensor, spec.element,
+                                     spec.filename)
+        ns = _ns(spec, context)
+        self.topic = join_ns(ns, self.contact.topic)
+        self.frame = self.contact.frame
+        self.pub = context.advertise(self.topic, ContactsState, queue_size=10)
+        self.pubs = (self.pub,)
+        rospy.loginfo("%s: ContactsState on %s" % (self.contact.where, self.topic))
+
+    def sense(self, t):
+        pairs = self.contact.contacts()     # also keeps touching bodies awake: always run
+        if not self.active():
+            return
+        msg = ContactsState()
+        msg.header.stamp = _stamp(t)
+        msg.header.frame_id = self.frame
+        for k, pair in enumerate(pairs.values()):
+            st = ContactState()
+            st.info = "Debug:  i:(%d/%d)     my geom:%s   other geom:%s" % (
+                k, len(pairs), pair.collision1, pair.collision2)
+            st.collision1_name = pair.collision1
+            st.collision2_name = pair.collision2
+            for pos, n, d in zip(pair.positions, pair.normals, pair.depths):
+                st.contact_positions.append(Vector3(*pos))
+                st.contact_normals.append(Vector3(*n))
+                st.depths.append(d)
+                st.wrenches.append(Wrench())
+            st.total_wrench = Wrench()
+            msg.states.append(st)
+        self.pub.publish(msg)
+
+
+PLUGINS = {
+    "libgazebo_ros_laser.so": LaserPlugin,
+    "libgazebo_ros_gpu_laser.so": LaserPlugin,
+    "libgazebo_ros_velodyne_laser.so": VelodynePlugin,
+    "libgazebo_ros_velodyne_gpu_laser.so": VelodynePlugin,
+    "libgazebo_ros_imu_sensor.so": ImuSensorPlugin,
+    "libgazebo_ros_imu.so": ImuModelRosPlugin,
+    "libhector_gazebo_ros_gps.so": GpsPlugin,
+    "libgazebo_ros_p3d.so": P3dPlugin,
+    "libgazebo_ros_bumper.so": BumperPlugin,
+}
+
+for _name, _cls in PLUGINS.items():
+    register_plugin(_name, _cls)

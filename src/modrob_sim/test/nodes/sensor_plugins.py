@@ -1,0 +1,258 @@
+#!/usr/bin/env python3
+"""rostest node: the simulated sensors through /gazebo, each spawned with Gazebo's unchanged
+plugin XML. ``sensor_plugins.py CASE`` runs one case (laser, gpu_laser, imu_sensor, imu_model,
+velodyne, gps, p3d, bumper); every .test file starts its own /gazebo."""
+import importlib.util
+import math
+import os
+import subprocess
+import sys
+import unittest
+
+import numpy as np
+import rospy
+import rostest
+from gazebo_msgs.msg import ContactsState, ModelStates
+from geometry_msgs.msg import Pose, Vector3Stamped
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import Imu, LaserScan, NavSatFix, PointCloud2
+from std_srvs.srv import Empty
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sim_helpers import Gazebo, Latest, wait_for  # noqa: E402
+
+_FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "sensors")
+_spec = importlib.util.spec_from_file_location("sensor_fixtures", os.path.join(_FIX, "sensor_fixtures.py"))
+F = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(F)
+
+CASE = sys.argv[1] if len(sys.argv) > 1 and not sys.argv[1].startswith("_") else "laser"
+
+
+def pose(x=0.0, y=0.0, z=0.0, yaw=0.0):
+    p = Pose()
+    p.position.x, p.position.y, p.position.z = x, y, z
+    p.orientation.z, p.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    return p
+
+
+def next_msg(latest, after_count, timeout=30.0):
+    ok = wait_for(lambda: latest.count > after_count, timeout)
+    return latest.get() if ok else None
+
+
+class SensorPlugins(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.gz = Gazebo()
+        r = cls.gz.spawn_sdf_model(model_name="ground_plane", model_xml=F.GROUND_MODEL, robot_namespace="",
+                                   initial_pose=pose(), reference_frame="")
+        assert r.success, r.status_message
+
+    def spawn_urdf(self, name, xml, **kw):
+        r = self.gz.spawn_urdf_model(model_name=name, model_xml=xml, robot_namespace="",
+                                     initial_pose=pose(**kw), reference_frame="")
+        self.assertTrue(r.success, r.status_message)
+
+    def spawn_sdf(self, name, xml, **kw):
+        r = self.gz.spawn_sdf_model(model_name=name, model_xml=xml, robot_namespace="",
+                                    initial_pose=pose(**kw), reference_frame="")
+        self.assertTrue(r.success, r.status_message)
+
+    # ---- laser -------------------------------------------------------------------------------
+    def check_laser(self, plugin, sensor_type, topic):
+        b = math.radians(-40.0)
+        self.spawn_sdf("target", F.static_shape("target", F.box((0.4, 0.4, 0.4)), (0, 0, 0)),
+                       x=2.5 * math.cos(b), y=2.5 * math.sin(b), z=0.25)
+        xml = F.sensor_robot(F.laser_sensor(plugin=plugin, topic=topic, frame="sensor_link", samples=360,
+                                            rmin=0.1, rmax=8.0, rate=20, sensor_type=sensor_type))
+        scans = Latest("/" + topic.lstrip("/"), LaserScan)
+        self.spawn_urdf("laser_bot", xml, z=0.1)
+        msg = next_msg(scans, 1)
+        self.assertIsNotNone(msg, "no LaserScan on %s" % topic)
+        self.assertEqual(msg.header.frame_id, "sensor_link")
+        self.assertEqual(len(msg.ranges), 360)
+        self.assertEqual(len(msg.intensities), 360)
+        self.assertAlmostEqual(msg.angle_min, -math.pi, places=5)
+        self.assertAlmostEqual(msg.angle_max, math.pi, places=5)
+        self.assertAlmostEqual(msg.angle_increment, 2 * math.pi / 359, places=6)
+        self.assertEqual(msg.time_increment, 0.0)
+        self.assertEqual(msg.scan_time, 0.0)
+        self.assertAlmostEqual(msg.range_min, 0.1, places=5)
+        self.assertAlmostEqual(msg.range_max, 8.0, places=5)
+        i = int(round((b - msg.angle_min) / msg.angle_increment))
+        # sensor at 0.25 m height; the axis-aligned cube's face nearest the sensor is the plane
+        # x = cx - 0.2 (cx = 2.5 cos b)
+        cx = 2.5 * math.cos(b)
+        ang = msg.angle_min + i * msg.angle_increment
+        expected = (cx - 0.2) / math.cos(ang)
+        self.assertLess(abs(msg.ranges[i] - expected), 0.01, (msg.ranges[i], expected))
+        far = (i + 180) % 360
+        self.assertTrue(math.isinf(msg.ranges[far]) and msg.ranges[far] > 0, msg.ranges[far])
+        # stamps are simulated time at 20 Hz
+        m2 = next_msg(scans, scans.count)
+        periods = (m2.header.stamp - msg.header.stamp).to_sec() / 0.05
+        self.assertGreaterEqual(periods, 0.99)
+        self.assertLess(abs(periods - round(periods)), 0.02, periods)
+
+    def test_laser(self):
+        self.check_laser("libgazebo_ros_laser.so", "ray", "scan")
+
+    def test_gpu_laser(self):
+        self.check_laser("libgazebo_ros_gpu_laser.so", "gpu_ray", "/gpu/scan")
+
+    # ---- IMU ---------------------------------------------------------------------------------
+    def test_imu_sensor(self):
+        xml = F.sensor_robot("<sensor name='imu_sensor' type='imu'><always_on>true</always_on>"
+                             "<update_rate>100</update_rate><visualize>true</visualize><topic>imu</topic>"
+                             "<plugin filename='libgazebo_ros_imu_sensor.so' name='imu_plugin'>"
+                             "<topicName>imu</topicName><bodyName>sensor_link</bodyName>"
+                             "<updateRateHZ>10.0</updateRateHZ><gaussianNoise>0.0</gaussianNoise>"
+                             "<xyzOffset>0 0 0</xyzOffset><rpyOffset>0 0 0</rpyOffset>"
+                             "<frameName>sensor_link</frameName></plugin><pose>0 0 0 0 0 0</pose></sensor>",
+                             static=False)
+        imu = Latest("/imu", Imu)
+        self.spawn_urdf("imu_bot", xml, z=0.11)
+        self.assertTrue(wait_for(lambda: imu.count >= 15, 60.0), "too few Imu messages")
+        m = imu.get()
+        self.assertEqual(m.header.frame_id, "sensor_link")
+        self.assertLess(abs(m.linear_acceleration.z - 9.81), 0.01, m.linear_acceleration)
+        self.assertLess(abs(m.angular_velocity.z), 1e-3)
+        self.assertEqual(list(m.orientation_covariance), [0.0] * 9)
+
+    def test_imu_model(self):
+        extra = ("<gazebo><plugin name='imu_plugin' filename='libgazebo_ros_imu.so'><alwaysOn>true</alwaysOn>"
+                 "<bodyName>base_link</bodyName><topicName>imu_data</topicName>"
+                 "<serviceName>imu_service</serviceName>"
+                 "<gaussianNoise>0.01</gaussianNoise><updateRate>50.0</updateRate></plugin></gazebo>")
+        xml = F.sensor_robot("", static=False, extra=extra)
+        imu = Latest("/imu_data", Imu)
+        self.spawn_urdf("imu_bot", xml, z=0.11)
+        self.assertTrue(wait_for(lambda: imu.count >= 50, 60.0), "too few Imu messages")
+        m = imu.get()
+        self.assertEqual(m.header.frame_id, "base_link")
+        self.assertLess(abs(m.linear_acceleration.z - 9.81), 0.06)
+        self.assertAlmostEqual(m.linear_acceleration_covariance[0], 1e-4)
+        rospy.wait_for_service("/imu_service", 10.0)
+        rospy.ServiceProxy("/imu_service", Empty)()
+
+    # ---- Velodyne ----------------------------------------------------------------------------
+    def test_velodyne(self):
+        # a ring of 8 cones (cylinders) 4 m around the sensor
+        for k in range(8):
+            a = k * math.pi / 4 + 0.1
+            self.spawn_sdf("cone%d" % k, F.static_shape("cone%d" % k, F.cylinder(0.3, 2.0), (0, 0, 0)),
+                           x=4 * math.cos(a), y=4 * math.sin(a), z=1.0)
+        xacro = os.path.join(_FIX, "velodyne_bot.urdf.xacro")
+        xml = subprocess.check_output(["xacro", xacro], text=True)
+        cloud = Latest("/velodyne_points2", PointCloud2)
+        self.spawn_urdf("velodyne_bot", xml, z=0.1)
+        msg = next_msg(cloud, 0, 60.0)
+        self.assertIsNotNone(msg, "no PointCloud2 on /velodyne_points2")
+        self.assertEqual(msg.header.frame_id, "velodyne2")
+        self.assertEqual(msg.point_step, 22)
+        self.assertEqual([(f.name, f.offset, f.datatype, f.count) for f in msg.fields],
+                         [("x", 0, 7, 1), ("y", 4, 7, 1), ("z", 8, 7, 1), ("intensity", 12, 7, 1),
+                          ("ring", 16, 4, 1), ("time", 18, 7, 1)])
+        self.assertEqual(msg.height, 1)
+        self.assertEqual(msg.row_step, msg.width * 22)
+        self.assertTrue(msg.is_dense)
+        dt = np.dtype({"names": ["x", "y", "z", "intensity", "ring", "time"],
+                       "formats": ["<f4", "<f4", "<f4", "<f4", "<u2", "<f4"],
+                       "offsets": [0, 4, 8, 12, 16, 18], "itemsize": 22})
+        pts = np.frombuffer(msg.data, dtype=dt)
+        self.assertEqual(len(pts), msg.width)
+        self.assertTrue(set(np.unique(pts["ring"])) <= set(range(32)))
+        # points on the cones (0.3 m radius, 4 m away, at the cone azimuths): every point near a
+        # cone lies on its surface (within the 8 mm range noise), and every cone is seen
+        azimuths = [k * math.pi / 4 + 0.1 for k in range(8)]
+        centres = [(4 * math.cos(a), 4 * math.sin(a)) for a in azimuths]
+        for k, (cx, cy) in enumerate(centres):
+            d = np.hypot(pts["x"] - cx, pts["y"] - cy)
+            near = (d < 0.6) & (pts["z"] > -(0.1 + 1.0 + 0.09081) + 0.05)   # not the ground around it
+            self.assertGreater(near.sum(), 10, "cone %d not seen" % k)
+            self.assertLess(np.abs(d[near] - 0.3).max(), 0.04, "cone %d: points off its surface" % k)
+        # ground points: z of the lower lasers = -(sensor height) in the sensor frame
+        ground = pts[(pts["ring"] == 0) & (np.hypot(pts["x"], pts["y"]) < 3.0)]
+        self.assertGreater(len(ground), 100)
+        self.assertLess(np.abs(ground["z"] + (0.1 + 1.0 + 0.09081)).max(), 0.04)
+
+    # ---- GPS ---------------------------------------------------------------------------------
+    def test_gps(self):
+        extra = ("<gazebo><plugin name='novatel_gps_sim' filename='libhector_gazebo_ros_gps.so'>"
+                 "<alwaysOn>1</alwaysOn><updateRate>10.0</updateRate><bodyName>base_link</bodyName>"
+                 "<topicName>fix</topicName><velocityTopicName>fix_velocity</velocityTopicName>"
+                 "<drift>5.0 5.0 5.0</drift><gaussianNoise>0.1 0.1 0.1</gaussianNoise>"
+                 "<velocityDrift>0 0 0</velocityDrift>"
+                 "<velocityGaussianNoise>0.1 0.1 0.1</velocityGaussianNoise>"
+                 "</plugin></gazebo>")
+        fix = Latest("/fix", NavSatFix)
+        vel = Latest("/fix_velocity", Vector3Stamped)
+        self.spawn_urdf("gps_bot", F.sensor_robot("", static=True, extra=extra), z=0.1)
+        self.assertTrue(wait_for(lambda: fix.count >= 3 and vel.count >= 3, 60.0))
+        m = fix.get()
+        self.assertEqual(m.header.frame_id, "/world")
+        self.assertEqual(list(m.position_covariance), [25.01, 0, 0, 0, 25.01, 0, 0, 0, 25.01])
+        self.assertEqual(m.position_covariance_type, 2)
+        self.assertEqual(m.status.status, 0)
+        self.assertLess(abs(m.latitude - 49.9), 1e-3)        # within ~100 m of the reference
+        self.assertLess(abs(m.longitude - 8.9), 2e-3)
+
+    # ---- p3d ---------------------------------------------------------------------------------
+    def test_p3d(self):
+        extra = ("<gazebo><plugin name='p3d_base_controller' filename='libgazebo_ros_p3d.so'>"
+                 "<alwaysOn>true</alwaysOn><updateRate>50.0</updateRate><bodyName>base_link</bodyName>"
+                 "<topicName>ground_truth/state</topicName><gaussianNoise>0.0</gaussianNoise>"
+                 "<frameName>world</frameName><xyzOffsets>0 0 0</xyzOffsets><rpyOffsets>0 0 0</rpyOffsets>"
+                 "</plugin></gazebo>")
+        odom = Latest("/ground_truth/state", Odometry)
+        states = Latest("/gazebo/model_states", ModelStates)
+        self.spawn_urdf("p3d_bot", F.sensor_robot("", static=False, extra=extra),
+                        x=1.0, y=-2.0, z=0.5, yaw=0.7)
+        self.assertTrue(wait_for(lambda: odom.count >= 5, 60.0))
+        self.gz.pause_physics()
+        c = odom.count
+        wait_for(lambda: odom.count > c, 2.0)   # nothing new once paused
+        s = states.get()
+        wait_for(lambda: states.get() is not s, 5.0)
+        s = states.get()
+        o = odom.get()
+        k = list(s.name).index("p3d_bot")
+        p = s.pose[k]
+        self.assertEqual(o.header.frame_id, "world")
+        self.assertEqual(o.child_frame_id, "base_link")
+        for a, b in ((o.pose.pose.position.x, p.position.x), (o.pose.pose.position.y, p.position.y),
+                     (o.pose.pose.position.z, p.position.z), (o.pose.pose.orientation.z, p.orientation.z),
+                     (o.pose.pose.orientation.w, p.orientation.w)):
+            self.assertAlmostEqual(a, b, places=3)
+        self.gz.unpause_physics()
+
+    # ---- bumper ------------------------------------------------------------------------------
+    def test_bumper(self):
+        sensor = ("<sensor name='plate_contact' type='contact'><always_on>true</always_on>"
+                  "<update_rate>50</update_rate>"
+                  "<contact><collision>sensor_link_collision</collision></contact>"
+                  "<plugin name='bumper' filename='libgazebo_ros_bumper.so'><bumperTopicName>plate_bumper"
+                  "</bumperTopicName><frameName>world</frameName></plugin></sensor>")
+        bumper = Latest("/plate_bumper", ContactsState)
+        self.spawn_urdf("bumper_bot", F.sensor_robot(sensor, static=True), z=0.1)
+        # the sensor link's 5 cm cube top is at 0.1 + 0.15 + 0.025 = 0.275: drop a box on it
+        self.spawn_sdf("weight", F.static_shape("weight", F.box((0.1, 0.1, 0.1)), (0, 0, 0))
+                       .replace("<static>true</static>", "<static>false</static>")
+                       .replace("<link name='link'>",
+                                "<link name='link'><inertial><mass>0.5</mass></inertial>"),
+                       z=0.33)
+        ok = wait_for(lambda: bumper.get() is not None and any(
+            "weight" in st.collision2_name for st in bumper.get().states), 60.0)
+        self.assertTrue(ok, "the box resting on the sensor link is not reported")
+        st = [s for s in bumper.get().states if "weight" in s.collision2_name][0]
+        self.assertEqual(st.collision1_name, "bumper_bot::sensor_link::sensor_link_collision")
+        self.assertGreater(len(st.contact_positions), 0)
+        self.assertLess(abs(st.contact_positions[0].z - 0.275), 0.01)
+
+
+if __name__ == "__main__":
+    for _name in [n for n in vars(SensorPlugins) if n.startswith("test_") and n != "test_" + CASE]:
+        delattr(SensorPlugins, _name)
+    rospy.init_node("sensor_plugins_test")
+    rostest.rosrun("modrob_sim", "sensor_plugins_" + CASE, SensorPlugins)

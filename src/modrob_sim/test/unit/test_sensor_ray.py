@@ -1,0 +1,149 @@
+"""Tier 1: the ray sensor core (laser and lidar geometry, Gazebo's out-of-range reporting, noise)
+and the two ray casters on every primitive shape."""
+import importlib.util
+import math
+import os
+
+import numpy as np
+import pytest
+
+from modrob_sim.physics import World
+from modrob_sim.sensors import raycast
+from modrob_sim.sensors.errors import SensorConfigError
+from modrob_sim.sensors.ray_sensor import RaySensor
+
+_FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "sensors")
+_spec = importlib.util.spec_from_file_location("sensor_fixtures", os.path.join(_FIX, "sensor_fixtures.py"))
+F = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(F)
+
+CASTERS = ["ode", "numpy"] if raycast.NATIVE_AVAILABLE else ["numpy"]
+
+
+def laser_world(sensor_xml, shapes=(), **kw):
+    w = World(seed=3)
+    w.add_sdf(F.GROUND)
+    for i, (geom, xyz) in enumerate(shapes):
+        w.add_sdf(F.static_shape("obj%d" % i, geom, xyz))
+    m = w.add_urdf("bot", F.sensor_robot(sensor_xml, **kw), pose=((0, 0, 0.1), (0, 0, 0, 1)))
+    return w, m
+
+
+def sensor_of(w, m, caster=None):
+    link = m.links["sensor_link"]
+    return RaySensor(w, m, "sensor_link", link.sensors[0], "libgazebo_ros_laser.so", caster=caster)
+
+
+@pytest.mark.parametrize("caster", CASTERS)
+def test_box_at_known_bearing_and_distance(caster):
+    # sensor at (0, 0, 0.25); a 0.4 m cube centred 3 m away at bearing 30 degrees
+    b = math.radians(30.0)
+    c = (3.0 * math.cos(b), 3.0 * math.sin(b), 0.25)
+    w, m = laser_world(F.laser_sensor(samples=721, rmax=10.0), [(F.box((0.4, 0.4, 0.4)), c)])
+    s = sensor_of(w, m, caster)
+    ranges, _ = s.scan()
+    i = int(round((b - s.spec.h_min) / s.spec.angle_step))
+    # the face nearest to the sensor is at x' = 3 - 0.2 along the bearing (cube axis-aligned)
+    expected = (c[0] - 0.2) / math.cos(b)
+    assert abs(ranges[i] - expected) < 0.01
+    # beams that hit nothing read +inf (Gazebo masks ranges >= max as +inf, REP 117)
+    behind = int(round((b + math.pi - s.spec.h_min) / s.spec.angle_step)) % s.spec.count
+    assert math.isinf(ranges[behind]) and ranges[behind] > 0
+    assert np.isinf(ranges).sum() > 600 and np.isfinite(ranges).sum() >= 5
+
+
+@pytest.mark.parametrize("caster", CASTERS)
+def test_sensor_does_not_see_its_own_link_but_sees_its_robot(caster):
+    # rays start at range min 0.01 inside the sensor link's 5 cm box: not seen. The base box of
+    # the same robot, below the sensor, is seen by a ray pitched down.
+    xml = F.laser_sensor(samples=1, min_angle=0.0, max_angle=0.0, rmin=0.01, rmax=5.0,
+                         v_samples=1, v_min=-math.pi / 2, v_max=-math.pi / 2)
+    w, m = laser_world(xml)
+    s = sensor_of(w, m, caster)
+    r, _ = s.scan()
+    # sensor link origin at 0.1 + 0.15 = 0.25, base box top at 0.1 + 0.1 = 0.2
+    assert abs(r[0] - 0.05) < 1e-6
+
+
+@pytest.mark.parametrize("caster", CASTERS)
+def test_every_primitive_shape(caster):
+    shapes = [(F.box((1, 1, 1)), (4, 0, 0.5)), (F.cylinder(0.5, 1.0), (0, 4, 0.5)),
+              (F.sphere(0.5), (-4, 0, 0.25))]
+    w, m = laser_world(F.laser_sensor(samples=4, min_angle=0.0, max_angle=1.5 * math.pi, rmax=20), shapes)
+    r, _ = sensor_of(w, m, caster).scan()
+    assert abs(r[0] - 3.5) < 1e-6                       # box face
+    assert abs(r[1] - 3.5) < 1e-6                       # cylinder side
+    # sphere centre (-4, 0, 0.25) = sensor height: the near point at x = -3.5
+    assert abs(r[2] - 3.5) < 1e-6
+    assert math.isinf(r[3])
+
+
+def test_casters_agree_in_a_cluttered_world():
+    if not raycast.NATIVE_AVAILABLE:
+        pytest.skip("native caster unavailable")
+    rng = np.random.default_rng(1)
+    shapes = []
+    for k in range(30):
+        a, d = rng.uniform(0, 2 * math.pi), rng.uniform(1.5, 8)
+        g = [F.box((0.5, 0.7, 1.0)), F.cylinder(0.3, 1.2), F.sphere(0.4)][k % 3]
+        shapes.append((g, (d * math.cos(a), d * math.sin(a), 0.4)))
+    xml = F.laser_sensor(samples=300, rmax=15, v_samples=8, v_min=-0.3, v_max=0.2)
+    w, m = laser_world(xml, shapes)
+    a, _ = sensor_of(w, m, "ode").scan()
+    b, _ = sensor_of(w, m, "numpy").scan()
+    both = np.isfinite(a) & np.isfinite(b)
+    assert (np.isfinite(a) == np.isfinite(b)).mean() > 0.999
+    assert np.abs(a[both] - b[both]).max() < 1e-6
+
+
+def test_noise_stddev_as_configured():
+    # the fan looks down at the ground from 1.0 m: every one of the 1000 beams hits
+    down = "0 0 0 0 1.5707963 0"
+    xml_clean = F.laser_sensor(samples=1000, min_angle=-0.5, max_angle=0.5, rmax=10, pose=down)
+    xml_noisy = F.laser_sensor(samples=1000, min_angle=-0.5, max_angle=0.5, rmax=10, pose=down, stddev=0.02)
+    w, m = laser_world(xml_clean, sensor_xyz=(0, 0, 0.9))
+    clean, _ = sensor_of(w, m).scan()
+    w2, m2 = laser_world(xml_noisy, sensor_xyz=(0, 0, 0.9))
+    noisy, _ = sensor_of(w2, m2).scan()
+    assert np.isfinite(clean).all()
+    d = noisy - clean
+    assert abs(d.std() - 0.02) < 0.002
+    assert abs(d.mean()) < 0.003
+
+
+def test_noise_is_seeded():
+    xml = F.laser_sensor(samples=50, min_angle=-0.5, max_angle=0.5, rmax=10, pose="0 0 0 0 1.5707963 0",
+                         stddev=0.05)
+    a = sensor_of(*laser_world(xml, sensor_xyz=(0, 0, 0.9))).scan()[0]
+    b = sensor_of(*laser_world(xml, sensor_xyz=(0, 0, 0.9))).scan()[0]
+    assert np.array_equal(a, b)
+
+
+def test_range_clamps_and_minus_inf():
+    # a wall 0.3-0.5 m away with range min 0.6: the ray starts beyond it -> nothing -> +inf; a wall
+    # at 3 m with max 2 -> +inf
+    xml = F.laser_sensor(samples=2, min_angle=0.0, max_angle=math.pi, rmin=0.6, rmax=2.0)
+    w, m = laser_world(xml, [(F.box((0.2, 4, 2)), (0.4, 0, 1)), (F.box((0.2, 4, 2)), (-3.1, 0, 1))])
+    r, _ = sensor_of(w, m).scan()
+    assert math.isinf(r[0]) and r[0] > 0
+    assert math.isinf(r[1]) and r[1] > 0
+
+
+@pytest.mark.parametrize("bad, text", [
+    ("<samples>abc</samples>", "samples"),
+    ("<samples>0</samples>", "samples"),
+])
+def test_malformed_parameters_name_element_and_value(bad, text):
+    xml = F.laser_sensor(samples=10).replace("<samples>10</samples>", bad)
+    w, m = laser_world(xml)
+    with pytest.raises(SensorConfigError) as e:
+        sensor_of(w, m)
+    assert text in str(e.value) and "sensor_link" in str(e.value) and "bot" in str(e.value)
+
+
+def test_range_max_below_min_is_refused():
+    xml = F.laser_sensor(samples=10, rmin=2.0, rmax=1.0)
+    w, m = laser_world(xml)
+    with pytest.raises(SensorConfigError) as e:
+        sensor_of(w, m)
+    assert "range/max" in str(e.value) and "1.0" in str(e.value)
