@@ -9,13 +9,13 @@ the detections, default 120), approach, clearance, grip_effort, cart_speed (the 
 import math
 import os
 
-import numpy as np
 import rospy
 import tf2_ros
 from geometry_msgs.msg import PoseArray
 
 from katana_sim.errors import KatanaError
 from katana_sim.planner import Can, StackPlanner
+from katana_sim.tf_util import apply_transform
 from katana_sim.stacker import ArmInterface, Stacker, StackError
 
 BASE_FRAME = "katana_base_link"
@@ -29,16 +29,6 @@ def _lookup(buffer, target, source, wait):
     except (tf2_ros.LookupException, tf2_ros.ConnectivityException, tf2_ros.ExtrapolationException) as exc:
         raise StackError("no transform %s -> %s after %.0f s (is robot_state_publisher running?): %s"
                          % (source, target, wait, exc))
-
-
-def _apply(tf, p):
-    """Transform point p by a geometry_msgs TransformStamped."""
-    t, r = tf.transform.translation, tf.transform.rotation
-    x, y, z, w = r.x, r.y, r.z, r.w
-    rot = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                    [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                    [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-    return rot.dot(np.asarray(p, float)) + np.array([t.x, t.y, t.z])
 
 
 class CanStackNode(object):
@@ -76,7 +66,7 @@ class CanStackNode(object):
         cans = []
         for n in names:
             (p, _) = self.arm.model_pose(n)
-            c = _apply(tf, p)
+            c = apply_transform(tf, p)
             cans.append(Can(c[0], c[1], c[2] - 0.5 * CAN_HEIGHT, CAN_RADIUS, CAN_HEIGHT))
         return cans
 
@@ -97,7 +87,7 @@ class CanStackNode(object):
         tf = _lookup(self.tf_buffer, BASE_FRAME, msg.header.frame_id, self.wait)
         cans = []
         for pose in msg.poses:
-            c = _apply(tf, (pose.position.x, pose.position.y, pose.position.z))
+            c = apply_transform(tf, (pose.position.x, pose.position.y, pose.position.z))
             # the cans stand on the table the arm stands on: the base's foot plane
             cans.append(Can(c[0], c[1], 0.0, CAN_RADIUS, CAN_HEIGHT))
         return cans
@@ -111,7 +101,7 @@ class CanStackNode(object):
         for name, (p, _) in items:
             if "can" not in name:
                 continue
-            c = _apply(tf, p)
+            c = apply_transform(tf, p)
             d = math.hypot(c[0] - can.x, c[1] - can.y)
             if d < dist:
                 best, dist = name, d

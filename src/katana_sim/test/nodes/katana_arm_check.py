@@ -12,7 +12,13 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectoryPoint
 
+import numpy as np
+from gazebo_msgs.msg import LinkStates
+from geometry_msgs.msg import PoseStamped
+
+from katana_sim import kinematics as kin
 from katana_sim.kinematics import JOINTS
+from katana_sim.srv import GetFK, GetIK
 
 TOLERANCE = 0.05  # katana_arm_controller's goal tolerance (rad)
 
@@ -82,6 +88,38 @@ class KatanaArm(unittest.TestCase):
         self.assertFalse(res.stalled, text)
         self.assertNotIn("holding", text)
         self.assertAlmostEqual(self.positions["katana_r_finger_joint"], -0.44, delta=0.02)
+
+    def test_4_kdl_fk_matches_the_simulators_link_poses(self):
+        states = rospy.wait_for_message("/gazebo/link_states", LinkStates, timeout=30)
+        q = [self.positions[j] for j in JOINTS]
+        fk = rospy.ServiceProxy("/katana_arm_kinematics/get_fk", GetFK)
+        fk.wait_for_service(30)
+        res = fk(joint_names=list(JOINTS), positions=q, solver="kdl")
+        self.assertTrue(res.success, res.message)
+        # the tool frame sits LINK5 along the wrist roll link's x axis; compare the link itself too
+        sim = states.pose[states.name.index("katana::katana_motor5_wrist_roll_link")]
+        m = kin.link_frames(q)[4]
+        base = np.array([0.0, 0.0, 0.75])
+        sim_p = np.array([sim.position.x, sim.position.y, sim.position.z]) - base
+        self.assertLess(np.linalg.norm(sim_p - m[:3, 3]), 0.002,
+                        "wrist roll link: sim %s, FK %s" % (sim_p, m[:3, 3]))
+        tool = np.array([res.pose.pose.position.x, res.pose.pose.position.y, res.pose.pose.position.z])
+        self.assertLess(np.linalg.norm(tool - kin.tool_position(q)), 1e-6)
+
+    def test_5_ik_service_solves_and_refuses_with_the_reason(self):
+        ik = rospy.ServiceProxy("/katana_arm_kinematics/get_ik", GetIK)
+        ik.wait_for_service(30)
+        target = PoseStamped()
+        target.pose.position.x, target.pose.position.y, target.pose.position.z = 0.3, -0.1, 0.2
+        for solver in ("kdl", "triangle", "grasp"):
+            res = ik(target=target, solver=solver, position_only=True)
+            self.assertTrue(res.success, "%s: %s" % (solver, res.message))
+            self.assertLess(np.linalg.norm(kin.tool_position(res.positions) - [0.3, -0.1, 0.2]), 1e-3, solver)
+        target.pose.position.x = 1.2
+        res = ik(target=target, solver="kdl", position_only=True)
+        self.assertFalse(res.success)
+        self.assertIn("refused", res.message)
+        self.assertIn("reaches at most", res.message)
 
     def test_3_nan_gripper_goal_is_refused(self):
         state, res, text = self._grip(float("nan"))
