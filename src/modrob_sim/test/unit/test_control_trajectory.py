@@ -117,6 +117,11 @@ def test_malformed_points_are_invalid_goals():
     nan = [TrajectoryPoint([0.1, float("nan"), 0.3], time_from_start=1.0)]
     ok, code, text = ctl.submit(JOINTS, nan, 0.0, 0.0, goal_id="g")
     assert code == INVALID_GOAL and "NaN" in text
+    for t in (-1.0, -0.5):  # -0.5 s was accepted, -1 s refused as "point 0 at -1 s follows -1 s"
+        past = [TrajectoryPoint([0.1, 0.2, 0.3], time_from_start=t)]
+        ok, code, text = ctl.submit(JOINTS, past, 0.0, 5.0, goal_id="g")
+        assert not ok and code == INVALID_GOAL
+        assert "point 0 has a negative time_from_start (%g s)" % t in text
 
 
 def test_new_goal_preempts_the_old_one():

@@ -124,3 +124,22 @@ def test_position_interface_with_pid_gains_and_trajectory_on_three_joints():
     assert events and events[0][:2] == ("g", "succeeded"), events
     for j, q in zip(("yaw", "shoulder", "elbow"), (0.4, 0.3, -0.2)):
         assert model.joints[j].position == pytest.approx(q, abs=0.02)
+
+
+def test_gains_that_cannot_run_at_the_step_are_named_once_at_load_time():
+    world, model, mgr = sim("arm_1dof_effort.urdf")
+    logs = []
+    mgr.log = lambda level, msg: logs.append((level, msg))
+    mgr.time_step = world.time_step
+    inertia = model.joints["shoulder"]._child_inertia
+    d_max = 2.0 * inertia / world.time_step
+    ok = {"type": "effort_controllers/JointPositionController", "joint": "shoulder",
+          "pid": {"p": 100.0, "d": 0.4 * d_max}}
+    mgr.load("calm", ok)
+    assert not [m for lvl, m in logs if lvl == "warn"]
+    bad = dict(ok, pid={"p": 100.0, "d": 3.0 * d_max})
+    mgr.load("shaky", bad)
+    warns = [m for lvl, m in logs if lvl == "warn"]
+    assert len(warns) == 1
+    assert "controller 'shaky' joint 'shoulder'" in warns[0]
+    assert "largest stable d is %.3g" % d_max in warns[0]

@@ -16,7 +16,8 @@ _spec = importlib.util.spec_from_file_location("physics_helpers", os.path.join(_
 H = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(H)
 
-INERTIAL = "<inertial><mass value='1'/><inertia ixx='0.01' ixy='0' ixz='0' iyy='0.01' iyz='0' izz='0.01'/></inertial>"
+INERTIAL = ("<inertial><mass value='1'/><inertia ixx='0.01' ixy='0' ixz='0' iyy='0.01' iyz='0' izz='0.01'/>"
+            "</inertial>")
 
 
 def signature(world):
@@ -39,7 +40,8 @@ def link(geometry, where="collision", extra=""):
 
 def two_links(joint_xml):
     return ("<robot name='x'><link name='a'>%s</link><link name='b'>%s<collision><geometry>"
-            "<box size='0.1 0.1 0.1'/></geometry></collision></link>%s</robot>" % (INERTIAL, INERTIAL, joint_xml))
+            "<box size='0.1 0.1 0.1'/></geometry></collision></link>%s</robot>"
+            % (INERTIAL, INERTIAL, joint_xml))
 
 
 BAD_URDF = [
@@ -100,7 +102,8 @@ def test_chained_origins_beyond_the_world_extent_are_refused():
 
 
 BAD_SDF_MODELS = [
-    ("<mesh><uri>file:///nonexistent.stl</uri><scale>0 1 1</scale></mesh>", ["<mesh> scale", "(0, 1, 1)"]),
+    ("<mesh><uri>file:///nonexistent.stl</uri><scale>0 1 1</scale></mesh>",
+     ["<mesh> scale", "(0, 1, 1)"]),
     ("<box><size>1 -1 1</size></box>", ["must be positive"]),
 ]
 
@@ -119,8 +122,8 @@ def test_sdf_geometry_like_urdf(geometry, words):
 
 
 def test_sdf_axis_that_overflows_is_refused():
-    sdf = ("<sdf version='1.6'><model name='m'><link name='a'/><link name='b'/><joint name='j' type='revolute'>"
-           "<parent>a</parent><child>b</child><axis><xyz>1e300 1e300 0</xyz></axis></joint></model></sdf>")
+    sdf = ("<sdf version='1.6'><model name='m'><link name='a'/><link name='b'/>"
+           "<joint name='j' type='revolute'><parent>a</parent><child>b</child><axis><xyz>1e300 1e300 0</xyz></axis></joint></model></sdf>")
     with pytest.raises(ModelError, match="joint 'j'.*<axis><xyz>"):
         World().add_sdf(sdf)
 

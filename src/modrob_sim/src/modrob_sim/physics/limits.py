@@ -165,6 +165,6 @@ def check_time_step(dt, what="time_step"):
     except (TypeError, ValueError):
         raise ValueError("%s must be a number of seconds, got %r" % (what, dt))
     if not (math.isfinite(dt) and MIN_TIME_STEP <= dt <= MAX_TIME_STEP):
-        raise ValueError("%s = %r s must be in [%g, %g] s%s" % (what, dt, MIN_TIME_STEP, MAX_TIME_STEP,
-                                                               _SEE))
+        raise ValueError("%s = %r s must be in [%g, %g] s%s"
+                         % (what, dt, MIN_TIME_STEP, MAX_TIME_STEP, _SEE))
     return dt

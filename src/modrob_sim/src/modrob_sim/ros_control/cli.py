@@ -21,6 +21,7 @@ from controller_manager_msgs.srv import (ListControllers, ListControllerTypes, L
 from std_msgs.msg import Bool
 
 STRICT = SwitchControllerRequest.STRICT
+BEST_EFFORT = SwitchControllerRequest.BEST_EFFORT
 
 
 def _service_names(namespace):
@@ -142,17 +143,20 @@ def spawner_main(argv=None):
 
     def shutdown():
         rospy.loginfo("Shutting down spawner. Stopping and unloading controllers...")
+        t0 = time.monotonic()
         try:
             for k in ("switch_controller", "unload_controller"):
                 rospy.wait_for_service(rospy.resolve_name(client.names[k]), timeout=args.shutdown_timeout)
-            client.switch_controller([], loaded, STRICT, False, 0.0)
+            # BEST_EFFORT: a controller the simulator already stopped (its model deleted, or another
+            # spawner) is not an error at tear-down
+            client.switch_controller([], loaded, BEST_EFFORT, False, 0.0)
             for name in reversed(loaded):
                 client.unload_controller(name)
                 rospy.loginfo("Unloaded %s" % name)
         except (rospy.ServiceException, rospy.ROSException) as exc:
             rospy.logwarn("Controller Spawner couldn't reach controller_manager to take down "
-                          "controllers (%s). "
-                          "Waited for %g second(s)." % (exc, args.shutdown_timeout))
+                          "controllers (%s) after %.1f s: the simulator has probably stopped already"
+                          % (exc, time.monotonic() - t0))
 
     rospy.on_shutdown(shutdown)
     for name in controllers:

@@ -5,6 +5,7 @@ Controller states: 'initialized' after load, 'running' after start, 'stopped' af
 Switches take effect at once (also while the simulation is paused), not at the next update.
 """
 from modrob_sim.errors import ControllerError
+from modrob_sim.ros_control import gain_check
 from modrob_sim.ros_control.controllers import CONTROLLER_TYPES
 from modrob_sim.ros_control.params import Params, join
 
@@ -22,6 +23,8 @@ class ControllerManager(object):
         self.controllers = {}          # name -> Controller, in load order
         self.log = log or (lambda level, msg: None)
         self.time = 0.0
+        #: the physics step (s); when set, loading a controller warns about gains that cannot run
+        self.time_step = None
 
     # -- queries ---------------------------------------------------------------------------
     def list_types(self):
@@ -55,6 +58,9 @@ class ControllerManager(object):
                                   % (name, type_, ns, ", ".join(self.list_types())))
         controller = cls(name, self.hw, Params(params_values, ns))
         self.controllers[name] = controller
+        if self.time_step:
+            for joint, gain, k, limit, inertia in gain_check.unstable_gains(controller, self.time_step):
+                self.log("warn", gain_check.message(name, joint, gain, k, limit, inertia, self.time_step))
         return controller
 
     def unload(self, name):

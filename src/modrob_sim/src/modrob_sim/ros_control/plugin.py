@@ -67,6 +67,7 @@ class GazeboRosControlPlugin(ModelPlugin):
             rospy.loginfo("model '%s': %s" % (model.name, note))
         self.manager = ControllerManager(self.hw, self.namespace,
                                          log=lambda level, msg: _LOG[level]("%s: %s" % (self.namespace, msg)))
+        self.manager.time_step = context.world.time_step
         self.adapters = {}      # controller name -> ROS adapter; changed only in the loop thread
         self.reconfigure = [PidReconfigure(res.pid, res.pid_source) for res in self.hw.pid_joints().values()]
         for name, res in self.hw.pid_joints().items():

@@ -171,7 +171,7 @@ class JointTrajectoryControllerBase(Controller):
                                            % ("s" if len(missing) > 1 else "",
                                               ", ".join("'%s'" % m for m in missing), self.name))
         k = len(joint_names)
-        last_t = -1.0
+        last_t = None
         for i, p in enumerate(points):
             for what, values in (("positions", p.positions), ("velocities", p.velocities),
                                  ("accelerations", p.accelerations)):
@@ -180,7 +180,11 @@ class JointTrajectoryControllerBase(Controller):
             values = p.positions + p.velocities + p.accelerations + [p.time_from_start]
             if not all(math.isfinite(v) for v in values):
                 return False, INVALID_GOAL, "point %d contains a NaN or infinite value" % i
-            if p.time_from_start <= last_t:
+            if p.time_from_start < 0.0:
+                return False, INVALID_GOAL, ("point %d has a negative time_from_start (%g s): times "
+                                             "count from the trajectory's start, 0 or later"
+                                             % (i, p.time_from_start))
+            if last_t is not None and p.time_from_start <= last_t:
                 return False, INVALID_GOAL, ("time_from_start must increase strictly: point %d at %g s "
                                              "follows %g s"
                                              % (i, p.time_from_start, last_t))

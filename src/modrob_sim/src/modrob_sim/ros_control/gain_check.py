@@ -1,0 +1,49 @@
+"""Gains that no explicit PID can run at the step size.
+
+An explicit PID's damping term is applied as an effort for the whole next step: with a damping
+gain ``k`` (the ``d`` of a position PID, the ``p`` of a velocity PID) on a joint that moves an
+effective inertia ``I``, one step changes the velocity error by the factor ``1 - k dt / I``; when
+``k dt / I > 2`` that factor is below -1 and the error grows every step, so the joint chatters at
+its effort limit. Gazebo applies the same explicit effort and shows the same. ``I`` is the
+inertia the joint moves directly (its child's body about the axis), the lightest case."""
+
+#: k * dt / I beyond this diverges
+STABILITY_LIMIT = 2.0
+
+
+def unstable_gains(controller, dt):
+    """[(joint name, gain name, gain, largest stable gain, effective inertia)] for a loaded
+    controller at step ``dt``; empty when every gain can run."""
+    out = []
+    for res, pid, gain_name in _pid_loops(controller):
+        inertia = getattr(res.sim, "_child_inertia", None)
+        if pid is None or not inertia or inertia <= 0.0 or dt <= 0.0:
+            continue
+        k = abs(getattr(pid.gains, gain_name))
+        limit = STABILITY_LIMIT * inertia / dt
+        if k > limit:
+            out.append((res.name, gain_name, k, limit, inertia))
+    return out
+
+
+def _pid_loops(controller):
+    """(joint resource, Pid, name of its damping gain) of the controller's explicit PIDs."""
+    pids = getattr(controller, "pids", None)
+    joints = getattr(controller, "joints", None)
+    if pids is not None and joints is not None:
+        for res, pid in zip(joints, pids):
+            yield res, pid, "d"
+        return
+    pid = getattr(controller, "pid", None)
+    res = getattr(controller, "joint", None)
+    if pid is not None and res is not None:
+        yield res, pid, "p" if "Velocity" in controller.TYPE else "d"
+
+
+def message(controller_name, joint, gain_name, k, limit, inertia, dt):
+    return ("controller '%s' joint '%s': %s = %g cannot run at the %g s step: the joint moves an "
+            "effective inertia of %.3g (kg m^2 or kg), so %s*dt/I = %.3g > %g and the explicit PID "
+            "diverges (the joint chatters at its effort limit, in Gazebo too). The largest stable %s "
+            "is %.3g; use about half of it or less, or a smaller time step"
+            % (controller_name, joint, gain_name, k, dt, inertia, gain_name, k * dt / inertia,
+               STABILITY_LIMIT, gain_name, limit))
