@@ -58,8 +58,8 @@ def grid_plots(runs, speed_path, path_path, reference):
         ax.grid(True, alpha=0.3)
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
-    fig.suptitle("Ground speed, 2 rad/s on the rear wheels (dashed: r*omega = %.2f m/s; dotted: steer 0.7 rad "
-                 "/ straighten)" % reference, fontsize=10)
+    fig.suptitle("Ground speed, 2 rad/s on the rear wheels (dashed: r*omega = %.2f m/s; "
+                 "dotted: steer 0.7 rad / straighten)" % reference, fontsize=10)
     fig.tight_layout()
     fig.savefig(speed_path, dpi=100)
     plt.close(fig)
@@ -75,8 +75,8 @@ def grid_plots(runs, speed_path, path_path, reference):
         ax.grid(True, alpha=0.3)
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
-    fig.suptitle("East/north path: straight, then 0.7 rad on both steering blocks until ~90 deg, then straight "
-                 "(o start, square end)", fontsize=10)
+    fig.suptitle("East/north path: straight, then 0.7 rad on both steering blocks until ~90 deg, "
+                 "then straight (o start, square end)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path_path, dpi=100)
     plt.close(fig)

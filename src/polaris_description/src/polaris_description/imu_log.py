@@ -16,9 +16,8 @@ class ImuCsvWriter(object):
         self.rows = 0
 
     def row(self, stamp, frame_id, orientation, angular_velocity, linear_acceleration):
-        self.writer.writerow(["%.6f" % stamp, frame_id] + ["%.9g" % v for v in
-                                                          tuple(orientation) + tuple(angular_velocity)
-                                                          + tuple(linear_acceleration)])
+        values = tuple(orientation) + tuple(angular_velocity) + tuple(linear_acceleration)
+        self.writer.writerow(["%.6f" % stamp, frame_id] + ["%.9g" % v for v in values])
         self.rows += 1
 
 

@@ -163,11 +163,13 @@ def _lot_model():
         links.append(_box("north_line_%d" % i, (x, 17.5, 0.003, 0, 0, 0), (0.12, 5.0, 0.002), white,
                           collide=False))
     # lot border lines
-    for name, pose, size in (("edge_s", ((LOT_X[0] + LOT_X[1]) / 2.0, LOT_Y[0] + 0.3, 0.003, 0, 0, 0), (w - 0.6, 0.15, 0.002)),
-                             ("edge_n", ((LOT_X[0] + LOT_X[1]) / 2.0, LOT_Y[1] - 0.3, 0.003, 0, 0, 0), (w - 0.6, 0.15, 0.002)),
-                             ("edge_w", (LOT_X[0] + 0.3, (LOT_Y[0] + LOT_Y[1]) / 2.0, 0.003, 0, 0, 0), (0.15, h - 0.6, 0.002)),
-                             ("edge_e", (LOT_X[1] - 0.3, (LOT_Y[0] + LOT_Y[1]) / 2.0, 0.003, 0, 0, 0), (0.15, h - 0.6, 0.002))):
-        links.append(_box(name, pose, size, white, collide=False))
+    cx, cy = (LOT_X[0] + LOT_X[1]) / 2.0, (LOT_Y[0] + LOT_Y[1]) / 2.0
+    borders = (("edge_s", (cx, LOT_Y[0] + 0.3), (w - 0.6, 0.15)),
+               ("edge_n", (cx, LOT_Y[1] - 0.3), (w - 0.6, 0.15)),
+               ("edge_w", (LOT_X[0] + 0.3, cy), (0.15, h - 0.6)),
+               ("edge_e", (LOT_X[1] - 0.3, cy), (0.15, h - 0.6)))
+    for name, (x, y), (sx, sy) in borders:
+        links.append(_box(name, (x, y, 0.003, 0, 0, 0), (sx, sy, 0.002), white, collide=False))
     return "<model name='parking_lot'><static>true</static>%s</model>" % "".join(links)
 
 

@@ -9,7 +9,6 @@ from polaris_description import seed_experiment as E
 from polaris_description.vehicle_sim import PID_CONFIGS, VehicleSim, load_pid_gains
 
 
-
 def run_config(n, log=print):
     sim = VehicleSim(world_file=None, pid_config=n)
     return _drive(sim, n, log)
@@ -40,7 +39,8 @@ def label(n):
     g = load_pid_gains(n)
     s = g["polaris_ranger_ev__front_left_steering_joint"]
     v = g["polaris_ranger_ev__rear_left_wheel_joint"]
-    return "config %d: steer P%g I%g D%g, vel P%g I%g D%g" % (n, s["p"], s["i"], s["d"], v["p"], v["i"], v["d"])
+    return ("config %d: steer P%g I%g D%g, vel P%g I%g D%g"
+            % (n, s["p"], s["i"], s["d"], v["p"], v["i"], v["d"]))
 
 
 def main(argv=None):
@@ -55,14 +55,16 @@ def main(argv=None):
         samples, exp, summary = run_config(n, log=lambda m: print(m, flush=True))
         runs.append((label(n), samples, exp.events))
         rows.append((n, summary))
-    grid_plots(runs, os.path.join(a.out, "pid_speed.png"), os.path.join(a.out, "pid_path.png"), E.EXPECTED_SPEED)
+    grid_plots(runs, os.path.join(a.out, "pid_speed.png"), os.path.join(a.out, "pid_path.png"),
+               E.EXPECTED_SPEED)
     with open(os.path.join(a.out, "pid_table.md"), "w") as f:
-        f.write("| config | mean speed, straight [m/s] | vs 0.64 m/s | heading change [deg] | steer on..off [s] |\n")
+        f.write("| config | mean speed, straight [m/s] | vs 0.64 m/s | heading change [deg] "
+                "| steer on..off [s] |\n")
         f.write("|---|---|---|---|---|\n")
         for n, s in rows:
-            f.write("| %d | %.3f | %+.1f %% | %.0f | %s..%s |\n" % (n, s["mean_speed"], 100 * s["speed_error"],
-                                                              s["heading_change_deg"], _fmt(s["turn_started"]),
-                                                              _fmt(s["turn_ended"])))
+            f.write("| %d | %.3f | %+.1f %% | %.0f | %s..%s |\n"
+                    % (n, s["mean_speed"], 100 * s["speed_error"], s["heading_change_deg"],
+                       _fmt(s["turn_started"]), _fmt(s["turn_ended"])))
     print("wrote %s/pid_speed.png, pid_path.png, pid_table.md" % a.out)
     return 0
 

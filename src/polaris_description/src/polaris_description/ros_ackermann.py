@@ -21,7 +21,8 @@ class AckermannNode(object):
         keys = ["steer_left", "steer_right", "rear_left", "rear_right"]
         if four_wd:
             keys += ["front_left", "front_right"]
-        self.pubs = {k: rospy.Publisher("/%s/command" % G.CONTROLLERS[k], Float64, queue_size=1) for k in keys}
+        self.pubs = {k: rospy.Publisher("/%s/command" % G.CONTROLLERS[k], Float64, queue_size=1)
+                     for k in keys}
         self.sub = rospy.Subscriber("cmd_vel", Twist, self.on_cmd, queue_size=1)
         self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.tick)
 

@@ -45,7 +45,8 @@ class OdometryNode(object):
         try:
             s = odom_from_model_state((p.position.x, p.position.y, p.position.z),
                                       (p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w),
-                                      (t.linear.x, t.linear.y, t.linear.z), (t.angular.x, t.angular.y, t.angular.z))
+                                      (t.linear.x, t.linear.y, t.linear.z),
+                                      (t.angular.x, t.angular.y, t.angular.z))
         except PolarisError as e:
             rospy.logwarn_throttle(5.0, "odometry: %s" % e)
             return

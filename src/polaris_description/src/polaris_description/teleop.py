@@ -32,7 +32,8 @@ def help_text():
 
 
 class TeleopState(object):
-    def __init__(self, rate_step=RATE_STEP, steer_step=STEER_STEP, max_rate=MAX_RATE, steer_limit=G.STEER_LIMIT):
+    def __init__(self, rate_step=RATE_STEP, steer_step=STEER_STEP, max_rate=MAX_RATE,
+                 steer_limit=G.STEER_LIMIT):
         self.rate_step, self.steer_step = rate_step, steer_step
         self.max_rate, self.steer_limit = max_rate, steer_limit
         self.rate = 0.0
@@ -65,5 +66,5 @@ class TeleopState(object):
         return v, v * math.tan(self.steer) / G.WHEELBASE
 
     def status(self):
-        return "wheel rate %+.1f rad/s (%.2f m/s), steering %+.2f rad" % (self.rate, self.rate * G.WHEEL_RADIUS,
-                                                                          self.steer)
+        return ("wheel rate %+.1f rad/s (%.2f m/s), steering %+.2f rad"
+                % (self.rate, self.rate * G.WHEEL_RADIUS, self.steer))

@@ -25,7 +25,8 @@ URDF_XACRO = os.path.join(PKG_DIR, "urdf", "polaris.urdf.xacro")
 PARKING_LOT = os.path.join(PKG_DIR, "worlds", "parking_lot.world")
 PID_CONFIGS = (1, 2, 3, 4, 5, 6)
 SPAWN_Z = 0.33
-FLAT_GROUND = "<sdf version='1.6'><world name='flat'><include><uri>model://ground_plane</uri></include></world></sdf>"
+FLAT_GROUND = ("<sdf version='1.6'><world name='flat'><include><uri>model://ground_plane</uri></include>"
+               "</world></sdf>")
 
 
 def pid_config_path(n):

@@ -1,5 +1,4 @@
 """Teleop key table, odometry transform, IMU CSV, the parking lot file."""
-import io
 import math
 import os
 
