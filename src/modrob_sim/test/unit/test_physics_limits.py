@@ -123,7 +123,8 @@ def test_sdf_geometry_like_urdf(geometry, words):
 
 def test_sdf_axis_that_overflows_is_refused():
     sdf = ("<sdf version='1.6'><model name='m'><link name='a'/><link name='b'/>"
-           "<joint name='j' type='revolute'><parent>a</parent><child>b</child><axis><xyz>1e300 1e300 0</xyz></axis></joint></model></sdf>")
+           "<joint name='j' type='revolute'><parent>a</parent><child>b</child>"
+           "<axis><xyz>1e300 1e300 0</xyz></axis></joint></model></sdf>")
     with pytest.raises(ModelError, match="joint 'j'.*<axis><xyz>"):
         World().add_sdf(sdf)
 
