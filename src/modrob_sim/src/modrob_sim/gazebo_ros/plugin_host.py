@@ -47,8 +47,9 @@ class PluginHost(object):
             if factory is None:
                 if spec.filename not in self._warned:
                     self._warned.add(spec.filename)
-                    LOG.warning("model '%s': plugin %s (%s) is not provided by this simulator; ignored "
-                                "(registered: %s)", model.name, spec.filename, spec.name,
+                    where = " link '%s'" % spec.link if spec.link else ""
+                    LOG.warning("model '%s'%s: plugin %s (%s) is not provided by this simulator; ignored "
+                                "(registered: %s)", model.name, where, spec.filename, spec.name,
                                 ", ".join(plugins.registered_plugins()) or "none")
                 continue
             ns = spec.robot_namespace or spawn_namespace or ""
