@@ -22,3 +22,8 @@ class ControllerError(ModrobError):
 class PluginError(ModrobError):
     """A /gazebo plugin that cannot be loaded as configured (a missing or malformed <plugin>
     parameter, a sensor without its link ...). The message names the model, plugin and tag."""
+
+
+class RequestError(ModrobError):
+    """A request to the /gazebo node that cannot be served (unknown model, NaN pose ...); the text
+    becomes the service's status_message."""

@@ -36,7 +36,7 @@ def test_non_numeric_joint_position_is_refused():
 
 
 def test_gzserver_arguments_of_gazebo_ros_launch_files():
-    from modrob_sim.gazebo_ros.server import _as_list, parse_server_args
+    from modrob_sim.gazebo_ros.node_params import _as_list, parse_server_args
     a = parse_server_args(["-u", "--verbose", "-e", "ode", "worlds/empty.world", "--lockstep"])
     assert a["paused"] and a["verbose"] and a["physics"] == "ode" and a["world"] == "worlds/empty.world"
     assert a["ignored"] == ["--lockstep"]

@@ -1,0 +1,124 @@
+"""What the /gazebo node publishes from the after-step hook: /clock (throttled to
+~pub_clock_frequency of wall time), model and link states (~publish_rate of simulated time, built
+only when subscribed), guard events, world markers (~marker_rate), the scene of every model's
+visuals with per-link tf (~scene_rate) and performance metrics."""
+import time
+
+import rospy
+from gazebo_msgs import msg as gzm
+from rosgraph_msgs.msg import Clock
+from std_msgs.msg import String
+from visualization_msgs.msg import MarkerArray
+
+from modrob_sim.camera.scene import ScenePublisher
+from modrob_sim.gazebo_ros import markers
+from modrob_sim.gazebo_ros.conversions import pose_to_msg, ros_time, twist_to_msg
+
+
+class StatePublishers(object):
+    def __init__(self, world, params):
+        self.world = world
+        self.params = params
+        # latched: a node that starts while the simulation is paused still learns the time
+        self._clock_pub = rospy.Publisher("/clock", Clock, queue_size=10, latch=True)
+        self._clock_msg = Clock()
+        self._model_states_pub = rospy.Publisher("~model_states", gzm.ModelStates, queue_size=1)
+        self._link_states_pub = rospy.Publisher("~link_states", gzm.LinkStates, queue_size=1)
+        self._perf_pub = rospy.Publisher("~performance_metrics", gzm.PerformanceMetrics, queue_size=1)
+        self._guard_pub = rospy.Publisher("~guard_events", String, queue_size=20)
+        self._marker_pub = rospy.Publisher("~world_markers", MarkerArray, queue_size=1, latch=True)
+        self._markers = markers.WorldMarkers(world, params.marker_models)
+        # every model's visuals + per-link tf for RViz and the camera renderer (modrob_sim.camera)
+        self._scene = ScenePublisher.for_world(world, params.scene_rate)
+        self._guard_hint = {}
+
+        self._clock_period = 1.0 / params.pub_clock_frequency if params.pub_clock_frequency > 0 else 0.0
+        self._last_clock_wall = -1e9
+        self._state_period = 1.0 / params.publish_rate if params.publish_rate > 0 else 0.0
+        self._next_state_t = 0.0
+        self._marker_period = 1.0 / params.marker_rate if params.marker_rate > 0 else 0.0
+        self._next_marker_t = 0.0
+        self._last_rtf_log = time.monotonic()
+
+    def after_step(self):
+        now_t = self.world.time
+        if self._clock_period <= 0.0:
+            self.publish_clock()
+        else:
+            wall = time.monotonic()
+            if wall - self._last_clock_wall >= self._clock_period:
+                self._last_clock_wall = wall
+                self.publish_clock()
+        if now_t + 1e-12 >= self._next_state_t:
+            self._next_state_t = now_t + self._state_period if self._state_period > 0 else 0.0
+            self.publish_states()
+            self.report_guard_events()
+        if self._marker_period > 0.0 and now_t + 1e-12 >= self._next_marker_t:
+            self._next_marker_t = now_t + self._marker_period
+            self.publish_markers()
+        self._scene.after_step(now_t)
+
+    def after_reset(self):
+        """The simulated time jumped: publish everything now and restart the decimation."""
+        self._next_state_t = 0.0
+        self._next_marker_t = 0.0
+        self.publish_clock()
+        self.publish_states()
+        self.publish_markers(force=True)
+
+    def publish_clock(self):
+        t = self.world.time
+        c = self._clock_msg.clock
+        c.secs = int(t)
+        c.nsecs = int(round((t - c.secs) * 1e9))
+        if c.nsecs >= 1000000000:
+            c.secs += 1
+            c.nsecs -= 1000000000
+        self._clock_pub.publish(self._clock_msg)
+
+    def publish_states(self):
+        world = self.world
+        if self._model_states_pub.get_num_connections() > 0:
+            ms = gzm.ModelStates()
+            for name, model in world.models.items():
+                ms.name.append(name)
+                ms.pose.append(pose_to_msg(model.pose))
+                ms.twist.append(twist_to_msg(model.twist))
+            self._model_states_pub.publish(ms)
+        if self._link_states_pub.get_num_connections() > 0:
+            ls = gzm.LinkStates()
+            for mname, model in world.models.items():
+                for lname, link in model.links.items():
+                    ls.name.append("%s::%s" % (mname, lname))
+                    ls.pose.append(pose_to_msg(link.pose))
+                    ls.twist.append(twist_to_msg(link.twist))
+            self._link_states_pub.publish(ls)
+
+    def publish_markers(self, force=False):
+        arr = self._markers.update(force=force)
+        if arr is not None:
+            self._marker_pub.publish(arr)
+
+    def report_guard_events(self):
+        """Publish every guard event; the core logs each one, the node adds a hint at most every
+        5 s per model (a model that keeps blowing up would flood the log otherwise)."""
+        for ev in self.world.pop_events():
+            self._guard_pub.publish(String(data="model=%s link=%s time=%.6f reason=%s"
+                                           % (ev.model, ev.link, ev.time, ev.reason)))
+            wall = time.monotonic()
+            if wall - self._guard_hint.get(ev.model, -1e9) >= 5.0:
+                self._guard_hint[ev.model] = wall
+                rospy.logerr("model '%s' (link '%s') blew up and was restored: check its controller gains, "
+                             "commanded efforts, link masses/inertias and the time step; events on %s"
+                             % (ev.model, ev.link, self._guard_pub.resolved_name))
+
+    def publish_rtf(self, rtf, sim_time, paused):
+        msg = gzm.PerformanceMetrics()
+        msg.header.stamp = ros_time(sim_time)
+        msg.real_time_factor = rtf
+        self._perf_pub.publish(msg)
+        wall = time.monotonic()
+        if self.params.rtf_log_period > 0 and wall - self._last_rtf_log >= self.params.rtf_log_period:
+            self._last_rtf_log = wall
+            rospy.loginfo("sim time %.2f s, real-time factor %.2f%s" % (
+                sim_time, rtf, " (paused)" if paused else ""))
