@@ -18,6 +18,7 @@ import ode
 from ..errors import ModelError
 from . import limits, odelib
 from .description import PluginSpec
+from .gripper import Gripper
 from .model import Group, Joint, Link, Model
 from .transforms import (IDENTITY_POSE, pose_inv, pose_mul, quat_rotate,
                          quat_to_matrix, to_ode_quat)
@@ -140,6 +141,11 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
                              "model '%s' joint '%s' is planar: as in Gazebo, which converts no joint for "
                              "it, link '%s' is a free body (nothing keeps it in the plane)"
                              % (model.name, jd.name, jd.child))
+    for gd in desc.grippers:
+        for ln in gd.gripper_links + (gd.palm_link,):
+            if ln not in desc.links or ln == "world":
+                raise ModelError("model '%s' <gripper name='%s'>: no link named '%s' (links: %s)"
+                                 % (model.name, gd.name, ln, ", ".join(desc.links)))
     order = joint_order(desc)
     model._root_name = desc.root
     model._world_pose = pose if desc.root == "world" else IDENTITY_POSE
@@ -329,4 +335,5 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
         else:
             j._child_inertia = g.mass
         j._apply_motor()
+    model._grippers = [Gripper(world, model, gd) for gd in desc.grippers]
     return model

@@ -104,6 +104,7 @@ class ModelDesc(object):
         self.links = OrderedDict()
         self.joints = OrderedDict()
         self.plugins = []
+        self.grippers = []  # GripperDesc of every <gripper> (Gazebo's grasp check)
         self.static = False
         self.self_collide = False
         self.pose = None  # SDF <model><pose>, used when no spawn pose is given

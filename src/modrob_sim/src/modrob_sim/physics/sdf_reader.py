@@ -17,6 +17,7 @@ import os
 from ..errors import ModelError
 from . import limits
 from .description import (GeometryDesc, JointDesc, LinkDesc, ModelDesc, PluginSpec, Surface)
+from .gripper import read_gripper
 from .transforms import IDENTITY_POSE, pose_inv, pose_mul, quat_from_rpy, quat_rotate
 from .xml_util import Reader, local, parse_xml
 
@@ -153,6 +154,8 @@ def _model(rd, me, name, warn):
     desc.pose = _pose(rd, me, "model pose")
     for pe in _children(me, "plugin"):
         desc.plugins.append(_plugin(pe))
+    for ge in _children(me, "gripper"):
+        desc.grippers.append(read_gripper(rd, ge, "<model>", local))
     for le in _children(me, "link"):
         lname = le.get("name")
         if not lname:

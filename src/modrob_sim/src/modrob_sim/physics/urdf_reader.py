@@ -8,6 +8,7 @@ the model, link and joint (urdf_parser_py prints to stderr and carries on).
 from . import limits
 from .description import (JOINT_TYPES, GeometryDesc, JointDesc, LinkDesc, ModelDesc,
                           PluginSpec)
+from .gripper import read_gripper
 from .transforms import IDENTITY_POSE, quat_from_rpy
 from .xml_util import Reader, local, parse_xml
 
@@ -247,6 +248,8 @@ def _read_gazebo(rd, root, desc, name, warn):
                     desc.static = rd.bool(c.text, "<gazebo><static>", "static")
                 elif tag in ("self_collide", "selfCollide"):
                     desc.self_collide = rd.bool(c.text, "<gazebo><self_collide>", "self_collide")
+                elif tag == "gripper":
+                    desc.grippers.append(read_gripper(rd, c, "<gazebo>", local))
                 else:
                     warn("urdf-model-tag:" + tag, "model '%s': <gazebo><%s> is not supported here; "
                          "ignored" % (name, tag))
