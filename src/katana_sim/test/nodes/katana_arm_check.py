@@ -13,8 +13,9 @@ from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 import numpy as np
-from gazebo_msgs.msg import LinkStates
-from geometry_msgs.msg import PoseStamped
+from gazebo_msgs.msg import LinkStates, ModelState
+from gazebo_msgs.srv import SetModelState
+from geometry_msgs.msg import PoseArray, PoseStamped
 
 from katana_sim import kinematics as kin
 from katana_sim.kinematics import JOINTS
@@ -38,6 +39,8 @@ class KatanaArm(unittest.TestCase):
         rospy.init_node("katana_arm_check")
         cls.positions = {}
         rospy.Subscriber("/joint_states", JointState, cls._joint_states)
+        cls.detections = None
+        rospy.Subscriber("/katana/detected_objects", PoseArray, cls._detections)
         cls.arm = actionlib.SimpleActionClient("/katana_arm_controller/follow_joint_trajectory",
                                                FollowJointTrajectoryAction)
         cls.gripper = actionlib.SimpleActionClient("/gripper_grasp_posture_controller", GripperCommandAction)
@@ -48,16 +51,20 @@ class KatanaArm(unittest.TestCase):
                    "joint states of the arm and the fingers")
 
     @classmethod
+    def _detections(cls, msg):
+        cls.detections = msg
+
+    @classmethod
     def _joint_states(cls, msg):
         for name, q in zip(msg.name, msg.position):
             cls.positions[name] = q
 
     def test_1_trajectory_reaches_five_joint_target(self):
-        target = [0.6, 1.1, -1.4, 0.7, 0.5]
+        target = [1.5, 1.1, -1.4, 0.7, 0.5]   # to the left, clear of the cans
         goal = FollowJointTrajectoryGoal()
         goal.trajectory.joint_names = list(JOINTS)
         goal.trajectory.points = [
-            JointTrajectoryPoint(positions=[0.3, 1.5, -1.7, -0.3, 0.2], time_from_start=rospy.Duration(2.0)),
+            JointTrajectoryPoint(positions=[0.8, 1.5, -1.7, -0.3, 0.2], time_from_start=rospy.Duration(2.0)),
             JointTrajectoryPoint(positions=target, velocities=[0.0] * 5, time_from_start=rospy.Duration(4.0))]
         self.arm.send_goal(goal)
         self.assertTrue(self.arm.wait_for_result(rospy.Duration(60)), "no result from the trajectory action")
@@ -120,6 +127,26 @@ class KatanaArm(unittest.TestCase):
         self.assertFalse(res.success)
         self.assertIn("refused", res.message)
         self.assertIn("reaches at most", res.message)
+
+    def test_6_laser_finds_cans_at_known_poses_within_1cm(self):
+        set_state = rospy.ServiceProxy("/gazebo/set_model_state", SetModelState)
+        set_state.wait_for_service(30)
+        # world poses (the arm stands at (0, 0, 0.75); the laser 0.085 m ahead of its axis)
+        poses = {"coke_can_1": (0.43, 0.05), "coke_can_2": (0.30, -0.18)}
+        for name, (x, y) in poses.items():
+            st = ModelState(model_name=name, reference_frame="world")
+            st.pose.position.x, st.pose.position.y, st.pose.position.z = x, y, 0.811
+            st.pose.orientation.w = 1.0
+            self.assertTrue(set_state(st).success)
+        t0 = rospy.get_time()
+        wait_until(lambda: self.detections is not None and self.detections.header.stamp.to_sec() > t0 + 0.3
+                   and len(self.detections.poses) == 2, 30, "two detections after the cans moved")
+        self.assertEqual(self.detections.header.frame_id, "katana_laser_link")
+        found = [(p.position.x + 0.085, p.position.y) for p in self.detections.poses]
+        for name, (x, y) in poses.items():
+            err = min(math.hypot(fx - x, fy - y) for fx, fy in found)
+            self.assertLess(err, 0.01, "%s at (%.3f, %.3f): nearest detection %.4f m away (%s)"
+                            % (name, x, y, err, found))
 
     def test_3_nan_gripper_goal_is_refused(self):
         state, res, text = self._grip(float("nan"))
