@@ -7,7 +7,7 @@ SCENARIO ?= one_robot
 # Set-up is done when the venv, its requirements stamp and the devel space exist.
 SETUP_STAMP := $(ROOT)/devel/setup.bash
 
-.PHONY: setup build build-colcon test test-unit test-ros demo lint bench rviz clean help
+.PHONY: setup build build-colcon test test-unit test-ros demo lint bench rviz tune graph plot clean help
 
 help:
 	@echo "make demo      set up if needed, then run the Bulbs and Slides pick-and-place headless (SCENARIO=$(SCENARIO))"
@@ -16,6 +16,9 @@ help:
 	@echo "make build     catkin_make;  make build-colcon: colcon build into build_colcon/ install_colcon/"
 	@echo "make lint      catkin_lint on all packages + flake8 on all Python"
 	@echo "make bench     benchmarks under scripts/bench/ (results in docs/benchmarks.md)"
+	@echo "make tune      rqt_reconfigure on the running system (FILTER=/ptrz narrows; LAUNCH='pkg file args' starts a scenario beside it)"
+	@echo "make graph     rqt_graph of the running system to out/rqt_graph.png/.svg, then its window (LAUNCH= as for tune)"
+	@echo "make plot SERIES='/topic/field[i] ...'  live plot; out/rqt_plot.png/.csv when closed (LAUNCH= as for tune)"
 	@echo "make clean     remove build/, devel/, install/, colcon dirs and out/ (keeps .venv)"
 
 setup:
@@ -59,6 +62,36 @@ bench:
 
 rviz:
 	@$(ENV) && roslaunch modrob_sim empty_world.launch gui:=true
+
+# The rqt tools beside a scenario (docs/tools.md). Without LAUNCH they attach to the ROS master
+# already running (a scenario started in another shell); with LAUNCH="modrob_motion
+# bulbs_and_slides.launch gui:=true" they start it, wait for its master, and stop it when the
+# tool's window closes.
+FILTER ?=
+SERIES ?=
+LAUNCH ?=
+define BESIDE_SCENARIO
+if [ -n "$(LAUNCH)" ]; then roslaunch $(LAUNCH) & lpid=$$!; trap 'kill -INT $$lpid 2>/dev/null; wait $$lpid' EXIT; fi; \
+for i in $$(seq 1 120); do python3 -c 'import rosgraph,sys; sys.exit(not rosgraph.is_master_online())' && break; \
+  [ -z "$(LAUNCH)" ] && break; sleep 0.5; done; \
+python3 -c 'import rosgraph,sys; sys.exit(not rosgraph.is_master_online())' || { echo "make $@: no ROS master at \
+$$ROS_MASTER_URI: start a scenario first (e.g. roslaunch modrob_motion bulbs_and_slides.launch gui:=true) or give \
+LAUNCH=\"pkg file.launch args\"" >&2; exit 2; }
+endef
+
+tune:
+	@$(ENV) && $(BESIDE_SCENARIO); rosrun rqt_reconfigure rqt_reconfigure --filter '$(FILTER)'
+
+graph:
+	@$(ENV) && $(BESIDE_SCENARIO); \
+	  rosrun rqt_graph rqt_graph -o $(ROOT)/out/rqt_graph.png -o $(ROOT)/out/rqt_graph.svg --group-namespaces \
+	    --hide-params $(if $(LAUNCH),--settle 3) --gui $(GRAPHARGS)
+
+plot:
+	@[ -n "$(SERIES)" ] || { echo "make plot: give SERIES='/topic/field[index] ...', e.g. \
+SERIES=/modrob0/joint2_position_controller/state/process_value:set_point" >&2; exit 2; }
+	@$(ENV) && $(BESIDE_SCENARIO); rosrun rqt_plot rqt_plot $(SERIES) --png $(ROOT)/out/rqt_plot.png \
+	  --csv $(ROOT)/out/rqt_plot.csv $(PLOTARGS)
 
 clean:
 	rm -rf $(ROOT)/build $(ROOT)/devel $(ROOT)/install $(ROOT)/build_colcon $(ROOT)/install_colcon \

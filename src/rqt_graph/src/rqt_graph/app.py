@@ -3,6 +3,7 @@ system to them and exit; otherwise (or with --gui) show it in a window."""
 import argparse
 import signal
 import sys
+import time
 
 from rqt_graph import render
 from rqt_graph.errors import GraphError
@@ -27,6 +28,9 @@ def parse_args(argv):
     p.add_argument("--hide-params", action="store_true",
                    help="hide dynamic_reconfigure's parameter_descriptions/parameter_updates topics")
     p.add_argument("--filter", default="", help="words a node/topic name must contain; -word hides")
+    p.add_argument("--settle", type=float, default=0.0, metavar="S",
+                   help="first wait until the set of nodes and topics has not changed for S seconds "
+                        "(at most 120 s): for a system that is still starting")
     p.add_argument("--no-bus-info", action="store_true",
                    help="do not ask each node for its live connections (registrations only)")
     args = p.parse_args(argv)
@@ -34,6 +38,21 @@ def parse_args(argv):
         if not path.lower().endswith(tuple(render.FORMATS)):
             p.error("output '%s' must end in one of %s" % (path, " ".join(sorted(render.FORMATS))))
     return args
+
+
+def settle(seconds, limit=120.0, period=0.5):
+    """Wait until the master's nodes and topics stay the same for ``seconds`` (wall time)."""
+    start = last_change = time.monotonic()
+    seen = None
+    while time.monotonic() - start < limit:
+        snap = snapshot(bus_info=False)
+        now = (tuple(snap.nodes), tuple(sorted(set(snap.publishers) | set(snap.subscribers))))
+        if now != seen:
+            seen, last_change = now, time.monotonic()
+        elif time.monotonic() - last_change >= seconds:
+            return
+        time.sleep(period)
+    sys.stderr.write("rqt_graph: the graph still changed after %.0f s; drawing it as it is\n" % limit)
 
 
 def main(argv=None):
@@ -47,6 +66,8 @@ def main(argv=None):
         return snapshot(bus_info=not args.no_bus_info)
 
     try:
+        if args.settle > 0:
+            settle(args.settle)
         if args.output:
             graph = build_graph(take(), opts)
             dot = to_dot(graph, opts)

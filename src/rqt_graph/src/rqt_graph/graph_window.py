@@ -99,6 +99,9 @@ class GraphWindow(QtWidgets.QWidget):
             return
         pix = QtGui.QPixmap()
         pix.loadFromData(self.png, "PNG")
+        policy = QtCore.Qt.ScrollBarAlwaysOff if self.fit.isChecked() else QtCore.Qt.ScrollBarAsNeeded
+        self.scroll.setHorizontalScrollBarPolicy(policy)
+        self.scroll.setVerticalScrollBarPolicy(policy)
         if self.fit.isChecked():
             area = self.scroll.viewport().size()
             if pix.width() > area.width() or pix.height() > area.height():

@@ -4,6 +4,7 @@ import argparse
 import signal
 import sys
 
+import rosgraph
 import rospy
 from PyQt5 import QtCore, QtWidgets
 
@@ -40,6 +41,10 @@ def _screenshot_when_ready(app, window, path, deadline):
 
 def main(argv=None):
     args = parse_args(sys.argv if argv is None else argv)
+    if not rosgraph.is_master_online():
+        sys.stderr.write("rqt_reconfigure: no ROS master at %s: start roscore or a scenario first\n"
+                         % rosgraph.get_master_uri())
+        return 2
     rospy.init_node("rqt_reconfigure", anonymous=True, disable_signals=True)
     app = QtWidgets.QApplication.instance() or QtWidgets.QApplication(sys.argv[:1])
     window = ReconfigureWindow(list_servers, ServerConnection)

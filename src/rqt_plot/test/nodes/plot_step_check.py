@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""rostest node for plot_step.test: `rosrun rqt_plot rqt_plot <state>/process_value
+<state>/set_point --duration 5 --png --csv` (window under Xvfb) while `rosbag record` records
+the same topic and a 1 rad step is commanded. Every plotted sample is a recorded message
+(same header stamp, same value), no recorded message inside the plotted span is missing, the
+span is 5 s of sim time and shows the step; the PNG is a real image (copied to $ROS_HOME)."""
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import rosbag
+import rosgraph
+import rospy
+import rostest
+from control_msgs.msg import JointControllerState
+from std_msgs.msg import Float64
+
+from rqt_plot.series import read_csv
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from xvfb import Xvfb  # noqa: E402
+
+CTRL = "/ptrz/pan_position_controller"
+STATE = CTRL + "/state"
+
+
+def subscribers_of(topic):
+    _pubs, subs, _srvs = rosgraph.Master("/plot_step_check").getSystemState()
+    return dict(subs).get(topic, [])
+
+
+def wait(pred, timeout, what):
+    deadline = time.monotonic() + timeout
+    while not pred():
+        if time.monotonic() > deadline or rospy.is_shutdown():
+            raise AssertionError("timed out after %.0f s waiting for %s" % (timeout, what))
+        time.sleep(0.05)
+
+
+class PlotMatchesBag(unittest.TestCase):
+    def test_plot_of_a_step_matches_rosbag(self):
+        rospy.init_node("plot_step_check")
+        rospy.wait_for_message(STATE, JointControllerState, timeout=60)
+        cmd = rospy.Publisher(CTRL + "/command", Float64, queue_size=1, latch=True)
+        tmp = tempfile.mkdtemp(prefix="plot_step_")
+        bag_path, csv_path, png_path = (os.path.join(tmp, n) for n in ("state.bag", "plot.csv", "plot.png"))
+        with Xvfb():
+            bag = subprocess.Popen(["rosbag", "record", "-O", bag_path, "__name:=plot_bag", STATE],
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            plot = subprocess.Popen(["rosrun", "rqt_plot", "rqt_plot", STATE + "/process_value",
+                                     STATE + "/set_point", "--duration", "5", "--window", "10",
+                                     "--csv", csv_path, "--png", png_path, "--title", "pan 1 rad step"],
+                                    stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            try:
+                wait(lambda: "/plot_bag" in subscribers_of(STATE) and
+                     any(n.startswith("/rqt_plot") for n in subscribers_of(STATE)), 60,
+                     "rosbag and rqt_plot subscribed to " + STATE)
+                cmd.publish(Float64(1.0))
+                out, err = plot.communicate(timeout=70)
+            finally:
+                if plot.poll() is None:
+                    plot.kill()
+                bag.send_signal(signal.SIGINT)
+                bag.wait(30)
+        self.assertEqual(plot.returncode, 0, "rqt_plot failed: %s %s" % (out, err))
+        plotted = read_csv(csv_path)
+        pv, sp = plotted[STATE + "/process_value"], plotted[STATE + "/set_point"]
+        recorded = {}
+        with rosbag.Bag(bag_path) as b:
+            for _, msg, _ in b.read_messages(topics=[STATE]):
+                recorded.setdefault(msg.header.stamp.to_sec(), []).append(msg)
+        self.assertGreater(len(pv), 100)
+        self.assertGreaterEqual(pv[-1][0] - pv[0][0], 5.0 - 0.05, "span of the plot")
+        self.assertLessEqual(pv[-1][0] - pv[0][0], 5.0, "--duration 5 keeps 5 s")
+        for (t, v), (t2, s) in zip(pv, sp):
+            self.assertEqual(t, t2)
+            msgs = recorded.get(t)
+            self.assertTrue(msgs, "plotted sample at t=%.3f is not in the bag" % t)
+            self.assertIn((v, s), [(m.process_value, m.set_point) for m in msgs])
+        first, last = max(pv[0][0], min(recorded)), pv[-1][0]      # where both were listening
+        inside = sum(len(m) for t, m in recorded.items() if first <= t <= last)
+        self.assertEqual(inside, len([1 for t, _ in pv if t >= first]), "the plot lost messages the bag has")
+        self.assertAlmostEqual(sp[0][1], 0.0, places=3)
+        self.assertEqual(sp[-1][1], 1.0)
+        self.assertLess(abs(pv[-1][1] - 1.0), 0.05, "the pan joint reached the step")
+        with open(png_path, "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        keep = os.path.join(os.environ.get("ROS_HOME", tmp), "rqt_plot_step.png")
+        shutil.copy(png_path, keep)
+        rospy.loginfo("plot: %s; %d samples over %.2f s match the bag", keep, len(pv), last - first)
+        shutil.rmtree(tmp)
+
+
+if __name__ == "__main__":
+    rostest.rosrun("rqt_plot", "plot_step_check", PlotMatchesBag)
