@@ -1,10 +1,14 @@
-"""Visuals, collisions and inertial origins parsed for markers and model properties; world files."""
+"""Visuals, collision names and inertial origins for markers and model properties come from the
+physics core's one reader; world files."""
 import os
 
 import pytest
 
 from modrob_sim.errors import ModelError
-from modrob_sim.gazebo_ros import description, world_file
+from modrob_sim.gazebo_ros import markers, world_file
+from modrob_sim.gazebo_ros.services.properties import collision_names
+from modrob_sim.gazebo_ros.services.models import xml_kind
+from modrob_sim.physics import World
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = os.path.join(os.path.dirname(HERE), "fixtures", "sim")
@@ -18,6 +22,7 @@ URDF = """<robot name="r">
     </inertial></link>
   <link name="tip"><visual><geometry><mesh filename="package://x/m.stl" scale="2 2 2"/></geometry>
   </visual></link>
+  <joint name="fix" type="fixed"><parent link="base"/><child link="tip"/></joint>
   <gazebo reference="tip"><material>Gazebo/Blue</material></gazebo>
 </robot>"""
 
@@ -27,30 +32,39 @@ SDF = """<sdf version="1.6"><world name="w"><include><uri>model://ground_plane</
   <material><diffuse>0 1 0 1</diffuse></material></visual></link></model></world></sdf>"""
 
 
-def test_urdf_visuals_colours_and_inertial_origin():
-    links = description.parse_links(URDF)
-    base = links["base"].visuals[0]
-    assert base.kind == "box" and base.size == (0.2, 0.3, 0.4) and base.rgba == (1, 0, 0, 1)
-    assert base.origin[0] == (0.0, 0.0, 0.1)
-    assert links["base"].collision_names == ["base_collision"]
-    assert links["base"].inertial_origin[0] == (0.0, 0.0, 0.05)
-    tip = links["tip"].visuals[0]
-    assert tip.kind == "mesh" and tip.filename == "package://x/m.stl" and tip.scale == (2, 2, 2)
-    assert tip.rgba == description.GAZEBO_MATERIALS["Gazebo/Blue"]
+def test_urdf_visuals_colours_and_inertial_origin_come_from_the_core():
+    w = World(time_step=0.001)
+    try:
+        m = w.add_urdf("r", URDF.replace('<mesh filename="package://x/m.stl" scale="2 2 2"/>',
+                                         '<sphere radius="0.1"/>'))
+        vis = markers.WorldMarkers(w, "all")._model_visuals(m)
+        base = vis["base"][0]
+        assert base.kind == "box" and base.size == (0.2, 0.3, 0.4) and base.rgba == (1, 0, 0, 1)
+        assert base.origin[0] == (0.0, 0.0, 0.1)
+        assert collision_names(m.links["base"]) == ["base_collision"]
+        assert m.links["base"].inertial_origin[0] == (0.0, 0.0, 0.05)
+        assert vis["tip"][0].rgba == markers.GAZEBO_MATERIALS["Gazebo/Blue"]
+    finally:
+        w.close()
 
 
 def test_sdf_model_in_world_and_builtin_ground_plane():
-    table = description.parse_links(SDF, "table")["top"].visuals[0]
-    assert table.kind == "cylinder" and table.size == (0.5, 0.04) and table.rgba == (0, 1, 0, 1)
-    ground = description.parse_links(SDF, "ground_plane")
-    assert ground["link"].visuals[0].kind == "plane"
+    w = World(time_step=0.001)
+    try:
+        models = {m.name: m for m in w.add_sdf(SDF)}
+        wm = markers.WorldMarkers(w, "all")
+        table = wm._model_visuals(models["table"])["top"][0]
+        assert table.kind == "cylinder" and table.size == (0.5, 0.04) and table.rgba == (0, 1, 0, 1)
+        assert wm._model_visuals(models["ground_plane"])["link"][0].kind == "plane"
+    finally:
+        w.close()
 
 
 def test_xml_kind():
-    assert description.xml_kind(URDF) == "urdf"
-    assert description.xml_kind(SDF) == "sdf"
-    assert description.xml_kind("<robot") is None
-    assert description.xml_kind("<html/>") is None
+    assert xml_kind(URDF) == "urdf"
+    assert xml_kind(SDF) == "sdf"
+    assert xml_kind("<robot") is None
+    assert xml_kind("<html/>") is None
 
 
 def test_world_physics_and_find_world():

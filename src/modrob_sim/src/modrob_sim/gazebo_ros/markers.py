@@ -5,13 +5,33 @@ gzclient would (robots with joints are shown by RViz's RobotModel from robot_des
 model spawned or deleted, a prop moved) or when forced, else None. ``which``: "props" (models
 without movable joints: static objects, loose objects, the ground), "all" or "none".
 """
+import collections
 import os
 
 from geometry_msgs.msg import Pose
 from visualization_msgs.msg import Marker, MarkerArray
 
-from modrob_sim.gazebo_ros import description
 from modrob_sim.gazebo_ros import transforms as tf
+
+#: one visual of a link: origin = pose of the geometry in the LINK frame, kind one of box /
+#: cylinder / sphere / mesh / plane
+Visual = collections.namedtuple("Visual", "link origin kind size filename scale rgba")
+
+DEFAULT_RGBA = (0.7, 0.7, 0.7, 1.0)
+
+#: Colours of Gazebo's stock materials (Gazebo/<Name>), as gzclient shows them.
+GAZEBO_MATERIALS = {
+    "Gazebo/White": (1.0, 1.0, 1.0, 1.0), "Gazebo/Grey": (0.7, 0.7, 0.7, 1.0),
+    "Gazebo/Gray": (0.7, 0.7, 0.7, 1.0), "Gazebo/DarkGrey": (0.35, 0.35, 0.35, 1.0),
+    "Gazebo/DarkGray": (0.35, 0.35, 0.35, 1.0), "Gazebo/Black": (0.05, 0.05, 0.05, 1.0),
+    "Gazebo/Red": (1.0, 0.0, 0.0, 1.0), "Gazebo/RedBright": (0.87, 0.26, 0.07, 1.0),
+    "Gazebo/Green": (0.0, 1.0, 0.0, 1.0), "Gazebo/Blue": (0.0, 0.0, 1.0, 1.0),
+    "Gazebo/SkyBlue": (0.53, 0.81, 0.92, 1.0), "Gazebo/Yellow": (1.0, 1.0, 0.0, 1.0),
+    "Gazebo/Orange": (1.0, 0.5, 0.09, 1.0), "Gazebo/Purple": (0.5, 0.0, 0.5, 1.0),
+    "Gazebo/Turquoise": (0.0, 0.8, 0.8, 1.0), "Gazebo/Wood": (0.55, 0.37, 0.2, 1.0),
+    "Gazebo/WoodFloor": (0.6, 0.45, 0.3, 1.0), "Gazebo/Indigo": (0.29, 0.0, 0.51, 1.0),
+    "Gazebo/ZincYellow": (0.9, 0.85, 0.0, 1.0), "Gazebo/Residential": (0.85, 0.8, 0.7, 1.0),
+}
 
 FRAME = "world"
 MOVE_TOLERANCE = 1e-4      # m and rad: smaller motions do not republish
@@ -32,8 +52,8 @@ def _mesh_uri(filename):
 
 
 def _from_core(link_name, link, g):
-    """description.Visual from the core's GeometryDesc (kind, size, origin, uri, color, material)."""
-    gz = description.GAZEBO_MATERIALS
+    """A Visual from the core's GeometryDesc (kind, size, origin, uri, color, material)."""
+    gz = GAZEBO_MATERIALS
     rgba = gz.get(getattr(link, "material", None) or "") or g.color or gz.get(g.material or "")
     if g.kind == "plane":
         size, scale = (100.0, 100.0), (1.0, 1.0, 1.0)
@@ -41,8 +61,7 @@ def _from_core(link_name, link, g):
         size, scale = (), tuple(g.size) if g.size else (1.0, 1.0, 1.0)
     else:
         size, scale = tuple(g.size), (1.0, 1.0, 1.0)
-    return description.Visual(link_name, g.origin, g.kind, size, g.uri, scale,
-                              tuple(rgba) if rgba else description.DEFAULT_RGBA)
+    return Visual(link_name, g.origin, g.kind, size, g.uri, scale, tuple(rgba) if rgba else DEFAULT_RGBA)
 
 
 class WorldMarkers(object):
@@ -59,14 +78,10 @@ class WorldMarkers(object):
         vis = self._visuals.get(model.name)
         if vis is None or vis[0] is not model:
             per_link = {}
-            if all(hasattr(link, "visuals") for link in model.links.values()):
-                for lname, link in model.links.items():
-                    v = [_from_core(lname, link, g) for g in link.visuals]
-                    if v:
-                        per_link[lname] = v
-            if not per_link:   # no visuals from the core (an <include> such as ground_plane): the text
-                info = description.parse_links(getattr(model, "source_xml", "") or "", model.name)
-                per_link = {lname: li.visuals for lname, li in info.items() if li.visuals}
+            for lname, link in model.links.items():
+                v = [_from_core(lname, link, g) for g in link.visuals]
+                if v:
+                    per_link[lname] = v
             vis = (model, per_link)
             self._visuals[model.name] = vis
         return vis[1]
