@@ -2,12 +2,16 @@
 """rostest: the camera sensor of test/fixtures/camera_box.world (camera at (0,0,1) looking along
 +x, hfov 1.0 rad, 320x240; red box of 0.2 m centred at (2,0,1)) seen through camera_renderer."""
 import math
+import subprocess
 import time
 import unittest
 
 import numpy as np
 import rospy
 import rostest
+import tf2_ros
+from geometry_msgs.msg import TransformStamped
+from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float64
 
@@ -26,12 +30,15 @@ def red_box(msg):
                 width=xs.max() - xs.min() + 1, height=ys.max() - ys.min() + 1)
 
 
-def wait_image(predicate, timeout=60.0):
+LOG = []
+
+
+def wait_image(predicate, timeout=60.0, topic=IMAGE):
     last = None
     end = time.monotonic() + timeout
     while time.monotonic() < end and not rospy.is_shutdown():
         try:
-            msg = rospy.wait_for_message(IMAGE, Image, timeout=10.0)
+            msg = rospy.wait_for_message(topic, Image, timeout=10.0)
         except rospy.ROSException:
             continue
         last = msg
@@ -40,8 +47,12 @@ def wait_image(predicate, timeout=60.0):
     return last
 
 
+def logged(text):
+    return [m for m in LOG if text in m]
+
+
 class CameraSensor(unittest.TestCase):
-    def test_pinhole_zoom_and_camera_info(self):
+    def test_1_pinhole_zoom_and_camera_info(self):
         info = rospy.wait_for_message(INFO, CameraInfo, timeout=60.0)
         f = W / (2.0 * math.tan(HFOV / 2.0))
         self.assertAlmostEqual(info.K[0], f, places=6)
@@ -73,7 +84,62 @@ class CameraSensor(unittest.TestCase):
         info2 = rospy.wait_for_message(INFO, CameraInfo, timeout=10.0)
         self.assertAlmostEqual(info2.K[0], 2 * f, places=4)
 
+    def test_2_zero_size_camera_info_and_missing_frame(self):
+        # the camera post's optical frame at the sensor: a second view of the box
+        static = tf2_ros.StaticTransformBroadcaster()
+        info_pub = rospy.Publisher("/late_info/camera_info", CameraInfo, queue_size=1, latch=True)
+        bad = CameraInfo()
+        bad.header.frame_id = "camera_post_view"
+        info_pub.publish(bad)                  # width = height = 0
+        t = TransformStamped()
+        t.header.frame_id = "gazebo/camera_post/camera_link/camera1"
+        t.child_frame_id = "camera_post_view"
+        t.transform.rotation.w = 1.0
+        static.sendTransform(t)
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline and not (logged("unusable CameraInfo") and logged("no_such_frame")):
+            time.sleep(0.2)
+        self.assertTrue(logged("unusable CameraInfo on /late_info/camera_info"),
+                        "no message for the zero-size CameraInfo; log: %s" % LOG[-10:])
+        self.assertTrue(logged("frame 'no_such_frame' is not in tf"), "no message for the missing frame")
+        self.assertIsNotNone(wait_image(lambda m: True, 20.0), "the sensor stream stopped")
+        good = CameraInfo()
+        good.header.frame_id = "camera_post_view"
+        good.width, good.height = 160, 120
+        good.K = [150.0, 0, 80, 0, 150.0, 60, 0, 0, 1]
+        good.P = [150.0, 0, 80, 0, 0, 150.0, 60, 0, 0, 0, 1, 0]
+        info_pub.publish(good)
+        late = wait_image(lambda m: red_box(m) is not None, 40.0, "/late_info/image")
+        self.assertIsNotNone(late and red_box(late), "the camera with a now valid CameraInfo shows no box")
+        box = red_box(late)
+        self.assertLess(abs(box["u"] - 80), 3.0)
+        static.sendTransform([t, _frame("gazebo/camera_post/camera_link/camera1", "no_such_frame")])
+        self.assertIsNotNone(wait_image(lambda m: red_box(m) is not None, 40.0, "/no_frame/image"),
+                             "the camera whose frame appeared renders nothing")
+        self.assertEqual(len(logged("frame 'no_such_frame' is not in tf")), 1, "the message must come once")
+
+    def test_3_simulator_restart(self):
+        before = rospy.wait_for_message(IMAGE, Image, timeout=30.0).header.stamp
+        subprocess.check_call(["rosnode", "kill", "/gazebo"], stdout=subprocess.DEVNULL)
+        gz = subprocess.Popen(["rosrun", "modrob_sim", "gazebo", "__name:=gazebo"])
+        try:
+            after = wait_image(lambda m: m.header.stamp < before and red_box(m) is not None, 90.0)
+            self.assertIsNotNone(after, "no image after the restart")
+            self.assertLess(after.header.stamp, before, "images are not stamped with the new sim time")
+            self.assertIsNotNone(red_box(after), "the restarted scene shows no box")
+        finally:
+            gz.terminate()
+            gz.wait(20)
+
+
+def _frame(parent, child):
+    t = TransformStamped()
+    t.header.frame_id, t.child_frame_id = parent, child
+    t.transform.rotation.w = 1.0
+    return t
+
 
 if __name__ == "__main__":
     rospy.init_node("check_camera_sensor")
+    rospy.Subscriber("/rosout", Log, lambda m: LOG.append(m.msg), queue_size=100)
     rostest.rosrun("modrob_viz", "check_camera_sensor", CameraSensor)

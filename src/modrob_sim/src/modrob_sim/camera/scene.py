@@ -4,7 +4,7 @@
   model (robots included, whether or not they have a robot_description), meshes with scale,
   URDF / ``Gazebo/<Name>`` colours. Each marker is frame-locked to its link's tf frame, so it is
   re-sent only when models are spawned or deleted.
-- tf ``world -> <prefix><model>/<link>`` for every link with visuals (or a camera), at
+- tf ``world -> <prefix><model>/<link>`` for every link (and camera sensors' optical frames), at
   ``rate`` per wall-clock second, stamped with sim time, only while someone listens to /tf.
 """
 import time
@@ -38,15 +38,12 @@ class SceneModel(object):
         self._signature = None
 
     def links(self):
-        """[(model, link_name, link)] of every link that has visuals or is an extra link."""
+        """[(model, link_name, link)] of every link of every model (end-effector frames have no
+        visuals but cameras are placed relative to them)."""
         out = []
         for m in list(self.world.models.values()):
-            names = set(self._visuals._model_visuals(m))
-            names |= {ln for (mn, ln, _o) in self.extra_frames.values() if mn == m.name}
-            for ln in sorted(names):
-                link = m.links.get(ln)
-                if link is not None:
-                    out.append((m, ln, link))
+            for ln in sorted(m.links):
+                out.append((m, ln, m.links[ln]))
         return out
 
     def changed(self):

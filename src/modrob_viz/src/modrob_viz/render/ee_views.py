@@ -86,3 +86,34 @@ def to_camera(position, rpy, point):
     R = rotation_matrix(rpy)
     d = [point[i] - position[i] for i in range(3)]
     return tuple(sum(R[j][i] * d[j] for j in range(3)) for i in range(3))   # R^T d
+
+
+def look_at(eye, target, up=(0.0, 0.0, 1.0)):
+    """Quaternion (x, y, z, w) of an optical frame at ``eye`` whose z axis points at ``target``
+    with image "up" (-y) as close to ``up`` as possible (not for a view straight along ``up``)."""
+    z = [target[i] - eye[i] for i in range(3)]
+    n = math.sqrt(sum(c * c for c in z))
+    z = [c / n for c in z]
+    x = [z[1] * up[2] - z[2] * up[1], z[2] * up[0] - z[0] * up[2], z[0] * up[1] - z[1] * up[0]]  # z cross up
+    n = math.sqrt(sum(c * c for c in x))
+    if n < 1e-9:
+        raise ValueError("look_at: the view direction is parallel to up")
+    x = [c / n for c in x]
+    y = [z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]]        # z cross x
+    m = ((x[0], y[0], z[0]), (x[1], y[1], z[1]), (x[2], y[2], z[2]))
+    return _quat_from_matrix(m)
+
+
+def _quat_from_matrix(m):
+    tr = m[0][0] + m[1][1] + m[2][2]
+    if tr > 0:
+        s = math.sqrt(tr + 1.0) * 2
+        return ((m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s, 0.25 * s)
+    if m[0][0] > m[1][1] and m[0][0] > m[2][2]:
+        s = math.sqrt(1.0 + m[0][0] - m[1][1] - m[2][2]) * 2
+        return (0.25 * s, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s, (m[2][1] - m[1][2]) / s)
+    if m[1][1] > m[2][2]:
+        s = math.sqrt(1.0 + m[1][1] - m[0][0] - m[2][2]) * 2
+        return ((m[0][1] + m[1][0]) / s, 0.25 * s, (m[1][2] + m[2][1]) / s, (m[0][2] - m[2][0]) / s)
+    s = math.sqrt(1.0 + m[2][2] - m[0][0] - m[1][1]) * 2
+    return ((m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s, (m[1][0] - m[0][1]) / s)

@@ -93,6 +93,7 @@ class RvizScene(object):
         cam["display"].subProp("Image Topic").setValue(topic_prefix + "/image")
         cam["display"].setEnabled(True)
         cam["dock"].setFloating(True)
+        cam["dock"].hide()          # shown by _layout once the camera has a size
         self.cameras[name] = cam
 
     def resize_camera(self, name, width, height):
@@ -105,21 +106,27 @@ class RvizScene(object):
         self._layout()
 
     def _layout(self):
-        """Shelf packing of the panels on the screen, in insertion order."""
+        """Shelf packing of the docks (title bar + panel) on the screen, in insertion order;
+        cameras without a size yet stay hidden."""
         sw, sh = self.screen_size()
         x, y = self._origin
         row = 0
-        for name, cam in self.cameras.items():
+        for cam in self.cameras.values():
             if cam["size"] is None:
+                cam["dock"].hide()
                 continue
             w, h = cam["size"]
-            if x + w > sw and x > 0:
-                x, y, row = 0, y + row + TITLE_SPACE + MARGIN, 0
-            cam["dock"].move(x, y)
-            cam["dock"].show()
-            x += w + MARGIN
-            row = max(row, h)
-            cam["fits"] = x - MARGIN <= sw and y + TITLE_SPACE + h <= sh
+            dock = cam["dock"]
+            dock.adjustSize()
+            dw = max(w, dock.frameGeometry().width())
+            dh = max(h + TITLE_SPACE, dock.frameGeometry().height())
+            if x + dw > sw and x > 0:
+                x, y, row = 0, y + row + MARGIN, 0
+            dock.move(x, y)
+            dock.show()
+            cam["fits"] = x + dw <= sw and y + dh <= sh
+            x += dw + MARGIN
+            row = max(row, dh)
 
     def fits(self, name):
         return self.cameras[name].get("fits", False)
