@@ -21,7 +21,9 @@ rospy = pytest.importorskip("rospy")
 
 @pytest.fixture
 def host():
-    plugins.import_plugin_modules(["modrob_sim.sensors.ros_plugins"])
+    from modrob_sim.sensors import ros_plugins
+    for name, cls in ros_plugins.PLUGINS.items():      # (other tests may have cleared the registry)
+        plugins.register_plugin(name, cls)
     w = World(seed=1)
     return PluginHost(w, "/gazebo", lambda uri: uri)
 
