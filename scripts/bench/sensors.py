@@ -196,6 +196,37 @@ built. "RTF (wall)" is what this shared machine gave at the load shown; "RTF (CP
 per CPU second of the one process (the simulator is single-threaded)."""
 
 
+def run_rtf_small(w, m, seconds, on):
+    """IMU (model plugin, 100 Hz) + GPS (10 Hz) + p3d (50 Hz) on the robot's base, messages built
+    and serialised; ``on`` False: physics only."""
+    import xml.etree.ElementTree as ET
+    from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import Imu, NavSatFix
+    from modrob_sim.sensors.gps import HectorGps
+    from modrob_sim.sensors.imu import ImuModelPlugin
+    from modrob_sim.sensors.p3d import P3d
+    cores = []
+    if on:
+        def el(x):
+            return ET.fromstring("<plugin><bodyName>base_link</bodyName>%s</plugin>" % x)
+        cores = [(ImuModelPlugin(w, m, el("<updateRate>100</updateRate><gaussianNoise>0.01</gaussianNoise>"),
+                                 "bench", seed=1), Imu),
+                 (HectorGps(w, m, el("<updateRate>10</updateRate><drift>1 1 1</drift>"
+                                     "<gaussianNoise>0.1 0.1 0.1</gaussianNoise>"), "bench", seed=2),
+                  NavSatFix),
+                 (P3d(w, m, el("<topicName>gt</topicName><updateRate>50</updateRate>"), "bench", seed=3),
+                  Odometry)]
+    steps = int(round(seconds / w.time_step))
+    t0, c0 = time.perf_counter(), time.process_time()
+    for _ in range(steps):
+        w.step()
+        for core, cls in cores:
+            if core.step(w.time) is not None:
+                cls().serialize(io.BytesIO())
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return seconds / wall, seconds / max(cpu, 1e-9)
+
+
 def write_section(text):
     path = os.path.join(ROOT, "docs", "benchmarks.md")
     old = open(path).read() if os.path.exists(path) else "# Benchmarks\n"
@@ -281,6 +312,12 @@ def main():
             w, m = make_world(xml)
             rw, rc, rays = run_rtf(w, m, c, args.seconds if c == "ode" else min(args.seconds, 1.0), kind)
             say("| %s | %s | %.2f | %.2f | %.2f M |" % (label, c, rw, rc, rays / 1e6))
+    w, m = make_world(laser())
+    rw0, rc0 = run_rtf_small(w, m, args.seconds, False)
+    w, m = make_world(laser())
+    rw1, rc1 = run_rtf_small(w, m, args.seconds, True)
+    say("| physics only (same world, for the next row) | - | %.2f | %.2f | - |" % (rw0, rc0))
+    say("| IMU 100 Hz + GPS 10 Hz + p3d 50 Hz, messages serialised | - | %.2f | %.2f | - |" % (rw1, rc1))
     say()
     say(CHOICE)
     if args.note:
