@@ -54,3 +54,49 @@ def test_malformed_sensor_parameter_names_element_and_value(host, caplog, bad, e
     assert host.load(m) == []
     text = caplog.text
     assert element in text and value in text and "sensor_link" in text and "libgazebo_ros_laser.so" in text
+
+
+class FakePub(object):
+    """Stands in for context.advertise's PluginPublisher: records what is published."""
+
+    def __init__(self, topic):
+        self.name = topic
+        self.has_subscribers = False
+        self.sent = []
+
+    def publish(self, msg):
+        self.sent.append(msg)
+
+    def publish_later(self, build):
+        self.sent.append(build())
+
+    def unregister(self):
+        pass
+
+
+def test_sensors_cost_nothing_without_subscribers_and_run_at_their_rate():
+    pubs = {}
+
+    def advertise(topic, msg_class, queue_size=1, latch=False):
+        pubs[topic] = FakePub(topic)
+        return pubs[topic]
+
+    from modrob_sim.sensors import ros_plugins
+    for name, cls in ros_plugins.PLUGINS.items():
+        plugins.register_plugin(name, cls)
+    w = World(seed=1)
+    w.add_sdf(F.GROUND)
+    host = PluginHost(w, "/gazebo", lambda uri: uri, advertise=advertise)
+    w.add_step_hook(after=host.after_step)
+    m = w.add_urdf("bot", F.sensor_robot(F.laser_sensor(topic="scan", samples=90, rate=20)))
+    (laser,) = host.load(m)
+    casts = []
+    real_cast = laser.ray.caster.cast
+    laser.ray.caster.cast = lambda *a, **k: casts.append(1) or real_cast(*a, **k)
+    w.step(500)                       # 0.5 s, nobody listening: no ray is cast
+    assert casts == [] and pubs["/scan"].sent == []
+    pubs["/scan"].has_subscribers = True
+    w.step(500)                       # 0.5 s at 20 Hz: 10 scans
+    assert len(casts) == 10 and len(pubs["/scan"].sent) == 10
+    msg = pubs["/scan"].sent[-1]
+    assert msg.header.frame_id == "sensor_link" and len(msg.ranges) == 90

@@ -34,9 +34,12 @@ def _ns(spec, context):
 
 
 def _tf_prefix(ns):
+    """The tf_prefix parameter in the plugin's namespace ("" without a ROS node, e.g. in tests)."""
+    if not rospy.core.is_initialized():
+        return ""
     try:
         return rospy.get_param(join_ns(ns, "tf_prefix"), "")
-    except (KeyError, rospy.ROSException):
+    except (KeyError, OSError, rospy.ROSException):
         return ""
 
 
