@@ -9,7 +9,10 @@ case "$scenario" in
   one_robot|two_robots)
     runner="$root/src/modrob_motion/scripts/bulbs_and_slides_demo"
     ;;
-  ptrz|katana|polaris)
+  katana)
+    runner="$root/src/katana_sim/scripts/katana_demo"
+    ;;
+  ptrz|polaris)
     runner=""
     ;;
   *)

@@ -1,18 +1,24 @@
 """``can_stacker`` node: find two cans (from the laser detections or the simulator's model
 states), pick the farther one, stand it on the nearer one, judge the stack, print a RESULT line.
 
-Parameters (~): source (detection | model_states, default detection), top / bottom (model names,
-model_states source only; default: the farther can is picked), result_file (YAML with the
-outcome), plot_dir (joint tracking PNG + data there), wait (s, how long to wait for the arm and
-the detections, default 120), approach, clearance, grip_effort, cart_speed (the planner's).
+Parameters (~): source (detection | model_states, default detection), result_file (YAML with
+the outcome), plot_dir (the scan-and-detections PNG and the joint tracking PNG go there), wait (s,
+how long to wait for the arm and the detections, default 120), jitter (m: before starting, move
+every can by a random offset in +-jitter in x and y; default 0), seed (of that jitter, default 0),
+approach, clearance, grip_effort, cart_speed (the planner's).
 """
 import math
 import os
+import random
 
 import rospy
 import tf2_ros
+from gazebo_msgs.msg import ModelState
+from gazebo_msgs.srv import SetModelState
 from geometry_msgs.msg import PoseArray
+from sensor_msgs.msg import LaserScan
 
+from katana_sim.detection import detect
 from katana_sim.errors import KatanaError
 from katana_sim.planner import Can, StackPlanner
 from katana_sim.tf_util import apply_transform
@@ -39,6 +45,8 @@ class CanStackNode(object):
         self.wait = float(rospy.get_param("~wait", 120.0))
         self.result_file = rospy.get_param("~result_file", "")
         self.plot_dir = rospy.get_param("~plot_dir", "")
+        self.jitter = float(rospy.get_param("~jitter", 0.0))
+        self.seed = int(rospy.get_param("~seed", 0))
         self.planner = StackPlanner(approach=rospy.get_param("~approach", 0.07),
                                     clearance=rospy.get_param("~clearance", 0.04),
                                     grip_effort=rospy.get_param("~grip_effort", 0.5),
@@ -50,15 +58,40 @@ class CanStackNode(object):
         self.stacker = Stacker(self.arm, self.planner, log=progress)
 
     # -- where are the cans ----------------------------------------------------------------------
-    def cans_from_model_states(self):
+    def can_names(self):
         end = rospy.get_time() + self.wait
-        names = []
         while not rospy.is_shutdown():
             with self.arm.lock:
                 names = sorted(n for n in self.arm.models if "can" in n)
             if len(names) >= 2 or rospy.get_time() > end:
-                break
+                return names
             rospy.sleep(0.1)
+        return []
+
+    def jitter_cans(self):
+        """Move every can by a seeded random offset (benchmarks); returns the offsets."""
+        rng = random.Random(self.seed)
+        set_state = rospy.ServiceProxy("/gazebo/set_model_state", SetModelState)
+        set_state.wait_for_service(self.wait)
+        moved = {}
+        for name in self.can_names():
+            (p, _) = self.arm.model_pose(name)
+            dx, dy = rng.uniform(-self.jitter, self.jitter), rng.uniform(-self.jitter, self.jitter)
+            st = ModelState(model_name=name, reference_frame="world")
+            st.pose.position.x, st.pose.position.y, st.pose.position.z = p[0] + dx, p[1] + dy, p[2]
+            st.pose.orientation.w = 1.0
+            res = set_state(st)
+            if not res.success:
+                raise StackError("could not move %s: %s" % (name, res.status_message))
+            moved[name] = (dx, dy)
+        text = ", ".join("%s %+.1f/%+.1f mm" % (n, dx * 1000, dy * 1000)
+                         for n, (dx, dy) in sorted(moved.items()))
+        progress("jitter (seed %d): %s" % (self.seed, text))
+        rospy.sleep(0.5)
+        return moved
+
+    def cans_from_model_states(self):
+        names = self.can_names()
         if len(names) < 2:
             raise StackError("the simulator reports %d models with 'can' in the name (%s); two are needed"
                              % (len(names), ", ".join(names)))
@@ -73,13 +106,14 @@ class CanStackNode(object):
     def cans_from_detection(self):
         progress("waiting for /katana/detected_objects (the laser detector)")
         msg = None
-        end = rospy.get_time() + self.wait
+        start = rospy.get_time()
+        end = start + self.wait
         while not rospy.is_shutdown() and rospy.get_time() < end:
             try:
                 msg = rospy.wait_for_message("/katana/detected_objects", PoseArray, timeout=5.0)
             except rospy.ROSException:
                 continue
-            if len(msg.poses) >= 2:
+            if len(msg.poses) >= 2 and msg.header.stamp.to_sec() > start:
                 break
         if msg is None or len(msg.poses) < 2:
             raise StackError("the detector found %d objects within %.0f s; two cans are needed"
@@ -107,7 +141,25 @@ class CanStackNode(object):
                 best, dist = name, d
         return best, dist
 
+    def save_scan_figure(self):
+        """The laser scan with the detector's result (the same pure function) as a PNG."""
+        from katana_sim.plots import plot_scan
+        scan = rospy.wait_for_message("/scan", LaserScan, timeout=self.wait)
+        found = detect(scan.ranges, scan.angle_min, scan.angle_increment, scan.range_min, scan.range_max,
+                       radius=0.033)
+        angles = [scan.angle_min + i * scan.angle_increment for i in range(len(scan.ranges))]
+        os.makedirs(self.plot_dir, exist_ok=True)
+        path = plot_scan(angles, scan.ranges, scan.range_min, scan.range_max, found,
+                         os.path.join(self.plot_dir, "katana_scan_detections.png"),
+                         title="Katana laser scan (%s) and %d detected objects"
+                         % (scan.header.frame_id, len(found)))
+        progress("scan and detections: %s" % path)
+
     def run(self):
+        if self.jitter > 0:
+            self.jitter_cans()
+        if self.plot_dir and self.source == "detection":
+            self.save_scan_figure()
         cans = self.cans_from_detection() if self.source == "detection" else self.cans_from_model_states()
         cans.sort(key=lambda c: -math.hypot(c.x, c.y))
         top, bottom = cans[0], cans[1]
@@ -143,7 +195,9 @@ class CanStackNode(object):
         if self.plot_dir:
             from katana_sim.plots import plot_joint_tracking
             os.makedirs(self.plot_dir, exist_ok=True)
-            path = plot_joint_tracking(self.arm.joint_log,
+            with self.arm.lock:
+                log = list(self.arm.joint_log)
+            path = plot_joint_tracking(log,
                                        os.path.join(self.plot_dir, "katana_joint_tracking.png"))
             progress("joint tracking plot: %s" % path)
         return ok
