@@ -81,3 +81,23 @@ def test_sdf_gripper_element_is_read():
     m = World().add_sdf(sdf)[0]
     d = m._grippers[0].desc
     assert (d.attach_steps, d.detach_steps, d.min_contact_count, d.gripper_links) == (3, 40, 2, ("f",))
+
+
+def test_dropping_the_world_while_an_object_is_held_exits_cleanly():
+    """The weld joint must go before the ODE world (it segfaulted when freed after it)."""
+    import subprocess
+    import sys
+    code = ("import importlib.util, gc\n"
+            "spec = importlib.util.spec_from_file_location('t', %r)\n"
+            "t = importlib.util.module_from_spec(spec); spec.loader.exec_module(t)\n"
+            "world, hand, box, sq = t.hand_and_box()\n"
+            "t.seconds(world, 16 * t.UPDATE_PERIOD)\n"
+            "g = hand._grippers[0]\n"
+            "assert g.attached is not None\n"
+            "del world, sq; gc.collect()\n"
+            "del hand, box, g; gc.collect()\n"
+            "print('clean')\n" % os.path.abspath(__file__))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert r.stdout.strip() == "clean"
+    assert "Exception ignored" not in r.stderr

@@ -16,6 +16,7 @@ Only movable links count (Gazebo filters static collisions too). Defaults as SDF
 attach_steps 20, detach_steps 40, min_contact_count 2.
 """
 import logging
+import weakref
 from collections import deque, namedtuple
 
 import ode
@@ -63,8 +64,9 @@ class Gripper(object):
     """The run-time grasp check of one <gripper> of a spawned model (an after-step hook)."""
 
     def __init__(self, world, model, desc):
-        self.world = world
-        self.model = model
+        # weak, as Model's: the World must be collectable (its finalizer frees ODE in order)
+        self.world = weakref.proxy(world)
+        self.model = weakref.proxy(model)
         self.desc = desc
         self.palm = model.links[desc.palm_link]
         self.links = frozenset(desc.gripper_links)
@@ -78,7 +80,13 @@ class Gripper(object):
         self._last_t = world.time
         self._prev_rel = None
         self._diffs = deque([float("inf")] * STABLE_SAMPLES, maxlen=STABLE_SAMPLES)
-        self._hook = world.add_step_hook(after=self.after_step)
+        me = weakref.ref(self)
+
+        def hook(t, dt):
+            g = me()
+            if g is not None:
+                g.after_step(t, dt)
+        self._hook = world.add_step_hook(after=hook)
 
     # -- the hook ----------------------------------------------------------------------------
     def after_step(self, t, dt):
@@ -181,13 +189,13 @@ class Gripper(object):
         if self._hook is not None:
             try:
                 self.world.remove_step_hook(self._hook)
-            except ValueError:
-                pass
+            except (ValueError, ReferenceError):
+                pass  # the World is being torn down
             self._hook = None
 
 
 def _relative_position(palm, link):
-    (pp, pq), (lp, _lq) = palm.pose, link.pose
+    (pp, pq), lp = palm.pose, link.pose[0]
     d = (lp[0] - pp[0], lp[1] - pp[1], lp[2] - pp[2])
     # in the palm frame: rotate by the inverse of the palm's orientation
     x, y, z, w = pq

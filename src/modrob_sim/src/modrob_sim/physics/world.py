@@ -1102,6 +1102,8 @@ def _geom_ptr(geom):
 
 def _destroy_objects(model, geom_info, nat, ctx, wrench_links=None):
     """Drop every ODE object of ``model`` in a safe order: geoms out of their spaces first."""
+    for g in getattr(model, "_grippers", ()):
+        g.close()  # its weld joint goes while the ODE world still exists
     for geom in model._geoms:
         geom_info.pop(geom, None)
         if isinstance(geom, NativeMesh):
