@@ -147,3 +147,20 @@ def test_range_max_below_min_is_refused():
     with pytest.raises(SensorConfigError) as e:
         sensor_of(w, m)
     assert "range/max" in str(e.value) and "1.0" in str(e.value)
+
+
+def test_triangle_mesh_is_hit_where_the_physics_has_it():
+    if not raycast.NATIVE_AVAILABLE:
+        pytest.skip("native caster unavailable (meshes are boxes on the pure-Python path)")
+    cube = os.path.join(os.path.dirname(_FIX), "physics", "cube.obj")       # 0.1 m cube
+    mesh = "<mesh><uri>file://%s</uri><scale>10 10 10</scale></mesh>" % cube
+    # a 1 m cube turned 30 degrees about z, centred 3 m ahead at the sensor's height: the ray along
+    # +x enters the face turned 30 degrees at x = 3 - 0.5 / cos(30 deg); rays 0.15 rad aside hit too
+    w = World(seed=3)
+    w.add_sdf(F.GROUND)
+    w.add_sdf(F.static_shape("meshcube", mesh, (3.0, 0.0, 0.75), (0, 0, math.radians(30))))
+    m = w.add_urdf("bot", F.sensor_robot(F.laser_sensor(samples=3, min_angle=-0.15, max_angle=0.15, rmax=10)),
+                   pose=((0, 0, 0.1), (0, 0, 0, 1)))
+    r, _ = sensor_of(w, m, "ode").scan()
+    assert abs(r[1] - (3.0 - 0.5 / math.cos(math.radians(30)))) < 1e-6
+    assert np.isfinite(r).all()
