@@ -59,6 +59,8 @@ class GraphWindow(QtWidgets.QWidget):
         self.scroll.setWidget(self.image)
         self.scroll.setAlignment(QtCore.Qt.AlignCenter)
         self.status = QtWidgets.QLabel("")
+        self.status.setWordWrap(True)
+        self.status.setSizePolicy(QtWidgets.QSizePolicy.Ignored, QtWidgets.QSizePolicy.Preferred)
         layout = QtWidgets.QVBoxLayout(self)
         layout.addLayout(bar1)
         layout.addLayout(bar2)

