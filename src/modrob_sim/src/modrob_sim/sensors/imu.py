@@ -4,12 +4,13 @@ plugin.
 ImuSensor (``<sensor type="imu">`` on a link, at the sensor's <update_rate>): the angular velocity
 and the linear acceleration are in the sensor frame; the acceleration is the finite difference of
 the world velocity of the sensor point between two sensor updates minus gravity (a resting IMU
-reads +9.81 m/s^2 along its up axis, as Gazebo's); the orientation is relative to the sensor's
-initial orientation (``initialOrientationAsReference`` true, the plugin's default) or to the world
-(false). gazebo_ros_imu_sensor rotates the orientation by ``rpyOffset`` (``offset * q``), adds
-``gaussianNoise`` to every component (the four quaternion components too, as the plugin does),
-sets every covariance diagonal to gaussianNoise^2 and publishes at most ``updateRateHZ`` times a
-second with frame_id ``frameName`` (``bodyName`` in older files).
+reads +9.81 m/s^2 along its up axis, as Gazebo's); the orientation is relative to the world
+(``initialOrientationAsReference`` false, the plugin's default since REP 145) or to the sensor's
+initial orientation (true, the deprecated behaviour). gazebo_ros_imu_sensor rotates the
+orientation by ``rpyOffset`` (``offset * q``), adds ``gaussianNoise`` to every component (the
+four quaternion components too, as the plugin does), sets every covariance diagonal to
+gaussianNoise^2 and publishes at most ``updateRateHZ`` times a second with frame_id ``frameName``
+(``bodyName`` in older files).
 
 gazebo_ros_imu (model plugin, ``bodyName`` link, ``updateRate`` Hz, 0 = every step): orientation
 ``rpyOffset * q_link``, angular velocity and the finite-difference acceleration (gravity removed
@@ -89,14 +90,14 @@ class ImuSensor(MountedSensor):
     def __init__(self, world, model, link_name, sensor_elem, plugin_elem, filename=FILENAME, seed=None):
         MountedSensor.__init__(self, model, link_name, sensor_elem, filename)
         p = Params(plugin_elem, self.where)
-        self.topic = p.string("topicName", "imu")
+        self.topic = p.string("topicName", "imu_data")
         self.frame = p.string("frameName") or p.string("bodyName") or link_name
         self.publish_rate = p.float("updateRateHZ", 1.0, nonneg=True)
         self.noise = p.float("gaussianNoise", 0.0, nonneg=True)
         self.xyz_offset = p.floats("xyzOffset", 3, (0.0, 0.0, 0.0))
         rpy = p.floats("rpyOffset", 3, (0.0, 0.0, 0.0))
         self.rot_offset = quat_from_rpy(*rpy)
-        self.initial_reference = p.bool("initialOrientationAsReference", True)
+        self.initial_reference = p.bool("initialOrientationAsReference", False)
         self.world = world
         self.core = ImuCore(world, self.link, self.pose)
         self.sensor_rate = Rate(self.update_rate)
