@@ -14,6 +14,7 @@ help:
 	@echo "make test      set up if needed, then every unit test and rostest; ends with 'N passed, N failed'"
 	@echo "make setup     Debian packages + .venv (pinned PyPI extras) + catkin_make (idempotent)"
 	@echo "make build     catkin_make;  make build-colcon: colcon build into build_colcon/ install_colcon/"
+	@echo "make fuzz      the simulator's fuzz suite in full (MODROB_FUZZ_SCALE=20: models, requests, YAML; minutes)"
 	@echo "make lint      catkin_lint on all packages + flake8 on all Python"
 	@echo "make bench     benchmarks under scripts/bench/ (results in docs/benchmarks.md)"
 	@echo "make tune      rqt_reconfigure on the running system (FILTER=/ptrz narrows; LAUNCH='pkg file args' starts a scenario beside it)"
@@ -47,6 +48,15 @@ test-unit:
 test-ros:
 	@$(ROOT)/scripts/setup.sh
 	@$(ENV) && python3 $(ROOT)/scripts/run_tests.py --tier 2 $(TESTARGS)
+
+# The short form of the fuzz suite runs in `make test`; this is the full one (seeded, so a failure
+# reproduces): the physics core in pytest, then the /gazebo node under rostest.
+fuzz:
+	@$(ROOT)/scripts/setup.sh
+	@$(ENV) && export MODROB_FUZZ_SCALE=$${MODROB_FUZZ_SCALE:-20} && \
+	  (cd $(ROOT) && python3 -m pytest -q --import-mode=importlib -p no:cacheprovider \
+	    src/modrob_sim/test/unit/test_fuzz_physics.py) && \
+	  python3 $(ROOT)/scripts/run_tests.py --tier 2 -k sim_fuzz
 
 demo:
 	@$(ROOT)/scripts/setup.sh

@@ -233,3 +233,60 @@ def test_world_gravity_and_time_step_beyond_limits_are_refused(field, value, wor
     assert words in str(err.value)
     assert signature(world) == before
     world.step(20)
+
+
+def test_sdf_world_refused_for_a_missing_mesh_leaves_gravity_and_physics_alone():
+    world = scene()
+    before = signature(world)
+    params = world.physics_params
+    sdf = ("<sdf version='1.6'><world name='w'><gravity>0 0 -1.62</gravity><physics type='ode'>"
+           "<max_step_size>0.002</max_step_size><ode><solver><iters>7</iters></solver></ode></physics>"
+           "<model name='m'><link name='l'><collision name='c'><geometry><mesh><uri>file:///no/such.stl</uri>"
+           "</mesh></geometry></collision></link></model></world></sdf>")
+    with pytest.raises(ModelError, match="no/such.stl"):
+        world.add_sdf(sdf)
+    assert signature(world) == before
+    assert world.physics_params == params
+
+
+def test_physics_params_refused_for_one_bad_value_change_nothing():
+    world = scene()
+    params = world.physics_params
+    for bad in ({"sor": float("nan"), "iters": 7}, {"erp": 5.0, "iters": 7}, {"iters": 1e12}):
+        with pytest.raises(ValueError):
+            world.set_physics_params(**bad)
+        assert world.physics_params == params
+
+
+def test_prismatic_mimic_with_an_offset_starts_coupled_and_never_trips_the_guard():
+    xml = ("<robot name='x'><link name='a'>%s</link><link name='b'>%s</link><link name='c'>%s</link>"
+           "<joint name='m' type='prismatic'><parent link='a'/><child link='b'/><axis xyz='1 0 0'/>"
+           "<limit lower='-1' upper='1' effort='10' velocity='1'/></joint>"
+           "<joint name='f' type='prismatic'><parent link='a'/><child link='c'/><axis xyz='0 1 0'/>"
+           "<limit lower='-1' upper='1' effort='10' velocity='1'/>"
+           "<mimic joint='m' multiplier='1' offset='0.1'/></joint></robot>" % (INERTIAL, INERTIAL, INERTIAL))
+    world = World()
+    m = world.add_urdf("mimic", xml, pose=((0, 0, 5), (0, 0, 0, 1)))
+    assert m.joints["f"].position == pytest.approx(0.1, abs=1e-9)
+    world.step(500)
+    assert not world.pop_events()
+    assert m.joints["f"].position == pytest.approx(m.joints["m"].position + 0.1, abs=1e-3)
+
+
+def test_the_guard_backs_off_and_stops_a_model_that_keeps_blowing_up(caplog):
+    from modrob_sim.errors import SimulationError
+    from modrob_sim.physics import world as world_mod
+    world = World()
+    m = world.add_urdf("slider", _slider(-100, 100), pose=((0, 0, 5), (0, 0, 0, 1)))
+    world.set_physics_params(guard_max_linear_velocity=1.0)
+    world.add_step_hook(before=lambda t, dt: m.joints["s"].set_effort(1e3))  # 10 N cap: runaway anyway
+    m.joints["s"].effort_limit = 1e6
+    with caplog.at_level(logging.ERROR, logger="modrob_sim.physics"):
+        with pytest.raises(SimulationError, match="model 'slider' was restored %d times in a row"
+                           % world_mod.GUARD_STREAK_LIMIT):
+            world.step(20000)
+    lines = [r for r in caplog.records if "blow-up guard" in r.getMessage()]
+    seconds = world.time
+    assert len(lines) <= seconds + 2, (len(lines), seconds)  # one per model per simulated second
+    assert world_mod.GUARD_STREAK_LIMIT > 100 * len(lines)  # was one ERROR line per restoration
+    world.step(10)  # the next steps go on (the node pauses; unpausing tries again)

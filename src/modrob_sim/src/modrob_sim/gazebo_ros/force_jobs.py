@@ -1,5 +1,8 @@
 """apply_body_wrench / apply_joint_effort with Gazebo's timing (start_time, duration, until
 cleared): jobs that become active in the before-step hook. Pure; loop thread only."""
+import logging
+
+LOG = logging.getLogger("modrob_sim.gazebo_ros")
 
 
 class _EffortJob(object):
@@ -73,7 +76,10 @@ class ForceJobs(object):
                 duration = job.duration
                 if duration is not None:
                     duration = max(self.world.time_step, duration - (t - job.start))
-                job.link.add_wrench(job.force, job.torque, reference_point=job.point, duration=duration)
+                try:
+                    job.link.add_wrench(job.force, job.torque, reference_point=job.point, duration=duration)
+                except ValueError as exc:  # dropped with one message, never retried
+                    LOG.error("apply_body_wrench job dropped: %s", exc)
             else:
                 keep.append(job)
         self._wrenches = keep
@@ -88,6 +94,13 @@ class ForceJobs(object):
             if t + 1e-12 >= job.start:
                 total[job.joint] = total.get(job.joint, 0.0) + job.effort
         self._efforts = keep
+        failed = []
         for joint, effort in total.items():
             # Gazebo's SetForce adds up within a step: added to what a controller set this step
-            joint.add_effort(effort)
+            try:
+                joint.add_effort(effort)
+            except ValueError as exc:  # a job that fails is dropped with one message
+                LOG.error("apply_joint_effort job dropped: %s", exc)
+                failed.append(joint)
+        if failed:
+            self._efforts = [j for j in self._efforts if j.joint not in failed]

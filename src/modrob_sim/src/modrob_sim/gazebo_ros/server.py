@@ -119,7 +119,12 @@ class GazeboRosNode(object):
         self.loop.start()
 
     def shutdown(self):
-        self.loop.stop()
+        if not self.loop.stop():
+            # the loop thread is still inside a step: freeing ODE under it at exit would abort the
+            # process; leave the memory to the OS instead
+            rospy.logwarn("%s: the simulation loop did not stop within 5 s; exiting without freeing "
+                          "the physics world" % self.node_name)
+            self.world._finalizer.detach()
         self.plugins.shutdown()
         self._publish_queue.stop()
 

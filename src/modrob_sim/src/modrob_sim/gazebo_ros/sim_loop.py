@@ -59,6 +59,11 @@ class SimulationLoop(object):
         return self._paused
 
     @property
+    def stopping(self):
+        """True once stop() was called: long jobs check it between chunks of work."""
+        return self._stop
+
+    @property
     def real_time_factor(self):
         return self._rtf
 
@@ -120,11 +125,14 @@ class SimulationLoop(object):
         self._thread.start()
 
     def stop(self, timeout=5.0):
+        """Stop the loop thread; True when it has ended within ``timeout``."""
         with self._cond:
             self._stop = True
             self._cond.notify_all()
         if self._thread is not None and self._thread is not threading.current_thread():
             self._thread.join(timeout)
+            return not self._thread.is_alive()
+        return True
 
     def run(self):
         while not self._stop:

@@ -335,5 +335,12 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
         else:
             j._child_inertia = g.mass
         j._apply_motor()
+    # mimic joints start where their coupling puts them (multiplier * master + offset): from 0
+    # with an offset, the coupling asked for offset / dt in the first step (0.1 m: 50 m/s, the
+    # guard's limit, and the model was restored for ever)
+    masters = {j.mimic[0]: 0.0 for j in model._joint_order
+               if j.mimic is not None and j._ode is not None and j.mimic[2] != 0.0}
+    if masters:
+        model._apply_configuration(masters, rigid_velocity=False)
     model._grippers = [Gripper(world, model, gd) for gd in desc.grippers]
     return model

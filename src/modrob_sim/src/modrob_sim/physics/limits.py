@@ -41,6 +41,13 @@ GRAVITY_LIMIT = 1e3
 #: physics time step bounds (s)
 MIN_TIME_STEP = 1e-6
 MAX_TIME_STEP = 0.1
+#: physics parameters (World.set_physics_params, set_physics_properties' ode_config, SDF <ode>):
+#: the largest value each may take (every one is also finite and >= 0)
+PHYSICS_PARAM_MAX = {"iters": 10000, "sor": 2.0, "cfm": 1e6, "erp": 1.0,
+                     "contact_max_correcting_vel": 1e6, "contact_surface_layer": 1.0,
+                     "max_contacts": 1000, "guard_max_linear_velocity": 1e6,
+                     "guard_max_angular_velocity": 1e7, "guard_max_contacts": 1e7,
+                     "snapshot_interval": 1e6}
 #: joint positions set by set_model_configuration / spawn -J for joints without limits (m or rad)
 JOINT_POSITION_LIMIT = LENGTH_LIMIT
 

@@ -47,6 +47,10 @@ DEFAULT_PARAMS = OrderedDict([
     ("snapshot_interval", 50),
 ])
 
+#: restorations of one model, each within a second of the last, after which step() stops (a
+#: model restored every step of a simulated second at 1 ms)
+GUARD_STREAK_LIMIT = 1000
+
 _ALL_BITS = (1 << 62) - 1
 AUTO_DISABLE_LINEAR = 0.005   # m/s
 AUTO_DISABLE_ANGULAR = 0.01   # rad/s
@@ -116,6 +120,8 @@ class World(object):
             self._ctx = self._nat.mr_ctx_new(odelib.raw_pointer(self._ode_world),
                                              self._static_space._id(), self._dyn_space._id())
         self._params = OrderedDict(DEFAULT_PARAMS)
+        self._guard_log = {}     # model -> [last logged t, suppressed, streak, last restore t]
+        self._guard_stop = None  # a message: step() raises SimulationError with it
         self.models = OrderedDict()
         self._geom_info = {}
         self._hooks = OrderedDict()
@@ -198,6 +204,10 @@ class World(object):
                 raise ValueError("physics parameter %s=%r is not a number" % (k, v))
             if not math.isfinite(v) or v < 0:
                 raise ValueError("physics parameter %s=%r must be finite and not negative" % (k, v))
+            top = limits.PHYSICS_PARAM_MAX.get(k)
+            if top is not None and v > top:
+                raise ValueError("physics parameter %s=%r is beyond %g (limits: docs/simulator.md)"
+                                 % (k, v, top))
             if k in ("iters", "max_contacts", "guard_max_contacts", "snapshot_interval"):
                 if v < 1:
                     raise ValueError("physics parameter %s must be at least 1" % k)
@@ -312,19 +322,24 @@ class World(object):
                 pose = check_pose(pose, "SDF spawn pose")
             except ValueError as e:
                 raise ModelError(str(e))
-        if settings:
-            # a <world>'s <gravity> and <physics> apply to this World, as when Gazebo loads it
-            if "time_step" in settings:
-                self.time_step = settings["time_step"]
-            if "gravity" in settings:
-                self.gravity = settings["gravity"]
-            if settings.get("params"):
-                self.set_physics_params(**settings["params"])
         made = []
         try:
             for d in descs:
                 p = pose if (pose is not None and len(descs) == 1) else (d.pose or IDENTITY_POSE)
                 made.append(self._spawn(d, p, None, ""))
+            if settings:
+                # a <world>'s <gravity> and <physics> apply to this World, as when Gazebo loads it,
+                # once every model of it is in (a refused world changes nothing); the reader has
+                # checked time step and gravity, set_physics_params checks all before it applies
+                if settings.get("params"):
+                    try:
+                        self.set_physics_params(**settings["params"])
+                    except ValueError as e:
+                        raise ModelError("SDF <world><physics><ode>: %s" % e)
+                if "time_step" in settings:
+                    self.time_step = settings["time_step"]
+                if "gravity" in settings:
+                    self.gravity = settings["gravity"]
         except ModelError:
             for m in made:
                 self.remove_model(m.name)
@@ -602,6 +617,9 @@ class World(object):
             raise ValueError("step(n): n must not be negative")
         for _ in range(n):
             self._step_once()
+            if self._guard_stop is not None:
+                msg, self._guard_stop = self._guard_stop, None
+                raise SimulationError(msg)
 
     def _step_once(self):
         dt = self._dt
@@ -924,8 +942,27 @@ class World(object):
     def _restore_after_blowup(self, model, link, reason):
         ev = GuardEvent(model.name, link, reason, self.time)
         self._events.append(ev)
-        LOG.error("blow-up guard: model '%s' link '%s': %s at t=%.4f s; restored to its last sane "
-                  "state (zero velocity, wrenches cleared)", model.name, link, reason, self.time)
+        # back off: one message per model per simulated second, with the count of the others;
+        # a model restored GUARD_STREAK_LIMIT times without a second of peace stops the stepping
+        # (the node pauses physics) instead of looping for ever
+        g = self._guard_log.get(model.name)
+        t = self.time
+        if g is None or not 0.0 <= t - g[0] < 1.0:
+            more = "" if g is None or not g[1] else " (%d more restorations in the last second)" % g[1]
+            LOG.error("blow-up guard: model '%s' link '%s': %s at t=%.4f s; restored to its last sane "
+                      "state (zero velocity, wrenches cleared)%s", model.name, link, reason, t, more)
+            g = [t, 0, g[2] if g is not None and 0.0 <= t - g[3] < 1.0 else 0, t]
+            self._guard_log[model.name] = g
+        else:
+            g[1] += 1
+        g[2] = g[2] + 1 if 0.0 <= t - g[3] < 1.0 else 1
+        g[3] = t
+        if g[2] >= GUARD_STREAK_LIMIT:
+            g[2] = 0
+            self._guard_stop = ("blow-up guard: model '%s' was restored %d times in a row (last: link '%s', "
+                                "%s): stepping stopped. Fix the model (masses, joint limits, mimic "
+                                "offsets) or what commands it (gains, efforts), or delete it; then "
+                                "unpause" % (model.name, GUARD_STREAK_LIMIT, link, reason))
         state = model._snapshot_state or model._spawn_state
         model._restore(state, zero_velocity=True)
         if not self._state_finite(model):

@@ -50,6 +50,10 @@ class ControllerManager(object):
                                   "the controller configuration on the parameter server (namespace: '%s')?"
                                   % (name, ns))
         type_ = params_values["type"]
+        if not isinstance(type_, str):
+            raise ControllerError("Could not load controller '%s' because its type is %r, not a type name "
+                                  "(parameter %s/type, e.g. effort_controllers/JointPositionController)"
+                                  % (name, type_, ns))
         cls = self.types.get(type_)
         if cls is None:
             raise ControllerError("Could not load controller '%s' because controller type '%s' does not "

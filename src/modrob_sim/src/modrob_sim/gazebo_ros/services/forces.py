@@ -9,6 +9,14 @@ from modrob_sim.errors import RequestError
 from modrob_sim.gazebo_ros import transforms as tf
 from modrob_sim.gazebo_ros.conversions import vector_from_msg
 from modrob_sim.gazebo_ros.services.base import ServiceGroup, Status
+from modrob_sim.physics.limits import LENGTH_LIMIT
+from modrob_sim.physics.model import FORCE_CAP
+
+
+def _bounded(field, v, limit, unit):
+    if max(abs(x) for x in v) > limit:
+        raise RequestError("%s %r is beyond +-%g %s (limits: docs/simulator.md); nothing applied"
+                           % (field, tuple(v), limit, unit))
 
 
 class ForceServices(ServiceGroup):
@@ -32,6 +40,9 @@ class ForceServices(ServiceGroup):
             p = vector_from_msg(req.reference_point)
             if not tf.is_finite(f, tq, p):
                 raise RequestError("wrench or reference_point has a NaN or infinite value")
+            _bounded("wrench.force", f, FORCE_CAP, "N")
+            _bounded("wrench.torque", tq, FORCE_CAP, "N m")
+            _bounded("reference_point", p, LENGTH_LIMIT, "m")
             if req.duration.to_sec() == 0.0:
                 return "duration is 0: nothing applied"
             frame = self.lookup.frame(req.reference_frame)
@@ -44,6 +55,7 @@ class ForceServices(ServiceGroup):
                 p_world = tf.add(link_pose[0], p)
             # the core takes the point in the link frame (where the force acts on the link)
             p = tf.quat_rotate(tf.quat_conj(link_pose[1]), tf.sub(p_world, link_pose[0]))
+            _bounded("reference_point (from the link origin, after reference_frame)", p, LENGTH_LIMIT, "m")
             start, duration = forces.start_and_duration(req.start_time.to_sec(), req.duration.to_sec())
             forces.add_wrench(link, f, tq, p, start, duration)
             return "wrench applied to [%s] from t=%.3f s %s" % (
@@ -57,6 +69,12 @@ class ForceServices(ServiceGroup):
             joint = self.lookup.joint(req.joint_name)
             if not math.isfinite(req.effort):
                 raise RequestError("effort is NaN or infinite")
+            if joint.type in ("fixed", "floating", "planar") or joint._ode is None:
+                raise RequestError("joint [%s] is %s: it takes no effort (nothing applied)"
+                                   % (req.joint_name, joint.type))
+            if abs(req.effort) > FORCE_CAP:
+                raise RequestError("effort %g is beyond +-%g (limits: docs/simulator.md); nothing applied"
+                                   % (req.effort, FORCE_CAP))
             if req.duration.to_sec() == 0.0:
                 return "duration is 0: nothing applied"
             start, duration = forces.start_and_duration(req.start_time.to_sec(), req.duration.to_sec())

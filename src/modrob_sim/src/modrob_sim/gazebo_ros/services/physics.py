@@ -8,13 +8,17 @@ from std_srvs.srv import Empty, EmptyResponse
 
 from modrob_msgs.srv import StepSimulation, StepSimulationResponse
 from modrob_sim.errors import RequestError
-from modrob_sim.gazebo_ros import transforms as tf
 from modrob_sim.gazebo_ros.services.base import ServiceGroup, Status
+from modrob_sim.physics import limits
 
 #: physics_params keys of the core <-> fields of gazebo_msgs/ODEPhysics
 ODE_FIELDS = (("iters", "sor_pgs_iters"), ("sor", "sor_pgs_w"), ("cfm", "cfm"), ("erp", "erp"),
               ("contact_max_correcting_vel", "contact_max_correcting_vel"),
               ("contact_surface_layer", "contact_surface_layer"), ("max_contacts", "max_contacts"))
+
+
+#: steps of a `step` request between two checks for shut-down
+STEP_CHUNK = 100
 
 
 class PhysicsServices(ServiceGroup):
@@ -85,26 +89,31 @@ class PhysicsServices(ServiceGroup):
 
     def set_physics_properties(self, req):
         def do():
-            if not (req.time_step > 0 and math.isfinite(req.time_step)):
-                raise RequestError("time_step must be a positive number of seconds, got %r" % req.time_step)
-            if not (req.max_update_rate >= 0 and math.isfinite(req.max_update_rate)):
-                raise RequestError("max_update_rate must be >= 0 (0 = as fast as possible), got %r"
-                                   % req.max_update_rate)
-            g = (req.gravity.x, req.gravity.y, req.gravity.z)
-            if not tf.is_finite(g):
-                raise RequestError("gravity has a NaN or infinite value")
+            # everything is checked before anything is applied: a refusal changes nothing
+            try:
+                dt = limits.check_time_step(req.time_step, "time_step")
+                g = limits.check_gravity((req.gravity.x, req.gravity.y, req.gravity.z), "gravity")
+            except ValueError as exc:
+                raise RequestError("%s; nothing applied" % exc)
+            if not (req.max_update_rate >= 0 and math.isfinite(req.max_update_rate)
+                    and req.max_update_rate * dt <= 1e6):
+                raise RequestError("max_update_rate must be >= 0 (0 = as fast as possible) and at most "
+                                   "1e6 times real time, got %r; nothing applied" % req.max_update_rate)
             cfg = req.ode_config
             ode = {}
             if any(getattr(cfg, field) for _, field in ODE_FIELDS):  # all zero = not given: keep
                 for key, field in ODE_FIELDS:
                     ode[key] = getattr(cfg, field)
                 if ode["iters"] <= 0:
-                    raise RequestError("ode_config.sor_pgs_iters must be positive")
-            self.world.time_step = req.time_step
-            self.world.gravity = g
+                    raise RequestError("ode_config.sor_pgs_iters must be positive; nothing applied")
             if ode:
-                self.world.set_physics_params(**ode)
-            self.loop.set_real_time_factor(req.max_update_rate * req.time_step)
+                try:   # validates every parameter before it changes any
+                    self.world.set_physics_params(**ode)
+                except ValueError as exc:
+                    raise RequestError("ode_config: %s; nothing applied" % exc)
+            self.world.time_step = dt
+            self.world.gravity = g
+            self.loop.set_real_time_factor(req.max_update_rate * dt)
             return "physics properties set"
         return self.run(do, gzs.SetPhysicsPropertiesResponse(), "SetPhysicsProperties")
 
@@ -116,7 +125,16 @@ class PhysicsServices(ServiceGroup):
                 raise RequestError("physics is running: call /gazebo/pause_physics first (step advances "
                                    "a paused simulation by exactly N steps)")
             if req.steps > 0:
-                self.world.step(int(req.steps))
+                # in chunks, so that shut-down stops a long request at once (the node exited while
+                # the loop thread was still inside ODE: SIGABRT/SIGSEGV in its tear-down)
+                left = int(req.steps)
+                while left > 0:
+                    if self.loop.stopping:
+                        raise RequestError("the node is shutting down: stopped at t=%.6f s with %d of %d "
+                                           "steps left" % (self.world.time, left, req.steps))
+                    n = min(left, STEP_CHUNK)
+                    self.world.step(n)
+                    left -= n
                 self.sim.outputs.publish_clock()   # the throttled clock may have skipped the last step
             resp.iterations = self.world.iterations
             resp.sim_time = self.world.time
