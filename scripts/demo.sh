@@ -12,7 +12,10 @@ case "$scenario" in
   katana)
     runner="$root/src/katana_sim/scripts/katana_demo"
     ;;
-  ptrz|polaris)
+  polaris)
+    runner="$root/src/polaris_description/scripts/polaris_demo"
+    ;;
+  ptrz)
     runner=""
     ;;
   *)

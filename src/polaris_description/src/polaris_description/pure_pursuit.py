@@ -49,7 +49,8 @@ class PurePursuit(object):
             return 0.0, 0.0
         self.index, _ = self._nearest(x, y)
         last = len(self.path) - 1
-        if self.index >= last - 1 and math.hypot(self.path[last][0] - x, self.path[last][1] - y) < self.goal_tolerance:
+        to_goal = math.hypot(self.path[last][0] - x, self.path[last][1] - y)
+        if self.index >= last - 1 and to_goal < self.goal_tolerance:
             self.done = True
             return 0.0, 0.0
         target = self.path[last]

@@ -30,7 +30,8 @@ def scan(pose, cones, samples=220, max_range=70.0):
     oz = 0.32 + LIDAR_OFFSET[2]
     az = np.linspace(-math.pi, math.pi, samples, endpoint=False)
     el, a = np.meshgrid(RINGS, az, indexing="ij")
-    d = np.stack([np.cos(el) * np.cos(a + yaw), np.cos(el) * np.sin(a + yaw), np.sin(el)], axis=-1).reshape(-1, 3)
+    d = np.stack([np.cos(el) * np.cos(a + yaw), np.cos(el) * np.sin(a + yaw), np.sin(el)],
+                 axis=-1).reshape(-1, 3)
     t = np.full(len(d), np.inf)
     down = d[:, 2] < -1e-6
     t[down] = -oz / d[down, 2]
@@ -48,7 +49,8 @@ def scan(pose, cones, samples=220, max_range=70.0):
         hit = ok & (th > 0) & (z >= z0) & (z <= z1)
         t = np.where(hit & (th < t), th, t)
     keep = t < max_range
-    pts_world = np.stack([ox + t[keep] * d[keep, 0], oy + t[keep] * d[keep, 1], oz + t[keep] * d[keep, 2]], axis=1)
+    tk, dk = t[keep], d[keep]
+    pts_world = np.stack([ox + tk * dk[:, 0], oy + tk * dk[:, 1], oz + tk * dk[:, 2]], axis=1)
     # into the lidar frame (yaw only: flat ground)
     rx, ry = pts_world[:, 0] - ox, pts_world[:, 1] - oy
     return np.stack([c * rx + s * ry, -s * rx + c * ry, pts_world[:, 2] - oz], axis=1)

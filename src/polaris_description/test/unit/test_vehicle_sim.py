@@ -83,3 +83,20 @@ def test_ackermann_radius_and_slip_vs_same_angle_baseline():
 def test_unknown_pid_configuration_is_named():
     with pytest.raises(ConfigError, match="table 2 has 1, 2, 3, 4, 5, 6"):
         load_pid_gains(7)
+
+
+def test_both_ramps_climbed_and_descended_without_tipping():
+    """1.28 m/s straight over the 8 deg and the 15 deg ramp (y = -8) and down again."""
+    from polaris_description import parking_lot
+    sim = VehicleSim(pid_config=5, pose=(-1.0, -8.0, 0.0))
+    sim.command(rear_left=4.0, rear_right=4.0)
+    samples = sim.run(26.0, every=0.05)
+    xs = [s["x"] for s in samples]
+    assert xs[-1] > parking_lot.ramp_extent(parking_lot.RAMPS[1])[1] + 1.0, "did not get over both ramps"
+    assert max(abs(s["roll"]) for s in samples) < math.radians(5.0)
+    steep = [s for s in samples if parking_lot.RAMPS[1].x_start < s["x"] < parking_lot.RAMPS[1].x_start + 3.0]
+    assert max(abs(s["pitch"]) for s in steep) > math.radians(12.0), "never tilted on the steep ramp"
+    top = max(s["z"] for s in samples)
+    assert top == pytest.approx(0.325 + parking_lot.RAMPS[1].height, abs=0.05)
+    assert samples[-1]["z"] == pytest.approx(0.325, abs=0.02)
+    assert abs(samples[-1]["y"] + 8.0) < 0.5

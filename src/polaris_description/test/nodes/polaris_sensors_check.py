@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Checks for polaris_sensors.test (see there)."""
+import math
+import unittest
+
+import numpy as np
+import rospy
+import rostest
+from gazebo_msgs.msg import ModelStates
+from geometry_msgs.msg import Vector3Stamped
+from sensor_msgs.msg import Imu, NavSatFix, PointCloud2
+
+from polaris_description import gps, parking_lot
+from polaris_description.cloud import xyz_from_cloud
+from polaris_description.obstacle import LIDAR_OFFSET
+from polaris_description.transforms import rotate
+
+
+class PolarisSensors(unittest.TestCase):
+    def model_pose(self):
+        ms = rospy.wait_for_message("/gazebo/model_states", ModelStates, timeout=120)
+        p = ms.pose[ms.name.index("polaris")]
+        return ((p.position.x, p.position.y, p.position.z),
+                (p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w))
+
+    def test_1_imu_reads_gravity_at_100_hz(self):
+        msgs = []
+        sub = rospy.Subscriber("/imu", Imu, msgs.append)
+        rospy.wait_for_message("/imu", Imu, timeout=120)
+        t0 = rospy.Time.now()
+        while rospy.Time.now() - t0 < rospy.Duration(2.0):
+            rospy.sleep(0.05)
+        sub.unregister()
+        stamps = [m.header.stamp.to_sec() for m in msgs]
+        rate = (len(stamps) - 1) / (stamps[-1] - stamps[0])
+        self.assertAlmostEqual(rate, 100.0, delta=5.0, msg="IMU rate in simulated time")
+        a = np.array([[m.linear_acceleration.x, m.linear_acceleration.y, m.linear_acceleration.z]
+                      for m in msgs])
+        self.assertAlmostEqual(float(np.mean(a[:, 2])), 9.81, delta=0.1)
+        self.assertLess(float(np.max(np.abs(np.mean(a[:, :2], axis=0)))), 0.1)
+
+    def test_2_fix_converts_back_to_the_true_position(self):
+        fix = rospy.wait_for_message("/fix", NavSatFix, timeout=120)
+        rospy.wait_for_message("/fix_velocity", Vector3Stamped, timeout=30)
+        (x, y, z), _ = self.model_pose()
+        gx, gy, gz = gps.from_fix(fix.latitude, fix.longitude, fix.altitude)
+        self.assertLess(math.hypot(gx - x, gy - y), 0.01,
+                        "fix (%.3f, %.3f) vs true (%.3f, %.3f)" % (gx, gy, x, y))
+        self.assertAlmostEqual(gz, z, delta=0.01)
+
+    def test_3_cones_appear_on_their_true_surfaces(self):
+        cloud = rospy.wait_for_message("/velodyne_points2", PointCloud2, timeout=120)
+        (bx, by, bz), q = self.model_pose()
+        pts = xyz_from_cloud(cloud) + np.asarray(LIDAR_OFFSET)
+        world = np.array([rotate(q, tuple(p)) for p in pts]) + np.array([bx, by, bz])
+        seen = 0
+        for cone in parking_lot.CONES:
+            d = np.hypot(world[:, 0] - cone.x, world[:, 1] - cone.y)
+            near = world[(d < 0.5) & (world[:, 2] > 0.035)]
+            if math.hypot(cone.x - bx, cone.y - by) < 10.0:
+                self.assertGreaterEqual(len(near), 3, "%s at (%.1f, %.1f) not in the cloud"
+                                        % (cone.name, cone.x, cone.y))
+            for p in near:
+                radius = [r for r, z0, z1 in parking_lot.CONE_STACK if z0 - 1e-3 <= p[2] <= z1 + 1e-3]
+                if not radius:
+                    continue
+                err = abs(math.hypot(p[0] - cone.x, p[1] - cone.y) - radius[0])
+                self.assertLess(err, 0.05, "%s: a point %.3f m off its surface" % (cone.name, err))
+            seen += len(near) > 0
+        self.assertGreaterEqual(seen, 2)
+
+
+if __name__ == "__main__":
+    rospy.init_node("polaris_sensors_check")
+    rostest.rosrun("polaris_description", "polaris_sensors", PolarisSensors)
