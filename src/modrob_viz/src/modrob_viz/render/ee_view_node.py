@@ -19,6 +19,7 @@ class EeViewBroadcaster(object):
         self.listener = tf2_ros.TransformListener(self.buffer)
         self.broadcaster = tf2_ros.TransformBroadcaster()
         self._warned = False
+        self._last_stamp = None
         self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self._tick)
 
     def frames(self):
@@ -35,6 +36,9 @@ class EeViewBroadcaster(object):
                 self._warned = True
             return
         self._warned = False
+        if t.header.stamp == self._last_stamp:
+            return              # nothing new (tf refuses repeated stamps)
+        self._last_stamp = t.header.stamp
         p = t.transform.translation
         out = []
         for v in self.views:

@@ -29,6 +29,7 @@ class _Camera(object):
         self.info = None            # latest input CameraInfo (or None)
         self.intrinsics = spec["intrinsics"]
         self.shown = None           # (frame, intrinsics) given to RViz last
+        self.blank = None           # the 1x1 background image whose header names the frame
         self.next_t = 0.0
         self.problem = None         # text of the problem logged last (logged once)
         self.sub = None
@@ -203,6 +204,7 @@ class CameraRendererNode(object):
         blank.width = blank.height = 1
         blank.encoding, blank.step, blank.data = "rgb8", 3, self.background
         cam.pub_rviz_info.publish(info)
+        cam.blank = blank
         cam.pub_blank.publish(blank)
         self.scene.resize_camera(cam.spec["id"], intr.width, intr.height)
         if not self.scene.fits(cam.spec["id"]):
@@ -244,9 +246,12 @@ class CameraRendererNode(object):
             frame, intr = ready
             shown_before = cam.shown == (frame, intr)
             self._show(cam, frame, intr)
-            if not shown_before:
+            if not shown_before or not self.scene.ready(cam.spec["id"]):
                 continue            # RViz renders the new pinhole on its next frame
             rgb = self.scene.grab(cam.spec["id"])
+            # RViz's Camera display moves its camera to the frame's latest pose only when an image
+            # arrives: a new (1x1) image per frame keeps a moving camera up to date
+            cam.pub_blank.publish(cam.blank)
             if rgb is None:
                 continue
             self._publish(cam, rgb, intr, frame)

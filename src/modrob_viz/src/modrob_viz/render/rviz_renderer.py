@@ -143,6 +143,28 @@ class RvizScene(object):
         self._pool.append(cam)
         self._layout()
 
+    def status(self, name):
+        """{category: text} of the camera display's status (Image, Camera Info, Transform ...)."""
+        cam = self.cameras.get(name)
+        out = {}
+        if cam is None:
+            return out
+        disp = cam["display"]
+        for i in range(disp.numChildren()):
+            child = disp.childAt(i)
+            if child is not None and child.getName().startswith("Status"):
+                for j in range(child.numChildren()):
+                    c = child.childAt(j)
+                    out[c.getName()] = str(c.getValue())
+        return out
+
+    def ready(self, name):
+        """True once RViz has the camera's (blank) image and CameraInfo: before that the panel
+        shows "No Image"."""
+        st = self.status(name)
+        return not (st.get("Image", "No Image").startswith("No Image")
+                    or st.get("Camera Info", "No CameraInfo").startswith("No CameraInfo"))
+
     def process_events(self):
         self.app.processEvents()
 
