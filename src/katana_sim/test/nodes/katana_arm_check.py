@@ -1,6 +1,10 @@
 #!/usr/bin/env python3
 """rostest node for katana_arm.test: a katana_driver-style client of the arm and gripper actions."""
 import math
+import os
+import subprocess
+import termios
+import time
 import unittest
 
 import actionlib
@@ -94,7 +98,8 @@ class KatanaArm(unittest.TestCase):
         self.assertTrue(res.reached_goal, text)
         self.assertFalse(res.stalled, text)
         self.assertNotIn("holding", text)
-        self.assertAlmostEqual(self.positions["katana_r_finger_joint"], -0.44, delta=0.02)
+        wait_until(lambda: abs(self.positions["katana_r_finger_joint"] + 0.44) < 0.02, 10,
+                   "the finger state at -0.44 (now %.3f)" % self.positions["katana_r_finger_joint"])
 
     def test_4_kdl_fk_matches_the_simulators_link_poses(self):
         states = rospy.wait_for_message("/gazebo/link_states", LinkStates, timeout=30)
@@ -147,6 +152,31 @@ class KatanaArm(unittest.TestCase):
             err = min(math.hypot(fx - x, fy - y) for fx, fy in found)
             self.assertLess(err, 0.01, "%s at (%.3f, %.3f): nearest detection %.4f m away (%s)"
                             % (name, x, y, err, found))
+
+    def test_7_keyboard_teleop_moves_a_joint_and_restores_the_terminal(self):
+        master, slave = os.openpty()
+        before = termios.tcgetattr(slave)
+        proc = subprocess.Popen(["rosrun", "katana_sim", "keyboard_teleop", "_increment:=0.2"],
+                                stdin=slave, stdout=slave, stderr=subprocess.STDOUT)
+        try:
+            # a process start-up: wall-clock time (simulated time runs faster than real time here)
+            deadline = time.monotonic() + 180
+            while termios.tcgetattr(slave) == before and time.monotonic() < deadline and proc.poll() is None:
+                time.sleep(0.1)
+            self.assertNotEqual(termios.tcgetattr(slave), before,
+                                "the teleop never put the terminal in cbreak mode")
+            start = self.positions["katana_motor1_pan_joint"]
+            os.write(master, b"0w")
+            wait_until(lambda: abs(self.positions["katana_motor1_pan_joint"] - (start + 0.2)) < 0.03, 30,
+                       "joint 0 to move by the 0.2 rad increment")
+            os.write(master, b"q")
+            self.assertEqual(proc.wait(timeout=30), 0)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+        self.assertEqual(termios.tcgetattr(slave), before, "the terminal was not restored")
+        os.close(master)
+        os.close(slave)
 
     def test_3_nan_gripper_goal_is_refused(self):
         state, res, text = self._grip(float("nan"))
