@@ -18,7 +18,8 @@ def plot_joint_tracking(log, path):
         t0 = log[0][0]
         ts = [t - t0 for t, _, _ in log]
         for i, (ax, name) in enumerate(zip(axes, JOINTS)):
-            ax.plot(ts, [d[i] for _, d, _ in log], "--", color="tab:orange", label="commanded end point of the move (with the load offset)")
+            ax.plot(ts, [d[i] for _, d, _ in log], "--", color="tab:orange",
+                    label="commanded end point of the move (with the load offset)")
             ax.plot(ts, [a[i] for _, _, a in log], color="tab:blue", label="actual")
             ax.set_ylabel(name.replace("katana_", "").replace("_joint", "") + " (rad)", fontsize=8)
             ax.grid(alpha=0.3)
