@@ -39,6 +39,25 @@ class PolarisSensors(unittest.TestCase):
         self.assertAlmostEqual(float(np.mean(a[:, 2])), 9.81, delta=0.1)
         self.assertLess(float(np.max(np.abs(np.mean(a[:, :2], axis=0)))), 0.1)
 
+    def test_4_imu_logger_writes_csv_and_tf_has_the_wheels(self):
+        import tf2_ros
+        from polaris_description.imu_log import read_rows
+        path = rospy.get_param("~imu_csv")
+        end = rospy.Time.now() + rospy.Duration(30.0)
+        rows = []
+        while rospy.Time.now() < end and len(rows) < 50:
+            rospy.sleep(0.5)
+            try:
+                rows = read_rows(path)
+            except (OSError, ValueError):
+                rows = []
+        self.assertGreaterEqual(len(rows), 50, "the IMU logger wrote %d rows to %s" % (len(rows), path))
+        self.assertAlmostEqual(rows[-1]["linear_acceleration_z"], 9.81, delta=0.2)
+        buf = tf2_ros.Buffer()
+        self.listener = tf2_ros.TransformListener(buf)
+        buf.lookup_transform("base_link_polaris", "polaris_ranger_ev__front_left_wheel", rospy.Time(0),
+                             rospy.Duration(30.0))
+
     def test_2_fix_converts_back_to_the_true_position(self):
         fix = rospy.wait_for_message("/fix", NavSatFix, timeout=120)
         rospy.wait_for_message("/fix_velocity", Vector3Stamped, timeout=30)
