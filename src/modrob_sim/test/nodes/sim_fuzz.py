@@ -70,7 +70,8 @@ class SimFuzz(unittest.TestCase):
         cls.watch = Watch()
         assert cls.gz.spawn("ground", "ground.urdf").success
         assert cls.gz.spawn("box", "box.urdf", z=0.5).success
-        r = cls.gz.spawn_urdf_model(model_name="arm", model_xml=ARM, robot_namespace="", initial_pose=pose(2, 0, 0),
+        r = cls.gz.spawn_urdf_model(model_name="arm", model_xml=ARM, robot_namespace="",
+                                    initial_pose=pose(2, 0, 0),
                                     reference_frame="")
         assert r.success, r.status_message
         cls.gz.unpause_physics()
@@ -102,7 +103,8 @@ class SimFuzz(unittest.TestCase):
     def test_1_absurd_lever_arm_and_physics_are_refused_and_change_nothing(self):
         self.refused(self.wrench("box::body", (0, 1e9, 0), point=(1e308, 0, 0)), "reference_point", "1e+06")
         before = self.physics()
-        for g, dt, sor in (((0, 0, 1e308), 0.001, 1.3), ((0, 0, -9.8), 5e-324, 1.3), ((0, 0, -3), 0.001, float("nan"))):
+        for g, dt, sor in (((0, 0, 1e308), 0.001, 1.3), ((0, 0, -9.8), 5e-324, 1.3),
+                           ((0, 0, -3), 0.001, float("nan"))):
             req = self.gz.get_physics_properties()
             req.ode_config.sor_pgs_w = sor
             r = self.gz.set_physics_properties(time_step=dt, max_update_rate=0.0, gravity=Vector3(*g),
@@ -148,7 +150,8 @@ class SimFuzz(unittest.TestCase):
             elif kind == 1:
                 p = fz.pose()
                 st = ModelState(model_name="box", pose=pose(*p[0]))
-                st.pose.orientation.x, st.pose.orientation.y, st.pose.orientation.z, st.pose.orientation.w = p[1]
+                o = st.pose.orientation
+                o.x, o.y, o.z, o.w = p[1]
                 r = self.gz.set_model_state(model_state=st)
             elif kind == 2:
                 r = self.gz.set_model_configuration(model_name="arm", urdf_param_name="",
@@ -166,7 +169,8 @@ class SimFuzz(unittest.TestCase):
                                                    gravity=Vector3(*g), ode_config=req.ode_config)
             else:
                 r = self.gz.spawn_urdf_model(model_name="fz%d" % i, model_xml=fz.urdf("fz%d" % i),
-                                             robot_namespace="", initial_pose=pose(fz.rng.uniform(-3, 3), 3, 1),
+                                             robot_namespace="",
+                                             initial_pose=pose(fz.rng.uniform(-3, 3), 3, 1),
                                              reference_frame="")
                 if r.success:
                     self.gz.delete_model(model_name="fz%d" % i)

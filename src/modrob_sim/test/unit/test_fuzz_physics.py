@@ -16,8 +16,9 @@ _spec = importlib.util.spec_from_file_location("fuzz_models", os.path.join(_FIX,
 F = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(F)
 
-GROUND = ("<robot name='ground'><link name='world'/><link name='g'><collision><geometry><box size='20 20 0.1'/>"
-          "</geometry></collision></link><joint name='fix' type='fixed'><parent link='world'/><child link='g'/>"
+GROUND = ("<robot name='ground'><link name='world'/><link name='g'><collision><geometry>"
+          "<box size='20 20 0.1'/></geometry></collision></link><joint name='fix' type='fixed'>"
+          "<parent link='world'/><child link='g'/>"
           "<origin xyz='0 0 -0.05'/></joint></robot>")
 
 
@@ -68,9 +69,10 @@ def test_random_models_spawn_or_are_refused_by_name_and_never_break_the_world(se
 
 
 def _slider_arm():
-    return ("<robot name='arm'><link name='world'/><link name='base'><inertial><mass value='2'/><inertia ixx='0.1'"
-            " ixy='0' ixz='0' iyy='0.1' iyz='0' izz='0.1'/></inertial><collision><geometry><box size='0.2 0.2 0.2'/>"
-            "</geometry></collision></link><link name='arm'><inertial><mass value='1'/><inertia ixx='0.01' ixy='0'"
+    return ("<robot name='arm'><link name='world'/><link name='base'><inertial><mass value='2'/>"
+            "<inertia ixx='0.1' ixy='0' ixz='0' iyy='0.1' iyz='0' izz='0.1'/></inertial><collision>"
+            "<geometry><box size='0.2 0.2 0.2'/></geometry></collision></link><link name='arm'><inertial>"
+            "<mass value='1'/><inertia ixx='0.01' ixy='0'"
             " ixz='0' iyy='0.01' iyz='0' izz='0.01'/></inertial><collision><geometry><cylinder radius='0.05' "
             "length='0.5'/></geometry></collision></link><link name='tip'><inertial><mass value='0.2'/>"
             "<inertia ixx='0.001' ixy='0' ixz='0' iyy='0.001' iyz='0' izz='0.001'/></inertial><collision>"
@@ -79,7 +81,8 @@ def _slider_arm():
             "</joint><joint name='shoulder' type='revolute'><parent link='base'/><child link='arm'/>"
             "<origin xyz='0 0 0.4'/><axis xyz='0 1 0'/><limit lower='-2' upper='2' effort='50' velocity='2'/>"
             "</joint><joint name='slide' type='prismatic'><parent link='arm'/><child link='tip'/>"
-            "<origin xyz='0 0 0.3'/><axis xyz='0 0 1'/><limit lower='0' upper='0.2' effort='20' velocity='1'/>"
+            "<origin xyz='0 0 0.3'/><axis xyz='0 0 1'/>"
+            "<limit lower='0' upper='0.2' effort='20' velocity='1'/>"
             "</joint></robot>")
 
 
@@ -89,7 +92,8 @@ def test_hostile_requests_are_applied_or_refused_by_name_and_never_break_the_wor
     world = World(time_step=0.001, seed=seed)
     world.add_urdf("ground", GROUND)
     arm = world.add_urdf("arm", _slider_arm())
-    box = world.add_urdf("box", "<robot name='box'><link name='b'><inertial><mass value='1'/><inertia ixx='0.01'"
+    box = world.add_urdf("box", "<robot name='box'><link name='b'><inertial><mass value='1'/>"
+                         "<inertia ixx='0.01'"
                          " ixy='0' ixz='0' iyy='0.01' iyz='0' izz='0.01'/></inertial><collision><geometry>"
                          "<box size='0.2 0.2 0.2'/></geometry></collision></link></robot>",
                          pose=((1, 0, 0.5), (0, 0, 0, 1)))
@@ -117,7 +121,8 @@ def test_hostile_requests_are_applied_or_refused_by_name_and_never_break_the_wor
                 world.set_physics_params(**{fz.rng.choice(["sor", "erp", "cfm", "iters", "max_contacts"]):
                                             fz.num(0, 1.5)})
             else:
-                arm.links["tip"].add_wrench(fz.vec(-5, 5), (0, 0, 0), reference_point=fz.vec(-1, 1), duration=0.005)
+                arm.links["tip"].add_wrench(fz.vec(-5, 5), (0, 0, 0), reference_point=fz.vec(-1, 1),
+                                            duration=0.005)
         except (ValueError, ModrobError) as exc:
             refused(exc, "model 'box'", "model 'arm'", "'box'", "'arm'", "'b'", "'tip'", "shoulder", "slide",
                     "'fix'", "gravity", "time_step", "physics parameter")

@@ -149,12 +149,24 @@ class JointTrajectoryControllerBase(Controller):
 
     # -- commands --------------------------------------------------------------------------
     def submit(self, joint_names, points, start_time, now, goal_id=None, path_tolerance=None,
-               goal_tolerance=None, goal_time_tolerance=0.0):
+               goal_tolerance=None, goal_time_tolerance=0.0, checked=False):
         """A new trajectory (from the ``command`` topic when goal_id is None, else an action goal).
         Returns (accepted, error_code, error_string). Accepting an action goal preempts the
-        previous one (an event ('preempted') is queued for it)."""
+        previous one (an event ('preempted') is queued for it). ``checked``: check_points() has
+        passed already (a ROS callback runs it, off the simulation loop)."""
         if self.state != "running":
             return False, INVALID_GOAL, "controller '%s' is not running (state: %s)" % (self.name, self.state)
+        if not checked:
+            ok, code, text = self.check_points(joint_names, points)
+            if not ok:
+                return ok, code, text
+        start = start_time if start_time and start_time > 0.0 else now
+        return self._after_check(joint_names, points, start, now, goal_id, path_tolerance, goal_tolerance,
+                                 goal_time_tolerance)
+
+    def check_points(self, joint_names, points):
+        """The checks of a trajectory that need nothing but its joint names and points (pure, any
+        thread): (ok, error_code, error_string)."""
         unknown = [j for j in joint_names if j not in self.joint_names]
         if unknown:
             return False, INVALID_JOINTS, ("joint%s %s not controlled by '%s' (its joints: %s)"
@@ -189,7 +201,10 @@ class JointTrajectoryControllerBase(Controller):
                                              "follows %g s"
                                              % (i, p.time_from_start, last_t))
             last_t = p.time_from_start
-        start = start_time if start_time and start_time > 0.0 else now
+        return True, SUCCESSFUL, ""
+
+    def _after_check(self, joint_names, points, start, now, goal_id, path_tolerance, goal_tolerance,
+                     goal_time_tolerance):
         if points and start + points[-1].time_from_start < now:
             return False, OLD_HEADER_TIMESTAMP, ("the trajectory ended %.3f s ago (header.stamp %.3f, "
                                                  "now %.3f)"
