@@ -6,6 +6,7 @@ import subprocess
 import time
 import unittest
 
+import cv2
 import numpy as np
 import rospy
 import rostest
@@ -14,6 +15,7 @@ from geometry_msgs.msg import TransformStamped
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float64
+from std_srvs.srv import Trigger
 
 IMAGE, INFO = "/test_cam/image_raw", "/test_cam/camera_info"
 W, H, HFOV = 320, 240, 1.0
@@ -118,7 +120,32 @@ class CameraSensor(unittest.TestCase):
                              "the camera whose frame appeared renders nothing")
         self.assertEqual(len(logged("frame 'no_such_frame' is not in tf")), 1, "the message must come once")
 
-    def test_3_simulator_restart(self):
+    def test_3_frames_and_video_saved_by_services(self):
+        for srv in ("save_frame", "start_recording", "stop_recording"):
+            rospy.wait_for_service("/camera_renderer/" + srv, 30.0)
+        saved = rospy.ServiceProxy("/camera_renderer/save_frame", Trigger)()
+        self.assertTrue(saved.success, saved.message)
+        png = [p for p in saved.message.split() if p.endswith(".png") and "test_cam" in p]
+        self.assertTrue(png, "no test_cam frame in %r" % saved.message)
+        img = cv2.imread(png[0])
+        self.assertEqual(img.shape[:2], (H, W))
+        started = rospy.ServiceProxy("/camera_renderer/start_recording", Trigger)()
+        self.assertTrue(started.success, started.message)
+        count = 0
+        end = time.monotonic() + 30
+        while count < 10 and time.monotonic() < end:
+            rospy.wait_for_message(IMAGE, Image, timeout=10.0)
+            count += 1
+        stopped = rospy.ServiceProxy("/camera_renderer/stop_recording", Trigger)()
+        self.assertTrue(stopped.success, stopped.message)
+        video = [p for p in started.message.split() if "test_cam" in p][0]
+        cap = cv2.VideoCapture(video)
+        frames = 0
+        while cap.read()[0]:
+            frames += 1
+        self.assertGreaterEqual(frames, 5, "%s holds %d frames" % (video, frames))
+
+    def test_4_simulator_restart(self):
         before = rospy.wait_for_message(IMAGE, Image, timeout=30.0).header.stamp
         subprocess.check_call(["rosnode", "kill", "/gazebo"], stdout=subprocess.DEVNULL)
         gz = subprocess.Popen(["rosrun", "modrob_sim", "gazebo", "__name:=gazebo"])

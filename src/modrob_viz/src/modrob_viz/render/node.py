@@ -76,6 +76,7 @@ class CameraRendererNode(object):
         rospy.Service("~save_frame", Trigger, self._srv_save_frame)
         rospy.Service("~start_recording", Trigger, self._srv_start_recording)
         rospy.Service("~stop_recording", Trigger, self._srv_stop_recording)
+        self.record = list(record)      # cameras to record from their first frame ("all")
         if record:
             self._start_recording(None if record == ["all"] else record)
         self.timer = QTimer()
@@ -93,6 +94,12 @@ class CameraRendererNode(object):
         cam = _Camera(spec)
         if spec["camera_info"]:
             cam.sub = rospy.Subscriber(spec["camera_info"], CameraInfo, self._on_info, cam, queue_size=1)
+        if getattr(self, "record", None) and ("all" in self.record or spec["name"] in self.record):
+            try:
+                cam.recorder = VideoRecorder(os.path.join(self.output_dir, "%s.avi" % spec["id"]),
+                                             self.video_fps or spec["rate"])
+            except ConfigError as err:
+                rospy.logerr("camera '%s': not recorded: %s", spec["name"], err)
         with self.lock:
             self.cams[spec["id"]] = cam
             rates = [c.spec["rate"] for c in self.cams.values()]

@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""Camera renderer benchmark: frames per second per stream (640x480 and 1280x720, 1 and 5 streams)
+and the simulator's real-time factor with and without the streams, in one run.
+
+The simulator runs modrob_sim's camera_box world as fast as it can (real_time_factor 0); the
+renderer (a separate process, its own Xvfb) renders N cameras asking for `--rate` fps each.
+  python3 scripts/bench/render.py [--seconds 15] [--rate 30] [--write docs/benchmarks.md]
+"""
+import argparse
+import os
+import random
+import subprocess
+import sys
+import threading
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+CONFIGS = [(640, 480, 1), (640, 480, 5), (1280, 720, 1), (1280, 720, 5)]
+FRAME = "gazebo/camera_post/camera_link/camera1"
+
+
+def start(cmd, env):
+    return subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)
+
+
+def stop(proc):
+    if proc is None or proc.poll() is not None:
+        return
+    os.killpg(proc.pid, 2)
+    try:
+        proc.wait(20)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, 9)
+        proc.wait()
+
+
+class Meter(object):
+    def __init__(self):
+        import rospy
+        from rosgraph_msgs.msg import Clock
+        self.rospy = rospy
+        self.lock = threading.Lock()
+        self.clock = None
+        self.counts = {}
+        rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1)
+
+    def _on_clock(self, msg):
+        with self.lock:
+            self.clock = msg.clock.to_sec()
+
+    def watch(self, topics):
+        from sensor_msgs.msg import Image
+        subs = []
+        for t in topics:
+            self.counts[t] = 0
+            subs.append(self.rospy.Subscriber(t, Image, self._on_image, t, queue_size=2, buff_size=2 ** 25))
+        return subs
+
+    def _on_image(self, _msg, topic):
+        with self.lock:
+            self.counts[topic] += 1
+
+    def measure(self, seconds, topics=()):
+        with self.lock:
+            c0, n0, w0 = self.clock, {t: self.counts[t] for t in topics}, time.monotonic()
+        time.sleep(seconds)
+        with self.lock:
+            c1, n1, w1 = self.clock, {t: self.counts[t] for t in topics}, time.monotonic()
+        rtf = (c1 - c0) / (w1 - w0) if c0 is not None and c1 is not None else float("nan")
+        fps = [(n1[t] - n0[t]) / (w1 - w0) for t in topics]
+        return rtf, fps
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--seconds", type=float, default=15.0)
+    ap.add_argument("--rate", type=float, default=30.0)
+    ap.add_argument("--write", default="", help="append the table to this markdown file")
+    args = ap.parse_args()
+    port = random.randint(20000, 29999)
+    env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % port)
+    env.pop("DISPLAY", None)
+    os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
+    core = start(["roscore", "-p", str(port)], env)
+    sim = renderer = None
+    rows = []
+    try:
+        import rospy
+        import rosgraph
+        end = time.monotonic() + 30
+        while not rosgraph.is_master_online() and time.monotonic() < end:
+            time.sleep(0.3)
+        world = os.path.join(ROOT, "src/modrob_sim/test/fixtures/camera_box.world")
+        sim = start(["roslaunch", "modrob_sim", "empty_world.launch", "gui:=false",
+                     "real_time_factor:=0", "world_name:=" + world], env)
+        rospy.init_node("render_bench", anonymous=True, disable_signals=True)
+        meter = Meter()
+        end = time.monotonic() + 120
+        while meter.clock is None or meter.clock < 2.0:      # the simulator is up and stepping
+            if time.monotonic() > end:
+                raise RuntimeError("the simulator published no /clock within 120 s")
+            time.sleep(0.5)
+        base_rtf, _ = meter.measure(args.seconds)
+        print("[bench] simulator alone: real-time factor %.2f" % base_rtf, flush=True)
+        for w, h, n in CONFIGS:
+            cam = "{name: b%d, frame: '%s', image: /bench/b%d/image, width: %d, height: %d, fx: %.1f}"
+            cams = ",".join(cam % (i, FRAME, i, w, h, w / 2.0) for i in range(n))
+            renderer = start(["rosrun", "modrob_viz", "camera_renderer", "__name:=bench_renderer",
+                              "_rate:=%g" % args.rate, "_sensors_param:=", "_screen:=4096x2304",
+                              "_cameras:=[%s]" % cams], env)
+            topics = ["/bench/b%d/image" % i for i in range(n)]
+            subs = meter.watch(topics)
+            end = time.monotonic() + 90
+            while time.monotonic() < end and min(meter.counts[t] for t in topics) < 3:
+                time.sleep(0.5)
+            rtf, fps = meter.measure(args.seconds, topics)
+            for s in subs:
+                s.unregister()
+            stop(renderer)
+            renderer = None
+            rows.append((w, h, n, sum(fps) / len(fps), min(fps), rtf))
+            print("[bench] %dx%d x%d: %.1f fps per stream (min %.1f), simulator RTF %.2f (alone %.2f)"
+                  % (w, h, n, rows[-1][3], rows[-1][4], rtf, base_rtf), flush=True)
+            time.sleep(3.0)
+        after_rtf, _ = meter.measure(args.seconds)
+    finally:
+        stop(renderer)
+        stop(sim)
+        stop(core)
+    commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], stdout=subprocess.PIPE,
+                            text=True).stdout.strip()
+    lines = ["", "## Camera renderer (RViz/OGRE off-screen)", "",
+             "Command: `bash scripts/bench/render.sh` (%g s windows, cameras asking %g fps, simulator at "
+             "real_time_factor 0 on modrob_sim's camera_box world). Measured %s, commit %s, %s; "
+             "load average %s." % (args.seconds, args.rate, time.strftime("%Y-%m-%d"), commit,
+                                   "2 cores, Mesa llvmpipe, no GPU", open("/proc/loadavg").read().split()[0]),
+             "", "| image | streams | fps per stream (mean) | slowest stream | simulator RTF with streams "
+             "| RTF alone (before / after) |", "|---|---|---|---|---|---|"]
+    for w, h, n, mean, low, rtf in rows:
+        lines.append("| %dx%d | %d | %.1f | %.1f | %.2f (%+.0f %%) | %.2f / %.2f |"
+                     % (w, h, n, mean, low, rtf, 100.0 * (rtf / base_rtf - 1.0), base_rtf, after_rtf))
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if args.write:
+        with open(args.write, "a") as f:
+            f.write(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
