@@ -54,7 +54,6 @@ def wait(pred, timeout, what):
 class PlotMatchesBag(unittest.TestCase):
     def test_plot_of_a_step_matches_rosbag(self):
         rospy.init_node("plot_step_check")
-        rospy.wait_for_message(STATE, JointControllerState, timeout=60)
         cmd = rospy.Publisher(CTRL + "/command", Float64, queue_size=1, latch=True)
         tmp = tempfile.mkdtemp(prefix="plot_step_")
         bag_path, csv_path, png_path = (os.path.join(tmp, n) for n in ("state.bag", "plot.csv", "plot.png"))
@@ -65,7 +64,8 @@ class PlotMatchesBag(unittest.TestCase):
                                      STATE + "/set_point", "--duration", "5", "--window", "10",
                                      "--csv", csv_path, "--png", png_path, "--title", "pan 1 rad step"],
                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-            try:
+            try:        # both start while the simulator does: they wait for the topic themselves
+                rospy.wait_for_message(STATE, JointControllerState, timeout=60)
                 wait(lambda: "/plot_bag" in connected_to(STATE) and
                      any(n.startswith("/rqt_plot") for n in connected_to(STATE)), 60,
                      "rosbag and rqt_plot connected to " + STATE)
