@@ -1,5 +1,6 @@
 """Keyboard teleop node (thin ROS layer). The terminal is put in raw mode and always restored;
 zero is published on exit."""
+import os
 import select
 import sys
 import termios
@@ -43,12 +44,12 @@ class TeleopNode(object):
         old = termios.tcgetattr(fd) if stream.isatty() else None
         try:
             if old is not None:
-                tty.setcbreak(fd)
+                tty.setcbreak(fd, termios.TCSANOW)   # keep keys typed during start-up
             rate = rospy.Rate(20)
             while not rospy.is_shutdown():
-                ready, _, _ = select.select([stream], [], [], 0.05)
+                ready, _, _ = select.select([fd], [], [], 0.05)
                 if ready:
-                    key = stream.read(1)
+                    key = os.read(fd, 1).decode("utf-8", "replace")
                     if key == "":
                         break
                     if key == "\x03":
@@ -58,7 +59,7 @@ class TeleopNode(object):
                     except CommandError:
                         print("\rkey %r is not bound (h: see the table above)" % key)
                         continue
-                    print("\r" + self.state.status())
+                    print("\r" + self.state.status(), flush=True)
                     if action == "quit":
                         break
                 self.publish()
