@@ -1,5 +1,5 @@
-# Generated-by-hand catkin python setup: the library lives in src/modrob_sim/.
-from setuptools import setup
+# catkin python setup: the library lives in src/modrob_sim/ (every subpackage is installed).
+from setuptools import find_packages, setup
 from catkin_pkg.python_setup import generate_distutils_setup
 
-setup(**generate_distutils_setup(packages=["modrob_sim"], package_dir={"": "src"}))
+setup(**generate_distutils_setup(packages=find_packages("src"), package_dir={"": "src"}))

@@ -1,87 +1,50 @@
-"""Build (once, cached) and load the C hot loop ``modrob_ode_native.c`` with ctypes.
+"""Load the C hot loop ``libmodrob_ode_native.so`` (built from ``modrob_ode_native.c`` by the
+workspace build: ``catkin_make`` or ``colcon build``, CMake target ``modrob_ode_native`` of
+modrob_sim) with ctypes.
 
-The library is compiled from the source next to this file with the system C compiler against
-Debian's libode-dev (no other dependency), into ``$MODROB_NATIVE_DIR`` or
-``$XDG_CACHE_HOME/modrob_sim`` (default ``~/.cache/modrob_sim``), named by the hash of the source,
-the compiler flags and the ODE version, so an edited source or a new libode rebuilds it. Building
-takes about a second, once per machine. Set ``MODROB_PHYSICS_NATIVE=0`` to use the pure-Python
-path (same semantics, slower; triangle meshes then collide as their bounding boxes).
-
-:data:`LIB` is the loaded library or None; :data:`REASON` says why it is None.
+The library is looked up in ``$MODROB_NATIVE_LIB_DIR`` (if set), then ``<prefix>/lib`` and
+``<prefix>/lib/modrob_sim`` of every prefix on ``CMAKE_PREFIX_PATH`` (the devel space or the
+install space that ``setup.bash`` put there). Nothing is compiled at run time. When it is missing,
+:data:`LIB` is None and :data:`REASON` says why and how to build it; the World then uses the
+pure-Python path (same semantics, slower; triangle meshes collide as their bounding boxes), and
+the /gazebo node says so in one line at start-up. ``MODROB_PHYSICS_NATIVE=0`` selects the
+pure-Python path on purpose.
 """
 import ctypes
-import hashlib
-import logging
 import os
-import subprocess
-import tempfile
 
 from .. import odelib
 
-LOG = logging.getLogger("modrob_sim.physics")
-
-SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "modrob_ode_native.c")
-CFLAGS = ["-O2", "-fPIC", "-shared", "-std=c99", "-DdDOUBLE", "-Wall"]
+LIBRARY = "libmodrob_ode_native.so"
+BUILD_HINT = ("build the workspace (catkin_make, or colcon build and source install/setup.bash), "
+              "then start again")
 
 LIB = None
 REASON = None
 
 
-def _cache_dir():
-    d = os.environ.get("MODROB_NATIVE_DIR")
-    if d:
-        return d
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.path.join(base, "modrob_sim")
+def library_dirs():
+    """Where built libraries of modrob_sim are looked for, in order."""
+    dirs = []
+    override = os.environ.get("MODROB_NATIVE_LIB_DIR")
+    if override:
+        dirs.append(override)
+    for prefix in os.environ.get("CMAKE_PREFIX_PATH", "").split(os.pathsep):
+        if prefix:
+            dirs.extend([os.path.join(prefix, "lib"), os.path.join(prefix, "lib", "modrob_sim")])
+    return dirs
 
 
-def _ode_flags():
-    try:
-        out = subprocess.run(["pkg-config", "--cflags", "--libs", "ode"], capture_output=True,
-                             text=True, timeout=20)
-        if out.returncode == 0:
-            return out.stdout.split()
-    except (OSError, subprocess.SubprocessError):
-        pass
-    return ["-lode"]
-
-
-def _ode_version():
-    try:
-        out = subprocess.run(["pkg-config", "--modversion", "ode"], capture_output=True, text=True,
-                             timeout=20)
-        return out.stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return "?"
-
-
-def build(force=False):
-    """Compile the library if needed; return its path (raises RuntimeError with the compiler
-    output on failure)."""
-    with open(SOURCE, "rb") as f:
-        src = f.read()
-    flags = CFLAGS + _ode_flags()
-    key = hashlib.sha256(src + " ".join(flags).encode() + _ode_version().encode()).hexdigest()[:16]
-    d = _cache_dir()
-    path = os.path.join(d, "libmodrob_ode_native-%s.so" % key)
-    if os.path.exists(path) and not force:
-        return path
-    os.makedirs(d, exist_ok=True)
-    cc = os.environ.get("CC", "cc")
-    fd, tmp = tempfile.mkstemp(suffix=".so", dir=d)
-    os.close(fd)
-    cmd = [cc] + CFLAGS + ["-o", tmp, SOURCE] + _ode_flags() + ["-lm"]
-    try:
-        res = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
-    except (OSError, subprocess.SubprocessError) as e:
-        os.unlink(tmp)
-        raise RuntimeError("cannot run the C compiler '%s': %s" % (cc, e))
-    if res.returncode != 0:
-        os.unlink(tmp)
-        raise RuntimeError("compiling %s failed:\n%s" % (SOURCE, res.stderr[-2000:]))
-    os.replace(tmp, path)  # atomic: concurrent builders cannot see a half-written file
-    LOG.info("built the native physics loop: %s", path)
-    return path
+def find_library(name):
+    """Path of the built library ``name`` (e.g. libmodrob_ode_native.so); FileNotFoundError
+    naming the places looked at and how to build it when it is not there."""
+    dirs = library_dirs()
+    for d in dirs:
+        path = os.path.join(d, name)
+        if os.path.isfile(path):
+            return path
+    raise FileNotFoundError("%s is not built (looked in %s); %s"
+                            % (name, ", ".join(dirs) or "CMAKE_PREFIX_PATH, which is empty", BUILD_HINT))
 
 
 def _declare(lib):
@@ -124,6 +87,7 @@ def _declare(lib):
 
 def load():
     global LIB, REASON
+    LIB, REASON = None, None
     if os.environ.get("MODROB_PHYSICS_NATIVE", "1").strip().lower() in ("0", "false", "no", "off"):
         REASON = "disabled by MODROB_PHYSICS_NATIVE=0"
         return None
@@ -131,13 +95,11 @@ def load():
         REASON = "PyODE's object layout could not be verified"
         return None
     try:
-        path = build()
-        LIB = _declare(ctypes.CDLL(path))
-    except (RuntimeError, OSError, AttributeError) as e:
+        LIB = _declare(ctypes.CDLL(find_library(LIBRARY)))
+    except FileNotFoundError as e:
         REASON = str(e)
-        LOG.warning("native physics loop unavailable (%s): using the pure-Python path (slower; "
-                    "meshes collide as boxes)", e)
-        LIB = None
+    except (OSError, AttributeError) as e:
+        REASON = "%s cannot be loaded (%s); %s" % (LIBRARY, e, BUILD_HINT)
     return LIB
 
 
