@@ -27,3 +27,15 @@ class PluginError(ModrobError):
 class RequestError(ModrobError):
     """A request to the /gazebo node that cannot be served (unknown model, NaN pose ...); the text
     becomes the service's status_message."""
+
+
+class InputError(ModrobError, ValueError):
+    """A value the physics core or the node refuses (a pose, twist, effort, position, physics
+    parameter or time step out of range, NaN, the wrong shape). The message names the thing, the
+    value and the limit. Also a ValueError, so code written against plain Python conventions
+    (``except ValueError``) keeps working."""
+
+
+class LoopStoppedError(SimulationError):
+    """The simulation loop has stopped (the node is shutting down): a request handed to it was
+    not run. Plugins answer stop/unload requests arriving now as done (they stop with the node)."""

@@ -11,6 +11,7 @@ import os
 from geometry_msgs.msg import Pose
 from visualization_msgs.msg import Marker, MarkerArray
 
+from modrob_sim.errors import InputError
 from modrob_sim.gazebo_ros import transforms as tf
 
 #: one visual of a link: origin = pose of the geometry in the LINK frame, kind one of box /
@@ -67,7 +68,7 @@ def _from_core(link_name, link, g):
 class WorldMarkers(object):
     def __init__(self, world, which="props"):
         if which not in ("props", "all", "none"):
-            raise ValueError("~marker_models must be props, all or none, got %r" % which)
+            raise InputError("~marker_models must be props, all or none, got %r" % which)
         self.world = world
         self.which = which
         self._visuals = {}          # model name -> {link: [Visual]} (parsed once per model)

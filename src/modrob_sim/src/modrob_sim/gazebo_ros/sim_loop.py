@@ -10,7 +10,7 @@ import math
 import threading
 import time
 
-from modrob_sim.errors import SimulationError
+from modrob_sim.errors import InputError, LoopStoppedError, SimulationError
 
 
 class _Job(object):
@@ -75,7 +75,7 @@ class SimulationLoop(object):
 
     def set_real_time_factor(self, rtf):
         if not math.isfinite(rtf):
-            raise ValueError("real_time_factor must be finite, got %r" % rtf)
+            raise InputError("real_time_factor must be finite, got %r" % rtf)
         with self._cond:
             self._rtf = float(rtf)
             self._ref = None
@@ -87,6 +87,11 @@ class SimulationLoop(object):
         self._meas = None
 
     # ---- jobs -------------------------------------------------------------------------------
+    @property
+    def running(self):
+        """True from start() until the loop has finished (False before start and after stop)."""
+        return self._thread is not None and not self._finished and not self._stop
+
     def in_loop_thread(self):
         return self._thread is not None and threading.current_thread() is self._thread
 
@@ -101,7 +106,7 @@ class SimulationLoop(object):
             # Not Thread.is_alive(): it is False until a just-started thread has begun to run,
             # which on a loaded machine refused the first spawn request of a launch file.
             if self._finished or self._stop:
-                raise SimulationError("the simulation loop is not running (the node is shutting down)")
+                raise LoopStoppedError("the simulation loop is not running (the node is shutting down)")
             self._jobs.append(job)
             self._cond.notify_all()
         if not job.done.wait(timeout):
@@ -142,7 +147,7 @@ class SimulationLoop(object):
             self._finished = True
             jobs, self._jobs = list(self._jobs), collections.deque()
         for job in jobs:
-            job.error = SimulationError("the simulation loop stopped before running the request")
+            job.error = LoopStoppedError("the simulation loop stopped before running the request")
             job.done.set()
 
     def run_once(self):

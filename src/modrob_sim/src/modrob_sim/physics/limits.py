@@ -16,7 +16,7 @@ link or joint, the field, the value and the limit.
 """
 import math
 
-from ..errors import ModelError
+from ..errors import InputError, ModelError
 
 #: any position, offset or origin the user gives (m); sizes of shapes too
 LENGTH_LIMIT = 1e6
@@ -161,7 +161,7 @@ def check_gravity(g, what="gravity"):
     """A gravity vector; ValueError naming ``what`` and the limit."""
     g = tuple(float(x) for x in g)
     if len(g) != 3 or not all(math.isfinite(x) for x in g) or max(abs(x) for x in g) > GRAVITY_LIMIT:
-        raise ValueError("%s = %s: each component must be finite and within +-%g m/s^2%s"
+        raise InputError("%s = %s: each component must be finite and within +-%g m/s^2%s"
                          % (what, _fmt(g), GRAVITY_LIMIT, _SEE))
     return g
 
@@ -170,8 +170,8 @@ def check_time_step(dt, what="time_step"):
     try:
         dt = float(dt)
     except (TypeError, ValueError):
-        raise ValueError("%s must be a number of seconds, got %r" % (what, dt))
+        raise InputError("%s must be a number of seconds, got %r" % (what, dt))
     if not (math.isfinite(dt) and MIN_TIME_STEP <= dt <= MAX_TIME_STEP):
-        raise ValueError("%s = %r s must be in [%g, %g] s%s"
+        raise InputError("%s = %r s must be in [%g, %g] s%s"
                          % (what, dt, MIN_TIME_STEP, MAX_TIME_STEP, _SEE))
     return dt

@@ -10,7 +10,7 @@ import logging
 import math
 import weakref
 
-from ..errors import SimulationError
+from ..errors import InputError, SimulationError
 from . import odelib
 from .limits import JOINT_POSITION_LIMIT, LENGTH_LIMIT
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, pose_inv, pose_mul,
@@ -40,7 +40,7 @@ def _capped(v):
 def _check_twist(lin, ang, what):
     for v, unit in ((lin, "m/s"), (ang, "rad/s")):
         if max(abs(x) for x in v) > TWIST_CAP:
-            raise ValueError("%s: %r %s is beyond %g: refused" % (what, v, unit, TWIST_CAP))
+            raise InputError("%s: %r %s is beyond %g: refused" % (what, v, unit, TWIST_CAP))
 
 
 def _body_pose(body):
@@ -175,12 +175,12 @@ class Link(object):
         t = _capped(check_vec3(torque, what + " torque"))
         p = check_vec3(reference_point, what + " reference_point")
         if max(abs(x) for x in p) > LENGTH_LIMIT:
-            raise ValueError("%s: reference_point %r is beyond %g m from the link origin (limits: "
+            raise InputError("%s: reference_point %r is beyond %g m from the link origin (limits: "
                              "docs/simulator.md); nothing applied" % (what, p, LENGTH_LIMIT))
         if duration is not None:
             duration = float(duration)
             if not math.isfinite(duration) or duration <= 0:
-                raise ValueError("%s: duration must be a positive number of seconds or None" % what)
+                raise InputError("%s: duration must be a positive number of seconds or None" % what)
         if self._body is None:
             return
         self._wrenches.append([f, t, p, duration])
@@ -261,7 +261,7 @@ class Joint(object):
         """A position to teleport to: refused beyond JOINT_POSITION_LIMIT (ValueError), clamped
         into [lower, upper] with a warning (the joint's stops would otherwise fire it back)."""
         if abs(q) > JOINT_POSITION_LIMIT:
-            raise ValueError("model '%s' joint '%s': position %g is beyond %g (limits: "
+            raise InputError("model '%s' joint '%s': position %g is beyond %g (limits: "
                              "docs/simulator.md); nothing changed"
                              % (self.model.name, self.name, q, JOINT_POSITION_LIMIT))
         lo, hi = self.lower, self.upper
@@ -276,13 +276,13 @@ class Joint(object):
         try:
             f = float(f)
         except (TypeError, ValueError):
-            raise ValueError("joint '%s' of model '%s': effort %r is not a number"
+            raise InputError("joint '%s' of model '%s': effort %r is not a number"
                              % (self.name, self.model.name, f))
         if not math.isfinite(f):
-            raise ValueError("joint '%s' of model '%s': effort %r is not finite; nothing applied"
+            raise InputError("joint '%s' of model '%s': effort %r is not finite; nothing applied"
                              % (self.name, self.model.name, f))
         if self._ode is None:
-            raise ValueError("joint '%s' of model '%s' is %s: it takes no effort"
+            raise InputError("joint '%s' of model '%s' is %s: it takes no effort"
                              % (self.name, self.model.name, self.type))
         return f
 
@@ -319,14 +319,14 @@ class Joint(object):
         try:
             v, fm = float(v), float(max_force)
         except (TypeError, ValueError):
-            raise ValueError("%s: velocity and max_force must be numbers" % what)
+            raise InputError("%s: velocity and max_force must be numbers" % what)
         if not (math.isfinite(v) and math.isfinite(fm)):
-            raise ValueError("%s: non-finite velocity %r or max_force %r; nothing applied"
+            raise InputError("%s: non-finite velocity %r or max_force %r; nothing applied"
                              % (what, v, max_force))
         if fm < 0:
-            raise ValueError("%s: max_force must not be negative" % what)
+            raise InputError("%s: max_force must not be negative" % what)
         if self._ode is None:
-            raise ValueError("%s: a %s joint has no motor" % (what, self.type))
+            raise InputError("%s: a %s joint has no motor" % (what, self.type))
         vl = self.velocity_limit
         if vl is not None and vl > 0:
             v = max(-vl, min(vl, v))
@@ -450,23 +450,23 @@ class Model(object):
         names = list(names)
         positions = list(positions)
         if len(names) != len(positions):
-            raise ValueError("model '%s' set_configuration: %d names but %d positions"
+            raise InputError("model '%s' set_configuration: %d names but %d positions"
                              % (self.name, len(names), len(positions)))
         targets = {}
         for n, q in zip(names, positions):
             j = self.joints.get(n)
             if j is None:
-                raise ValueError("model '%s' has no joint '%s' (joints: %s)"
+                raise InputError("model '%s' has no joint '%s' (joints: %s)"
                                  % (self.name, n, ", ".join(sorted(self.joints)) or "none"))
             try:
                 q = float(q)
             except (TypeError, ValueError):
-                raise ValueError("model '%s' joint '%s': position %r is not a number"
+                raise InputError("model '%s' joint '%s': position %r is not a number"
                                  % (self.name, n, q))
             if not math.isfinite(q):
-                raise ValueError("model '%s' joint '%s': position %r is not finite" % (self.name, n, q))
+                raise InputError("model '%s' joint '%s': position %r is not finite" % (self.name, n, q))
             if j.type in ("fixed", "floating", "planar"):
-                raise ValueError("model '%s' joint '%s' is %s: it has no position to set"
+                raise InputError("model '%s' joint '%s' is %s: it has no position to set"
                                  % (self.name, n, j.type))
             targets[n] = j._bounded_position(q)
         if not targets:

@@ -6,6 +6,7 @@ a unit quaternion ``(x, y, z, w)`` (ROS order). ODE stores quaternions as ``(w, 
 """
 import math
 
+from ..errors import InputError
 from .limits import LENGTH_LIMIT
 
 IDENTITY_QUAT = (0.0, 0.0, 0.0, 1.0)
@@ -28,7 +29,7 @@ def quat_conj(q):
 def quat_normalize(q):
     n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
     if not n > 1e-12 or not math.isfinite(n):
-        raise ValueError("quaternion %r has no usable norm" % (tuple(q),))
+        raise InputError("quaternion %r has no usable norm" % (tuple(q),))
     return (q[0] / n, q[1] / n, q[2] / n, q[3] / n)
 
 
@@ -148,18 +149,18 @@ def check_pose(pose, what):
         p = tuple(float(x) for x in p)
         q = tuple(float(x) for x in q)
     except (TypeError, ValueError):
-        raise ValueError("%s: a pose is ((x, y, z), (qx, qy, qz, qw)), got %r" % (what, pose))
+        raise InputError("%s: a pose is ((x, y, z), (qx, qy, qz, qw)), got %r" % (what, pose))
     if len(p) != 3 or len(q) != 4:
-        raise ValueError("%s: a pose is ((x, y, z), (qx, qy, qz, qw)), got %r" % (what, pose))
+        raise InputError("%s: a pose is ((x, y, z), (qx, qy, qz, qw)), got %r" % (what, pose))
     if not all(math.isfinite(x) for x in p + q):
-        raise ValueError("%s: pose has a non-finite value: %r" % (what, pose))
+        raise InputError("%s: pose has a non-finite value: %r" % (what, pose))
     if max(abs(x) for x in p) > LENGTH_LIMIT:
-        raise ValueError("%s: position %r is beyond %g m (limits: docs/simulator.md)"
+        raise InputError("%s: position %r is beyond %g m (limits: docs/simulator.md)"
                          % (what, p, LENGTH_LIMIT))
     try:
         q = quat_normalize(q)
     except ValueError:
-        raise ValueError("%s: orientation quaternion %r has zero length" % (what, q))
+        raise InputError("%s: orientation quaternion %r has zero length" % (what, q))
     return (p, q)
 
 
@@ -167,9 +168,9 @@ def check_vec3(v, what):
     try:
         v = tuple(float(x) for x in v)
     except (TypeError, ValueError):
-        raise ValueError("%s: expected 3 numbers, got %r" % (what, v))
+        raise InputError("%s: expected 3 numbers, got %r" % (what, v))
     if len(v) != 3:
-        raise ValueError("%s: expected 3 numbers, got %r" % (what, v))
+        raise InputError("%s: expected 3 numbers, got %r" % (what, v))
     if not all(math.isfinite(x) for x in v):
-        raise ValueError("%s: non-finite value in %r" % (what, v))
+        raise InputError("%s: non-finite value in %r" % (what, v))
     return v

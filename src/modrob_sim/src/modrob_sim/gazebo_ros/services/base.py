@@ -37,10 +37,6 @@ class ServiceGroup(object):
             response.success = False
             response.status_message = "%s: %s" % (name, exc)
             rospy.logwarn(response.status_message)
-        except ValueError as exc:
-            response.success = False
-            response.status_message = "%s: %s" % (name, exc)
-            rospy.logwarn(response.status_message)
         return response
 
     def post(self, fn, what):
@@ -48,7 +44,7 @@ class ServiceGroup(object):
         def job():
             try:
                 fn()
-            except (ModrobError, ValueError) as exc:
+            except ModrobError as exc:
                 rospy.logwarn("%s: %s" % (what, exc))
         try:
             self.loop.call(job)
