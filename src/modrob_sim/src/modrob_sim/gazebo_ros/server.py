@@ -17,7 +17,7 @@ import traceback
 
 import rospy
 
-from modrob_sim.errors import ModelError, ModrobError
+from modrob_sim.errors import ModelError, ModrobError, SimulationError
 from modrob_sim.gazebo_ros import plugins
 from modrob_sim.gazebo_ros.conversions import ros_time
 from modrob_sim.gazebo_ros.force_jobs import ForceJobs
@@ -41,6 +41,19 @@ from modrob_sim.gazebo_ros.world_file import find_world, world_physics
 def default_world_factory(time_step, gravity, seed, resolver):
     from modrob_sim.physics import World
     return World(time_step=time_step, gravity=gravity, seed=seed, resource_resolver=resolver)
+
+
+def report_physics_backend(world):
+    """One line at start-up when the native physics loop is not in use, with how to get it."""
+    from modrob_sim.physics import native
+    if native.LIB is not None or not hasattr(world, "native") or world.native:
+        return
+    text = "physics: pure-Python path (slower; triangle meshes collide as their bounding boxes): %s" % (
+        native.REASON or "the native loop is off")
+    if native.REASON and "MODROB_PHYSICS_NATIVE" in native.REASON:
+        rospy.loginfo(text)
+    else:
+        rospy.logwarn(text)
 
 
 class WorldSettings(object):
@@ -79,6 +92,7 @@ class GazeboRosNode(object):
         self.world = (world_factory or default_world_factory)(
             float(settings.time_step), tuple(settings.gravity), int(params.seed), self.resolve)
         forward_python_logging("modrob_sim")
+        report_physics_backend(self.world)
         self._own_sim_time = take_over_sim_time()
         plugins.import_plugin_modules(plugins.PLUGIN_MODULES + list(params.plugin_modules),
                                       on_error=self._plugin_module_failed)
@@ -119,13 +133,20 @@ class GazeboRosNode(object):
         self.loop.start()
 
     def shutdown(self):
+        """Plugins first, in the loop thread while it still runs (their services go away before
+        the loop stops answering), then the loop, then the publishing thread."""
+        if self.loop.running:
+            try:
+                self.loop.call(self.plugins.shutdown, timeout=10.0)
+            except SimulationError:     # the loop stopped meanwhile (or is stuck): done below
+                pass
         if not self.loop.stop():
             # the loop thread is still inside a step: freeing ODE under it at exit would abort the
             # process; leave the memory to the OS instead
             rospy.logwarn("%s: the simulation loop did not stop within 5 s; exiting without freeing "
                           "the physics world" % self.node_name)
             self.world._finalizer.detach()
-        self.plugins.shutdown()
+        self.plugins.shutdown()     # no-op when done above
         self._publish_queue.stop()
 
     # ---- the World's step hooks (loop thread) ----------------------------------------------------

@@ -151,8 +151,10 @@ def spawner_main(argv=None):
             # spawner) is not an error at tear-down
             client.switch_controller([], loaded, BEST_EFFORT, False, 0.0)
             for name in reversed(loaded):
-                client.unload_controller(name)
-                rospy.loginfo("Unloaded %s" % name)
+                if client.unload_controller(name).ok:
+                    rospy.loginfo("Unloaded %s" % name)
+                else:
+                    rospy.logwarn("Could not unload %s (the simulator's log says why)" % name)
         except (rospy.ServiceException, rospy.ROSException) as exc:
             rospy.logwarn("Controller Spawner couldn't reach controller_manager to take down "
                           "controllers (%s) after %.1f s: the simulator has probably stopped already"

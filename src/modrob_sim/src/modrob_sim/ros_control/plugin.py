@@ -19,7 +19,7 @@ from controller_manager_msgs.srv import (ListControllers, ListControllersRespons
                                          SwitchController, SwitchControllerResponse, UnloadController,
                                          UnloadControllerResponse)
 
-from modrob_sim.errors import ModrobError
+from modrob_sim.errors import LoopStoppedError, ModrobError
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
 from modrob_sim.ros_control.hardware import RobotHWSim
@@ -120,6 +120,14 @@ class GazeboRosControlPlugin(ModelPlugin):
             r.shutdown()
 
     # ---- controller_manager services (service threads; the work runs in the loop) ------------
+    def _stopping_with_the_simulator(self, what, names):
+        """A stop or unload that arrives while the simulator shuts down (a spawner taking its
+        controllers down at the end of a launch): the controllers stop with the simulator, so the
+        request is done - answered ok, logged at debug level only."""
+        rospy.logdebug("%s: %s [%s]: the simulator is shutting down; the controllers stop with it"
+                       % (self.namespace, what, ", ".join(names)))
+        return True
+
     def _list(self, req):
         def read():
             return [ControllerState(name=c.name, state=c.state, type=c.TYPE, claimed_resources=[
@@ -146,6 +154,10 @@ class GazeboRosControlPlugin(ModelPlugin):
                 self.context.call(lambda: self.manager.unload(name))
                 raise
             self.context.call(lambda: self.adapters.__setitem__(name, adapter))
+        except LoopStoppedError:
+            rospy.logwarn("%s: cannot load controller '%s': the simulator is shutting down"
+                          % (self.namespace, name))
+            return LoadControllerResponse(ok=False)
         except ModrobError as exc:
             rospy.logerr("%s: %s" % (self.namespace, exc))
             return LoadControllerResponse(ok=False)
@@ -158,6 +170,8 @@ class GazeboRosControlPlugin(ModelPlugin):
             return self.adapters.pop(req.name, None)
         try:
             adapter = self.context.call(unload)
+        except LoopStoppedError:
+            return UnloadControllerResponse(ok=self._stopping_with_the_simulator("unload", [req.name]))
         except ModrobError as exc:
             rospy.logerr("%s: %s" % (self.namespace, exc))
             return UnloadControllerResponse(ok=False)
@@ -170,6 +184,13 @@ class GazeboRosControlPlugin(ModelPlugin):
         try:
             ok, msg = self.context.call(lambda: self.manager.switch(
                 list(req.start_controllers), list(req.stop_controllers), req.strictness))
+        except LoopStoppedError:
+            if req.start_controllers:
+                rospy.logwarn("%s: cannot start [%s]: the simulator is shutting down"
+                              % (self.namespace, ", ".join(req.start_controllers)))
+                return SwitchControllerResponse(ok=False)
+            return SwitchControllerResponse(ok=self._stopping_with_the_simulator(
+                "stop", list(req.stop_controllers)))
         except ModrobError as exc:
             ok, msg = False, str(exc)
         if not ok:
