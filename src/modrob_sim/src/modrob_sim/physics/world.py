@@ -1,6 +1,5 @@
 """The World: an ODE world stepped in simulated time, with Gazebo-like contacts, step hooks and a
 blow-up guard. See docs/physics.md for the design and sim_core_api.md for the contract."""
-import ctypes
 import hashlib
 import logging
 import math
@@ -12,11 +11,12 @@ from collections import OrderedDict, namedtuple
 
 import ode
 
-from ..errors import ModelError, SimulationError
+from ..errors import InputError, ModelError, SimulationError
 from . import limits
 from . import meshes as meshlib
 from . import native as native_mod
 from . import odelib
+from .backends import NativeBackend, NativeMesh, PureBackend  # noqa: F401 (NativeMesh: public name)
 from .builder import build_model
 from .model import FORCE_CAP, TWO_PI
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, dot, normalized, pose_mul,
@@ -57,8 +57,6 @@ AUTO_DISABLE_ANGULAR = 0.01   # rad/s
 AUTO_DISABLE_TIME = 0.2       # s
 MIMIC_COUPLING_FORCE = 1e4     # N or N m: the largest force a mimic coupling (a linkage) carries
 MIMIC_GAIN = 0.5               # share of a mimic joint's position error corrected per step
-_APPROX1 = ode.ContactApprox1_1 | ode.ContactApprox1_2
-_BASE_MODE = _APPROX1 | ode.ContactSoftERP | ode.ContactSoftCFM
 
 
 class _GeomInfo(object):
@@ -74,10 +72,6 @@ class _GeomInfo(object):
         self.group = link._group.index
 
 
-class _PairParams(object):
-    __slots__ = ("mu", "mu2", "erp", "cfm", "mode", "shift", "cap", "isotropic", "fdir_side", "fdir")
-
-
 class World(object):
     """An ODE world. All times are simulated; nothing here reads the wall clock."""
 
@@ -90,7 +84,7 @@ class World(object):
         try:
             self._seed = int(seed)
         except (TypeError, ValueError):
-            raise ValueError("World seed must be an integer, got %r" % (seed,))
+            raise InputError("World seed must be an integer, got %r" % (seed,))
         self._resolver = resource_resolver
         self._ode_world = ode.World()
         self._ode_world.setGravity(self._gravity)
@@ -108,17 +102,11 @@ class World(object):
         self._contact_group = ode.JointGroup()
         if native and native_mod.LIB is None:
             raise SimulationError("the native physics loop is not available: %s" % native_mod.REASON)
-        self._nat = native_mod.LIB if native is not False else None
-        self._ctx = None
-        self._surface_index = {}
-        self._model_slots = []
-        self._next_uid = 1
-        self._body_array = None
-        self._body_owner = []
-        self._damp_arrays = None
-        if self._nat is not None:
-            self._ctx = self._nat.mr_ctx_new(odelib.raw_pointer(self._ode_world),
-                                             self._static_space._id(), self._dyn_space._id())
+        if native_mod.LIB is not None and native is not False:
+            self._backend = NativeBackend(native_mod.LIB, self._ode_world, self._static_space,
+                                          self._dyn_space)
+        else:
+            self._backend = PureBackend()
         self._params = OrderedDict(DEFAULT_PARAMS)
         self._guard_log = {}     # model -> [last logged t, suppressed, streak, last restore t]
         self._guard_stop = None  # a message: step() raises SimulationError with it
@@ -139,13 +127,12 @@ class World(object):
         self.time = 0.0
         self.iterations = 0
         self._ncontacts = 0
-        self._contact_log = []
         # Tear the ODE objects down in a safe order when the World goes (or on close()): PyODE
         # objects freed by the cycle collector in arbitrary order crash (a space or world freed
         # before its geoms/bodies). Models refer to the World only weakly, so this runs first.
-        self._finalizer = weakref.finalize(self, _teardown, self.models, self._geom_info, self._nat,
-                                           self._ctx, self._ode_world, self._static_space,
-                                           self._dyn_space, self._contact_group)
+        self._finalizer = weakref.finalize(self, _teardown, self.models, self._geom_info, self._backend,
+                                           self._ode_world, self._static_space, self._dyn_space,
+                                           self._contact_group)
         self._reseed()
         self._apply_params()
         self._rebuild_caches()
@@ -194,23 +181,23 @@ class World(object):
         new = OrderedDict(self._params)
         for k, v in kw.items():
             if k not in new:
-                raise ValueError("unknown physics parameter '%s' (known: %s)" % (k, ", ".join(new)))
+                raise InputError("unknown physics parameter '%s' (known: %s)" % (k, ", ".join(new)))
             if k == "auto_disable":
                 new[k] = bool(v)
                 continue
             try:
                 v = float(v)
             except (TypeError, ValueError):
-                raise ValueError("physics parameter %s=%r is not a number" % (k, v))
+                raise InputError("physics parameter %s=%r is not a number" % (k, v))
             if not math.isfinite(v) or v < 0:
-                raise ValueError("physics parameter %s=%r must be finite and not negative" % (k, v))
+                raise InputError("physics parameter %s=%r must be finite and not negative" % (k, v))
             top = limits.PHYSICS_PARAM_MAX.get(k)
             if top is not None and v > top:
-                raise ValueError("physics parameter %s=%r is beyond %g (limits: docs/simulator.md)"
+                raise InputError("physics parameter %s=%r is beyond %g (limits: docs/simulator.md)"
                                  % (k, v, top))
             if k in ("iters", "max_contacts", "guard_max_contacts", "snapshot_interval"):
                 if v < 1:
-                    raise ValueError("physics parameter %s must be at least 1" % k)
+                    raise InputError("physics parameter %s must be at least 1" % k)
                 v = int(v)
             new[k] = v
         self._params = new
@@ -243,29 +230,25 @@ class World(object):
 
     def _reseed(self):
         self._rng = random.Random(self._seed)
-        self._ode_seed = self._seed & 0xFFFFFFFF
-        if self._ctx is not None:
-            self._nat.mr_set_seed(self._ctx, self._ode_seed)
+        self._backend.set_seed(self._seed & 0xFFFFFFFF)
 
     @property
     def native(self):
         """True when the C hot loop steps this world (addition)."""
-        return self._ctx is not None
+        return self._backend.native
 
     def close(self):
         """Free the ODE objects now (addition; otherwise when the World is collected). The World
         cannot be used afterwards."""
         self._finalizer()
-        self._ctx = None
-        self._nat = None
 
     # ---- hooks -------------------------------------------------------------------------------
     def add_step_hook(self, before=None, after=None):
         if before is None and after is None:
-            raise ValueError("add_step_hook needs before and/or after")
+            raise InputError("add_step_hook needs before and/or after")
         for f, n in ((before, "before"), (after, "after")):
             if f is not None and not callable(f):
-                raise ValueError("add_step_hook: %s=%r is not callable" % (n, f))
+                raise InputError("add_step_hook: %s=%r is not callable" % (n, f))
         handle = self._next_hook
         self._next_hook += 1
         self._hooks[handle] = (before, after)
@@ -274,7 +257,7 @@ class World(object):
 
     def remove_step_hook(self, handle):
         if handle not in self._hooks:
-            raise ValueError("no step hook with handle %r" % (handle,))
+            raise InputError("no step hook with handle %r" % (handle,))
         del self._hooks[handle]
         self._update_hooks()
 
@@ -412,8 +395,7 @@ class World(object):
             info.self_collide = info.link.self_collide
             geom.setCategoryBits(cat)
             geom.setCollideBits(col)
-            if self._ctx is not None:
-                self._native_set_geom(info)
+            self._backend.update_geom(self, info)
         adj = set()
         for j in model._joint_order:
             if j.type in ("fixed", "floating"):
@@ -441,13 +423,11 @@ class World(object):
         LOG.info("removed model '%s'", name)
 
     def _destroy_model_objects(self, model):
-        _destroy_objects(model, self._geom_info, self._nat, self._ctx, self._wrench_links)
+        _destroy_objects(model, self._geom_info, self._backend, self._wrench_links)
         self._effort_joints = [j for j in self._effort_joints if j.model is not model]
         self._last_effort_joints = [j for j in self._last_effort_joints if j.model is not model]
         self._contact_group.empty()
-        if self._ctx is not None and getattr(model, "_cindex", None) is not None:
-            if model._cindex < len(self._model_slots) and self._model_slots[model._cindex] is model:
-                self._model_slots[model._cindex] = None
+        self._backend.forget_model(model)
 
     def _rebuild_caches(self):
         ms = list(self.models.values())
@@ -461,55 +441,13 @@ class World(object):
         self._anti_gravity = [g for m in ms for g in m._dyn_groups if g.anti_gravity]
         for j in self._damped:
             j._damping_eff = min(j.damping, j._child_inertia / self._dt)
-        if self._ctx is not None:
-            nat, ctx = self._nat, self._ctx
-            nat.mr_clear_adjacency(ctx)
-            for m in ms:
-                for a, b in m._adjacent:
-                    nat.mr_add_adjacent(ctx, m._uid or 0, a, b)
-            nat.mr_set_model_count(ctx, len(self._model_slots))
-            owners = [(m, g) for m in self._dynamic_models for g in m._dyn_groups]
-            self._body_owner = owners
-            self._body_array = (ctypes.c_void_p * max(1, len(owners)))(
-                *[odelib.raw_pointer(g.body) for _, g in owners])
-            n = len(self._damped)
-            ptrs = [odelib.raw_pointer(j._ode) for j in self._damped]
-            kinds = [0 if j._angular else 1 for j in self._damped]
-            coefs = [j._damping_eff for j in self._damped]
-            self._damp_arrays = (n, (ctypes.c_void_p * max(1, n))(*ptrs),
-                                 (ctypes.c_int * max(1, n))(*kinds),
-                                 (ctypes.c_double * max(1, n))(*coefs))
+        self._backend.rebuild(self)
 
     def _register_geom(self, geom, model, link, surface, body):
         model._geoms.append(geom)
         info = _GeomInfo(geom, model, link, surface, body)
         self._geom_info[geom] = info
-        if self._ctx is not None:
-            if model._uid is None:
-                model._uid = self._next_uid
-                self._next_uid += 1
-                free = [i for i, m in enumerate(self._model_slots) if m is None]
-                if free:
-                    model._cindex = free[0]
-                    self._model_slots[free[0]] = model
-                else:
-                    model._cindex = len(self._model_slots)
-                    self._model_slots.append(model)
-            self._native_set_geom(info)
-
-    def _surface_idx(self, s):
-        key = s.key()
-        idx = self._surface_index.get(key)
-        if idx is None:
-            idx = len(self._surface_index)
-            self._surface_index[key] = idx
-            self._nat.mr_set_surface(self._ctx, idx, *key)
-        return idx
-
-    def _native_set_geom(self, info):
-        m = info.model
-        self._nat.mr_set_geom(self._ctx, _geom_ptr(info.geom), m._cindex, m._uid, info.group,
-                              1 if info.self_collide else 0, self._surface_idx(info.surface))
+        self._backend.register_geom(self, info)
 
     def _place_static_geom(self, geom, pose):
         if isinstance(geom, ode.GeomPlane):
@@ -596,17 +534,7 @@ class World(object):
     def _make_mesh_geom(self, mesh, dynamic, what):
         """A triangle-mesh geom (native) or, on the pure-Python path (PyODE on Debian has no
         trimesh), its bounding box. Returns (geom, pose of the geom in the mesh frame)."""
-        verts, tris = mesh
-        if self._ctx is not None:
-            return NativeMesh(self, verts, tris, dynamic), IDENTITY_POSE
-        self._warn_once("mesh-as-box", "%s: triangle meshes collide as their bounding boxes on the "
-                        "pure-Python path (%s)" % (what, native_mod.REASON or "native loop off for "
-                                                   "this World"))
-        lo, hi = meshlib.bounds(verts)
-        size = tuple(max(b - a, 1e-4) for a, b in zip(lo, hi))
-        center = tuple(0.5 * (a + b) for a, b in zip(lo, hi))
-        space = self._dyn_space if dynamic else self._static_space
-        return ode.GeomBox(space, lengths=size), (center, (0.0, 0.0, 0.0, 1.0))
+        return self._backend.make_mesh_geom(self, mesh, dynamic, what)
 
     # ---- stepping ----------------------------------------------------------------------------
     def step(self, n=1):
@@ -614,7 +542,7 @@ class World(object):
         after-hooks(t + dt, dt)."""
         n = int(n)
         if n < 0:
-            raise ValueError("step(n): n must not be negative")
+            raise InputError("step(n): n must not be negative")
         for _ in range(n):
             self._step_once()
             if self._guard_stop is not None:
@@ -627,18 +555,7 @@ class World(object):
         for h in self._before:
             h(t, dt)
         self._apply_forces(dt)
-        if self._ctx is not None:
-            g = self._gravity
-            self._ncontacts = self._nat.mr_step(self._ctx, dt, g[0], g[1], g[2], self._layer,
-                                                self._max_contacts)
-        else:
-            self._contact_group.empty()
-            self._ncontacts = 0
-            self._contact_log = []
-            self._collide()
-            odelib.set_seed(self._ode_seed)
-            self._ode_world.quickStep(dt)
-            self._ode_seed = odelib.get_seed()
+        self._ncontacts = self._backend.step(self, dt)
         self.iterations += 1
         self.time = t + dt
         for j in self._unwrap:
@@ -670,17 +587,7 @@ class World(object):
             self._effort_joints = []
         else:
             self._last_effort_joints = []
-        if self._damp_arrays is not None:
-            n, jp, kinds, coef = self._damp_arrays
-            if n:
-                self._nat.mr_apply_damping(jp, kinds, coef, n)
-        else:
-            for j in self._damped:
-                o = j._ode
-                if j._angular:
-                    o.addTorque(-j._damping_eff * o.getAngleRate())
-                else:
-                    o.addForce(-j._damping_eff * o.getPositionRate())
+        self._backend.apply_damping(self)
         for j, m in self._mimics:
             self._drive_mimic(j, m, dt)
         for j in self._soft:
@@ -743,183 +650,11 @@ class World(object):
         o.setParam(odelib.PARAM_LO_STOP, lo if lo > -math.pi else -ode.Infinity)
         o.setParam(odelib.PARAM_HI_STOP, hi if hi < math.pi else ode.Infinity)
 
-    # ---- collision ---------------------------------------------------------------------------
-    def _collide(self):
-        self._dyn_space.collide(None, self._near)
-        ode.collide2(self._static_space, self._dyn_space, None, self._near_top)
-
-    def _near_top(self, _arg, g1, g2):
-        if g1.isSpace() or g2.isSpace():
-            ode.collide2(g1, g2, None, self._near)
-        else:
-            self._near(None, g1, g2)
-
-    def _pair(self, s1, s2, static1, static2):
-        """Contact parameters of a surface pair, as Gazebo: kp in series, kd summed, the smaller
-        mu; maxVel and minDepth are per BODY in Gazebo, so a static side does not count."""
-        key = (s1, s2, static1, static2)
-        pp = self._pair_cache.get(key)
-        if pp is not None:
-            return pp
-        dt = self._dt
-        kp = 1.0 / (1.0 / s1.kp + 1.0 / s2.kp)
-        kd = s1.kd + s2.kd
-        pp = _PairParams()
-        pp.erp = dt * kp / (dt * kp + kd)
-        pp.cfm = 1.0 / (dt * kp + kd)
-        pp.mu = min(s1.mu1, s2.mu1)
-        pp.mu2 = min(s1.mu2, s2.mu2)
-        pp.isotropic = pp.mu == pp.mu2
-        pp.mode = _BASE_MODE | (0 if pp.isotropic else ode.ContactMu2)
-        pp.fdir_side = 1 if any(s1.fdir1) else (2 if any(s2.fdir1) else 0)
-        pp.fdir = s1.fdir1 if pp.fdir_side == 1 else s2.fdir1
-        layer = self._params["contact_surface_layer"]
-        sides = [s for s, st in ((s1, static1), (s2, static2)) if not st] or [s1, s2]
-        min_depth = max(s.min_depth for s in sides)
-        pp.shift = max(0.0, min_depth - layer)
-        max_vel = min(s.max_vel for s in sides)
-        pp.cap = layer + max_vel * dt / pp.erp if pp.erp > 0 else float("inf")
-        self._pair_cache[key] = pp
-        return pp
-
-    def _near(self, _arg, g1, g2):
-        info = self._geom_info
-        i1 = info.get(g1)
-        i2 = info.get(g2)
-        if i1 is None or i2 is None:
-            return
-        m = i1.model
-        if m is i2.model:
-            if not (i1.self_collide or i2.self_collide) or i1.group == i2.group or \
-                    (i1.group, i2.group) in m._adjacent:
-                return
-        b1, b2 = i1.body, i2.body
-        if (b1 is None or not b1.isEnabled()) and (b2 is None or not b2.isEnabled()):
-            return
-        contacts = ode.collide(g1, g2)
-        if not contacts:
-            return
-        n = len(contacts)
-        cap = self._max_contacts
-        if n > cap:
-            contacts = _select_spread(contacts, cap)
-            n = cap
-        self._ncontacts += n
-        m._ncontacts += n
-        i2.model._ncontacts += n
-        pp = self._pair(i1.surface, i2.surface, b1 is None, b2 is None)
-        mode = pp.mode
-        fdir = None
-        world = self._ode_world
-        group = self._contact_group
-        for k, c in enumerate(contacts):
-            pos, normal, depth, _a, _b = c.getContactGeomParams()
-            if k == 0 and (pp.fdir_side or pp.isotropic):
-                if pp.fdir_side:
-                    fdir = _given_fdir(g1 if pp.fdir_side == 1 else g2, pp.fdir, normal)
-                else:
-                    fdir = self._friction_dir(b1, b2, pos, normal)
-                if fdir is not None:
-                    mode |= ode.ContactFDir1
-            d = depth - pp.shift
-            if d > pp.cap:
-                d = pp.cap
-            if d < 0.0:
-                d = 0.0
-            if d != depth:
-                c.setContactGeomParams(pos, normal, d, g1, g2)
-            c.setMode(mode)
-            c.setMu(pp.mu)
-            c.setMu2(pp.mu2)
-            c.setSoftERP(pp.erp)
-            c.setSoftCFM(pp.cfm)
-            if fdir is not None:
-                c.setFDir1(fdir)
-            j = ode.ContactJoint(world, group, c)
-            j.attach(b1, b2)
-            self._contact_log.append((i1, i2, pos, normal, depth))
-
-    def _friction_dir(self, b1, b2, pos, n):
-        """First friction direction for an isotropic pyramid: along the relative sliding velocity,
-        or (at rest) along gravity's tangential part, so that the pyramid's limit mu*N applies
-        in the direction the contact would slip (ODE's arbitrary default lets a box hold on a
-        slope steeper than atan(mu) by up to sqrt(2))."""
-        vx = vy = vz = 0.0
-        if b1 is not None:
-            v = b1.getPointVel(pos)
-            vx, vy, vz = v
-        if b2 is not None:
-            v = b2.getPointVel(pos)
-            vx -= v[0]
-            vy -= v[1]
-            vz -= v[2]
-        vn = vx * n[0] + vy * n[1] + vz * n[2]
-        tx, ty, tz = vx - vn * n[0], vy - vn * n[1], vz - vn * n[2]
-        t2 = tx * tx + ty * ty + tz * tz
-        if t2 < 1e-10:
-            g = self._gravity
-            gn = g[0] * n[0] + g[1] * n[1] + g[2] * n[2]
-            tx, ty, tz = g[0] - gn * n[0], g[1] - gn * n[1], g[2] - gn * n[2]
-            t2 = tx * tx + ty * ty + tz * tz
-            if t2 < 1e-12 * (dot(g, g) + 1e-30):
-                return None
-        s = 1.0 / math.sqrt(t2)
-        return (tx * s, ty * s, tz * s)
-
     # ---- guard -------------------------------------------------------------------------------
     def _guard(self):
-        if self._ctx is not None:
-            return self._guard_native()
-        vmax2, wmax2 = self._vmax2, self._wmax2
-        cmax = self._params["guard_max_contacts"]
-        snap = self.iterations % int(self._params["snapshot_interval"]) == 0
-        for m in self._dynamic_models:
-            bad = None
-            for g in m._dyn_groups:
-                b = g.body
-                v = b.getLinearVel()
-                w = b.getAngularVel()
-                v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-                w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
-                if not (v2 < vmax2 and w2 < wmax2):
-                    if not (math.isfinite(v2) and math.isfinite(w2)):
-                        bad = (g, "non-finite velocity (NaN/inf)")
-                    elif not v2 < vmax2:
-                        bad = (g, "runaway linear velocity %.3g m/s (limit %.3g)"
-                               % (math.sqrt(v2), math.sqrt(vmax2)))
-                    else:
-                        bad = (g, "runaway angular velocity %.3g rad/s (limit %.3g)"
-                               % (math.sqrt(w2), math.sqrt(wmax2)))
-                    break
-            if bad is None and m._ncontacts > cmax:
-                bad = (m._dyn_groups[0], "contact explosion: %d contacts in one step (limit %d)"
-                       % (m._ncontacts, cmax))
-            m._ncontacts = 0
-            if bad is not None:
-                self._restore_after_blowup(m, bad[0].root.name, bad[1])
-            elif snap:
-                m._snapshot_state = m._capture()
-
-    def _guard_native(self):
-        nat = self._nat
-        owners = self._body_owner
-        nb = len(owners)
-        flagged = []
-        i = nat.mr_check_bodies(self._body_array, 0, nb, self._vmax2, self._wmax2) if nb else -1
-        while i >= 0:
-            m, g = owners[i]
-            flagged.append((m, g, self._velocity_reason(g.body)))
-            k = i + 1
-            while k < nb and owners[k][0] is m:
-                k += 1
-            i = nat.mr_check_bodies(self._body_array, k, nb, self._vmax2, self._wmax2) if k < nb else -1
-        cmax = self._params["guard_max_contacts"]
-        if self._ncontacts > cmax:
-            for m in self._dynamic_models:
-                n = nat.mr_model_contacts(self._ctx, m._cindex)
-                if n > cmax and all(f[0] is not m for f in flagged):
-                    flagged.append((m, m._dyn_groups[0], "contact explosion: %d contacts in one step "
-                                    "(limit %d)" % (n, cmax)))
+        """The blow-up guard after a step: models whose bodies run away (or explode in contacts)
+        go back to their last sane state; every snapshot_interval steps the others are saved."""
+        flagged = self._backend.find_blowups(self)
         for m, g, reason in flagged:
             self._restore_after_blowup(m, g.root.name, reason)
         if self.iterations % int(self._params["snapshot_interval"]) == 0:
@@ -927,17 +662,6 @@ class World(object):
             for m in self._dynamic_models:
                 if id(m) not in bad:
                     m._snapshot_state = m._capture()
-
-    def _velocity_reason(self, b):
-        v = b.getLinearVel()
-        w = b.getAngularVel()
-        v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
-        w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
-        if not (math.isfinite(v2) and math.isfinite(w2)):
-            return "non-finite velocity (NaN/inf)"
-        if not v2 < self._vmax2:
-            return "runaway linear velocity %.3g m/s (limit %.3g)" % (math.sqrt(v2), math.sqrt(self._vmax2))
-        return "runaway angular velocity %.3g rad/s (limit %.3g)" % (math.sqrt(w2), math.sqrt(self._wmax2))
 
     def _restore_after_blowup(self, model, link, reason):
         ev = GuardEvent(model.name, link, reason, self.time)
@@ -979,27 +703,8 @@ class World(object):
     def contacts(self):
         """The contact points made in the last step (addition to the contract): a list of
         ContactPoint, at most max_contacts per geom pair, depth as the collider reported it."""
-        out = []
-        if self._ctx is not None:
-            n = self._ncontacts
-            if n <= 0:
-                return out
-            gs = (ctypes.c_void_p * (2 * n))()
-            vals = (ctypes.c_double * (7 * n))()
-            n = self._nat.mr_contact_log(self._ctx, gs, vals, n)
-            by_ptr = {_geom_ptr(g): info for g, info in self._geom_info.items()}
-            for k in range(n):
-                i1, i2 = by_ptr.get(gs[2 * k]), by_ptr.get(gs[2 * k + 1])
-                if i1 is None or i2 is None:
-                    continue  # removed since
-                v = vals[7 * k:7 * k + 7]
-                out.append(ContactPoint(i1.model.name, i1.link.name, i2.model.name, i2.link.name,
-                                        tuple(v[0:3]), tuple(v[3:6]), v[6]))
-            return out
-        for i1, i2, pos, normal, depth in self._contact_log:
-            out.append(ContactPoint(i1.model.name, i1.link.name, i2.model.name, i2.link.name,
-                                    tuple(pos), tuple(normal), depth))
-        return out
+        return [ContactPoint(i1.model.name, i1.link.name, i2.model.name, i2.link.name, pos, normal, depth)
+                for i1, i2, pos, normal, depth in self._backend.contacts(self)]
 
     def pop_events(self):
         ev, self._events = self._events, []
@@ -1046,46 +751,7 @@ class World(object):
 
     # ---- spawn checks ------------------------------------------------------------------------
     def _check_spawn_overlap(self, model, threshold=0.01):
-        found = {}
-
-        def cb(_arg, g1, g2):
-            i1, i2 = self._geom_info.get(g1), self._geom_info.get(g2)
-            if i1 is None or i2 is None or i1.model is i2.model:
-                return
-            if i1.body is None and i2.body is None:
-                return
-            for c in ode.collide(g1, g2):
-                d = c.getContactGeomParams()[2]
-                key = (i1.model.name, i1.link.name, i2.model.name, i2.link.name)
-                if d > found.get(key, 0.0):
-                    found[key] = d
-
-        if self._ctx is not None:
-            # the C collider knows every geom type (also triangle meshes): test AABB-overlapping pairs
-            others = [(g, i) for g, i in self._geom_info.items() if i.model is not model]
-            boxes = {}
-            for g, _ in others + [(g, None) for g in model._geoms]:
-                if not isinstance(g, ode.GeomPlane):
-                    boxes[g] = g.getAABB()
-            for geom in model._geoms:
-                mine = self._geom_info[geom]
-                for other, info in others:
-                    if mine.body is None and info.body is None:
-                        continue
-                    a, b = boxes.get(geom), boxes.get(other)
-                    if a is not None and b is not None and (a[1] < b[0] or b[1] < a[0] or a[3] < b[2]
-                                                            or b[3] < a[2] or a[5] < b[4] or b[5] < a[4]):
-                        continue
-                    d = self._nat.mr_max_depth(_geom_ptr(geom), _geom_ptr(other))
-                    key = (model.name, mine.link.name, info.model.name, info.link.name)
-                    if d > found.get(key, 0.0):
-                        found[key] = d
-        else:
-            for geom in model._geoms:
-                if isinstance(geom, ode.GeomPlane):
-                    continue
-                for sp in (self._static_space, self._dyn_space):
-                    ode.collide2(geom, sp, None, cb)
+        found = self._backend.overlaps(self, model)
         for (m1, l1, m2, l2), d in sorted(found.items()):
             if d > threshold:
                 LOG.warning("spawn overlap: model '%s' link '%s' penetrates model '%s' link '%s' "
@@ -1093,61 +759,14 @@ class World(object):
                             l2, d * 1000.0)
 
 
-def _select_spread(contacts, k):
-    """k of the contacts: the deepest, then repeatedly the one farthest from those chosen (the
-    same rule as the C loop), so that a resting face keeps a wide support."""
-    pts = [c.getContactGeomParams() for c in contacts]
-    n = len(pts)
-    best = max(range(n), key=lambda i: pts[i][2])
-    chosen = [best]
-    p0 = pts[best][0]
-    dmin = [(p[0][0] - p0[0]) ** 2 + (p[0][1] - p0[1]) ** 2 + (p[0][2] - p0[2]) ** 2 for p in pts]
-    used = set(chosen)
-    while len(chosen) < k:
-        far = max((i for i in range(n) if i not in used), key=lambda i: dmin[i])
-        chosen.append(far)
-        used.add(far)
-        pf = pts[far][0]
-        for i in range(n):
-            d = (pts[i][0][0] - pf[0]) ** 2 + (pts[i][0][1] - pf[1]) ** 2 + (pts[i][0][2] - pf[2]) ** 2
-            if d < dmin[i]:
-                dmin[i] = d
-    return [contacts[i] for i in chosen]
-
-
-def _given_fdir(geom, fdir, n):
-    """<fdir1> (collision frame) in the world, projected on the contact plane; None if parallel."""
-    if isinstance(geom, ode.GeomPlane):  # not placeable: its fdir1 is in the world frame
-        r = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
-    else:
-        r = geom.getRotation()
-    f = (r[0] * fdir[0] + r[1] * fdir[1] + r[2] * fdir[2],
-         r[3] * fdir[0] + r[4] * fdir[1] + r[5] * fdir[2],
-         r[6] * fdir[0] + r[7] * fdir[1] + r[8] * fdir[2])
-    fn = f[0] * n[0] + f[1] * n[1] + f[2] * n[2]
-    t = (f[0] - fn * n[0], f[1] - fn * n[1], f[2] - fn * n[2])
-    t2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
-    if t2 < 1e-12:
-        return None
-    k = 1.0 / math.sqrt(t2)
-    return (t[0] * k, t[1] * k, t[2] * k)
-
-
-def _geom_ptr(geom):
-    return geom.ptr if isinstance(geom, NativeMesh) else geom._id()
-
-
-def _destroy_objects(model, geom_info, nat, ctx, wrench_links=None):
+def _destroy_objects(model, geom_info, backend, wrench_links=None):
     """Drop every ODE object of ``model`` in a safe order: geoms out of their spaces first."""
     for g in getattr(model, "_grippers", ()):
         g.close()  # its weld joint goes while the ODE world still exists
     for geom in model._geoms:
         geom_info.pop(geom, None)
-        if isinstance(geom, NativeMesh):
-            geom.destroy()
+        if backend.remove_geom(geom):
             continue
-        if ctx is not None:
-            nat.mr_remove_geom(ctx, geom._id())
         sp = geom.getSpace()
         if sp is not None:
             sp.remove(geom)
@@ -1170,71 +789,14 @@ def _destroy_objects(model, geom_info, nat, ctx, wrench_links=None):
     model._dyn_groups = []
 
 
-def _teardown(models, geom_info, nat, ctx, ode_world, static_space, dyn_space, contact_group):
+def _teardown(models, geom_info, backend, ode_world, static_space, dyn_space, contact_group):
     for m in list(models.values()):
-        _destroy_objects(m, geom_info, nat, ctx)
+        _destroy_objects(m, geom_info, backend)
     models.clear()
     geom_info.clear()
     contact_group.empty()
-    if ctx is not None:
-        nat.mr_ctx_free(ctx)
+    backend.close()
     # ode_world, the spaces and the group are released when this returns (after their contents)
-
-
-class NativeMesh(object):
-    """A triangle-mesh geom made by the C loop (no PyODE object exists for it); implements the
-    few geom methods the builder and the World use."""
-
-    def __init__(self, world, verts, tris, dynamic):
-        import array
-        va = array.array("d", [c for v in verts for c in v])
-        ta = array.array("i", [i for t in tris for i in t])
-        self._nat = world._nat
-        self._ctx = world._ctx
-        self.ptr = self._nat.mr_mesh_create(self._ctx, va.buffer_info()[0], len(verts),
-                                            ta.buffer_info()[0], len(tris), 1 if dynamic else 0)
-        self._pos = (0.0, 0.0, 0.0)
-        self._quat = (1.0, 0.0, 0.0, 0.0)
-        self._body = None
-
-    def setBody(self, body):
-        self._body = body  # keeps the PyODE body alive as long as the geom
-        self._nat.mr_geom_set_body(self.ptr, odelib.raw_pointer(body) if body is not None else None)
-
-    def setOffsetPosition(self, p):
-        self._pos = tuple(p)
-        self._nat.mr_geom_set_offset(self.ptr, *(self._pos + self._quat))
-
-    def setOffsetQuaternion(self, q):
-        self._quat = tuple(q)
-        self._nat.mr_geom_set_offset(self.ptr, *(self._pos + self._quat))
-
-    def setPosition(self, p):
-        self._pos = tuple(p)
-        self._nat.mr_geom_set_pose(self.ptr, *(self._pos + self._quat))
-
-    def setQuaternion(self, q):
-        self._quat = tuple(q)
-        self._nat.mr_geom_set_pose(self.ptr, *(self._pos + self._quat))
-
-    def setCategoryBits(self, bits):
-        self._cat = bits
-        self._nat.mr_geom_set_bits(self.ptr, bits, getattr(self, "_col", bits))
-
-    def setCollideBits(self, bits):
-        self._col = bits
-        self._nat.mr_geom_set_bits(self.ptr, getattr(self, "_cat", bits), bits)
-
-    def getAABB(self):
-        out = (ctypes.c_double * 6)()
-        self._nat.mr_geom_aabb(self.ptr, out)
-        return tuple(out)
-
-    def destroy(self):
-        if self.ptr:
-            self._nat.mr_mesh_destroy(self._ctx, self.ptr)
-            self.ptr = None
-            self._body = None
 
 
 class _OrderedSet(object):

@@ -17,7 +17,7 @@ import ctypes
 import numpy as np
 import ode
 
-from modrob_sim.physics import world as world_mod
+from modrob_sim.physics import backends
 
 from . import native
 
@@ -66,7 +66,7 @@ class OdeRayCaster(object):
             kept = [(g, m, ln) for g, m, ln in self._cache.entries if (m, ln) not in self._exclude]
             self.labels = [(m, ln) for _, m, ln in kept]
             self._geoms = [g for g, _, _ in kept]   # keeps the PyODE objects alive while cast
-            self._ptrs = (ctypes.c_void_p * max(1, len(kept)))(*[world_mod._geom_ptr(g) for g in self._geoms])
+            self._ptrs = (ctypes.c_void_p * max(1, len(kept)))(*[backends.geom_ptr(g) for g in self._geoms])
 
     def cast(self, origin, rotation, local_dirs, rmin, rmax, want_hits=False):
         self._refresh()
@@ -95,7 +95,7 @@ def _shape(geom):
     if isinstance(geom, ode.GeomPlane):
         n, d = geom.getParams()
         return "plane", (np.array(n, dtype=np.float64), float(d)), None, None
-    if isinstance(geom, world_mod.NativeMesh):
+    if isinstance(geom, backends.NativeMesh):
         lo_hi = geom.getAABB()
         lo, hi = np.array(lo_hi[0::2]), np.array(lo_hi[1::2])
         return "box", (hi - lo), 0.5 * (lo + hi), np.eye(3)

@@ -1,0 +1,546 @@
+"""The two ways a World steps, behind one interface: :class:`NativeBackend` (the C hot loop of
+``native/modrob_ode_native.c``: collision, contact joints, quickStep and the guard's velocity
+scan in C) and :class:`PureBackend` (the same semantics in Python with PyODE callbacks; triangle
+meshes collide as their bounding boxes). The World picks one at construction and calls it for
+everything that differs; nothing else in the World knows which one runs.
+
+Interface (``world`` is passed in; a backend keeps no reference to its World, so the World's
+finalizer can tear the ODE objects down through the backend):
+
+    native                          True for the C loop
+    set_seed(seed)                  ODE's random seed (quickStep's row order) after a reset
+    register_geom(world, info)      a new geom of a model (info: the World's _GeomInfo)
+    update_geom(world, info)        its collision bits / self_collide changed
+    forget_model(model)             the model left the World
+    remove_geom(geom)               free one geom (model removal and teardown)
+    rebuild(world)                  the set of models, joints or the time step changed
+    make_mesh_geom(world, mesh, dynamic, what) -> (geom, pose of the geom in the mesh frame)
+    apply_damping(world)            explicit joint damping for this step
+    step(world, dt) -> contacts     collide + contact joints + quickStep
+    find_blowups(world) -> [(model, group, reason)]   the guard's scan after a step
+    contacts(world) -> [ContactPoint]                 the last step's contact points
+    overlaps(world, model) -> {(m1, l1, m2, l2): depth}   spawn-overlap check
+    close()                         free the backend's own objects
+"""
+import ctypes
+import math
+
+import ode
+
+from . import meshes as meshlib
+from . import native as native_mod
+from . import odelib
+from .transforms import IDENTITY_POSE, dot
+
+_APPROX1 = ode.ContactApprox1_1 | ode.ContactApprox1_2
+_BASE_MODE = _APPROX1 | ode.ContactSoftERP | ode.ContactSoftCFM
+
+
+class _PairParams(object):
+    __slots__ = ("mu", "mu2", "erp", "cfm", "mode", "shift", "cap", "isotropic", "fdir_side", "fdir")
+
+
+def velocity_reason(b, vmax2, wmax2):
+    """Why a body's velocity trips the guard (NaN, linear or angular runaway)."""
+    v = b.getLinearVel()
+    w = b.getAngularVel()
+    v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+    w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+    if not (math.isfinite(v2) and math.isfinite(w2)):
+        return "non-finite velocity (NaN/inf)"
+    if not v2 < vmax2:
+        return "runaway linear velocity %.3g m/s (limit %.3g)" % (math.sqrt(v2), math.sqrt(vmax2))
+    return "runaway angular velocity %.3g rad/s (limit %.3g)" % (math.sqrt(w2), math.sqrt(wmax2))
+
+
+def contact_explosion(model, n, cmax):
+    return (model, model._dyn_groups[0], "contact explosion: %d contacts in one step (limit %d)" % (n, cmax))
+
+
+class PureBackend(object):
+    native = False
+
+    def __init__(self):
+        self.seed = 0
+        self.ncontacts = 0
+        self.contact_log = []
+
+    def set_seed(self, seed):
+        self.seed = seed
+
+    def register_geom(self, world, info):
+        pass
+
+    def update_geom(self, world, info):
+        pass
+
+    def forget_model(self, model):
+        pass
+
+    def remove_geom(self, geom):
+        pass
+
+    def rebuild(self, world):
+        pass
+
+    def close(self):
+        pass
+
+    def make_mesh_geom(self, world, mesh, dynamic, what):
+        world._warn_once("mesh-as-box", "%s: triangle meshes collide as their bounding boxes on the "
+                         "pure-Python path (%s)" % (what, native_mod.REASON or "native loop off for "
+                                                    "this World"))
+        verts, _tris = mesh
+        lo, hi = meshlib.bounds(verts)
+        size = tuple(max(b - a, 1e-4) for a, b in zip(lo, hi))
+        center = tuple(0.5 * (a + b) for a, b in zip(lo, hi))
+        space = world._dyn_space if dynamic else world._static_space
+        return ode.GeomBox(space, lengths=size), (center, (0.0, 0.0, 0.0, 1.0))
+
+    def apply_damping(self, world):
+        for j in world._damped:
+            o = j._ode
+            if j._angular:
+                o.addTorque(-j._damping_eff * o.getAngleRate())
+            else:
+                o.addForce(-j._damping_eff * o.getPositionRate())
+
+    def step(self, world, dt):
+        world._contact_group.empty()
+        self.ncontacts = 0
+        self.contact_log = []
+        self._collide(world)
+        odelib.set_seed(self.seed)
+        world._ode_world.quickStep(dt)
+        self.seed = odelib.get_seed()
+        return self.ncontacts
+
+    def find_blowups(self, world):
+        vmax2, wmax2 = world._vmax2, world._wmax2
+        cmax = world._params["guard_max_contacts"]
+        flagged = []
+        for m in world._dynamic_models:
+            bad = None
+            for g in m._dyn_groups:
+                b = g.body
+                v = b.getLinearVel()
+                w = b.getAngularVel()
+                v2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
+                w2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
+                if not (v2 < vmax2 and w2 < wmax2):
+                    bad = (m, g, velocity_reason(b, vmax2, wmax2))
+                    break
+            if bad is None and m._ncontacts > cmax:
+                bad = contact_explosion(m, m._ncontacts, cmax)
+            m._ncontacts = 0
+            if bad is not None:
+                flagged.append(bad)
+        return flagged
+
+    def contacts(self, world):
+        return [(i1, i2, tuple(pos), tuple(normal), depth) for i1, i2, pos, normal, depth in self.contact_log]
+
+    def overlaps(self, world, model):
+        found = {}
+
+        def cb(_arg, g1, g2):
+            i1, i2 = world._geom_info.get(g1), world._geom_info.get(g2)
+            if i1 is None or i2 is None or i1.model is i2.model:
+                return
+            if i1.body is None and i2.body is None:
+                return
+            for c in ode.collide(g1, g2):
+                d = c.getContactGeomParams()[2]
+                key = (i1.model.name, i1.link.name, i2.model.name, i2.link.name)
+                if d > found.get(key, 0.0):
+                    found[key] = d
+
+        for geom in model._geoms:
+            if isinstance(geom, ode.GeomPlane):
+                continue
+            for sp in (world._static_space, world._dyn_space):
+                ode.collide2(geom, sp, None, cb)
+        return found
+
+    # ---- collision (PyODE near callbacks) ---------------------------------------------------
+    def _collide(self, w):
+        w._dyn_space.collide(w, self._near)
+        ode.collide2(w._static_space, w._dyn_space, w, self._near_top)
+
+    def _near_top(self, w, g1, g2):
+        if g1.isSpace() or g2.isSpace():
+            ode.collide2(g1, g2, w, self._near)
+        else:
+            self._near(w, g1, g2)
+
+    def _pair(self, w, s1, s2, static1, static2):
+        """Contact parameters of a surface pair, as Gazebo: kp in series, kd summed, the smaller
+        mu; maxVel and minDepth are per BODY in Gazebo, so a static side does not count."""
+        key = (s1, s2, static1, static2)
+        pp = w._pair_cache.get(key)
+        if pp is not None:
+            return pp
+        dt = w.time_step
+        kp = 1.0 / (1.0 / s1.kp + 1.0 / s2.kp)
+        kd = s1.kd + s2.kd
+        pp = _PairParams()
+        pp.erp = dt * kp / (dt * kp + kd)
+        pp.cfm = 1.0 / (dt * kp + kd)
+        pp.mu = min(s1.mu1, s2.mu1)
+        pp.mu2 = min(s1.mu2, s2.mu2)
+        pp.isotropic = pp.mu == pp.mu2
+        pp.mode = _BASE_MODE | (0 if pp.isotropic else ode.ContactMu2)
+        pp.fdir_side = 1 if any(s1.fdir1) else (2 if any(s2.fdir1) else 0)
+        pp.fdir = s1.fdir1 if pp.fdir_side == 1 else s2.fdir1
+        layer = w._params["contact_surface_layer"]
+        sides = [s for s, st in ((s1, static1), (s2, static2)) if not st] or [s1, s2]
+        min_depth = max(s.min_depth for s in sides)
+        pp.shift = max(0.0, min_depth - layer)
+        max_vel = min(s.max_vel for s in sides)
+        pp.cap = layer + max_vel * dt / pp.erp if pp.erp > 0 else float("inf")
+        w._pair_cache[key] = pp
+        return pp
+
+    def _near(self, w, g1, g2):
+        info = w._geom_info
+        i1 = info.get(g1)
+        i2 = info.get(g2)
+        if i1 is None or i2 is None:
+            return
+        m = i1.model
+        if m is i2.model:
+            if not (i1.self_collide or i2.self_collide) or i1.group == i2.group or \
+                    (i1.group, i2.group) in m._adjacent:
+                return
+        b1, b2 = i1.body, i2.body
+        if (b1 is None or not b1.isEnabled()) and (b2 is None or not b2.isEnabled()):
+            return
+        contacts = ode.collide(g1, g2)
+        if not contacts:
+            return
+        n = len(contacts)
+        cap = w._max_contacts
+        if n > cap:
+            contacts = _select_spread(contacts, cap)
+            n = cap
+        self.ncontacts += n
+        m._ncontacts += n
+        i2.model._ncontacts += n
+        pp = self._pair(w, i1.surface, i2.surface, b1 is None, b2 is None)
+        mode = pp.mode
+        fdir = None
+        world = w._ode_world
+        group = w._contact_group
+        for k, c in enumerate(contacts):
+            pos, normal, depth, _a, _b = c.getContactGeomParams()
+            if k == 0 and (pp.fdir_side or pp.isotropic):
+                if pp.fdir_side:
+                    fdir = _given_fdir(g1 if pp.fdir_side == 1 else g2, pp.fdir, normal)
+                else:
+                    fdir = _friction_dir(w.gravity, b1, b2, pos, normal)
+                if fdir is not None:
+                    mode |= ode.ContactFDir1
+            d = depth - pp.shift
+            if d > pp.cap:
+                d = pp.cap
+            if d < 0.0:
+                d = 0.0
+            if d != depth:
+                c.setContactGeomParams(pos, normal, d, g1, g2)
+            c.setMode(mode)
+            c.setMu(pp.mu)
+            c.setMu2(pp.mu2)
+            c.setSoftERP(pp.erp)
+            c.setSoftCFM(pp.cfm)
+            if fdir is not None:
+                c.setFDir1(fdir)
+            j = ode.ContactJoint(world, group, c)
+            j.attach(b1, b2)
+            self.contact_log.append((i1, i2, pos, normal, depth))
+
+
+def _friction_dir(g, b1, b2, pos, n):
+    """First friction direction for an isotropic pyramid: along the relative sliding velocity,
+    or (at rest) along gravity's tangential part, so that the pyramid's limit mu*N applies
+    in the direction the contact would slip (ODE's arbitrary default lets a box hold on a
+    slope steeper than atan(mu) by up to sqrt(2))."""
+    vx = vy = vz = 0.0
+    if b1 is not None:
+        v = b1.getPointVel(pos)
+        vx, vy, vz = v
+    if b2 is not None:
+        v = b2.getPointVel(pos)
+        vx -= v[0]
+        vy -= v[1]
+        vz -= v[2]
+    vn = vx * n[0] + vy * n[1] + vz * n[2]
+    tx, ty, tz = vx - vn * n[0], vy - vn * n[1], vz - vn * n[2]
+    t2 = tx * tx + ty * ty + tz * tz
+    if t2 < 1e-10:
+        gn = g[0] * n[0] + g[1] * n[1] + g[2] * n[2]
+        tx, ty, tz = g[0] - gn * n[0], g[1] - gn * n[1], g[2] - gn * n[2]
+        t2 = tx * tx + ty * ty + tz * tz
+        if t2 < 1e-12 * (dot(g, g) + 1e-30):
+            return None
+    s = 1.0 / math.sqrt(t2)
+    return (tx * s, ty * s, tz * s)
+
+
+def _select_spread(contacts, k):
+    """k of the contacts: the deepest, then repeatedly the one farthest from those chosen (the
+    same rule as the C loop), so that a resting face keeps a wide support."""
+    pts = [c.getContactGeomParams() for c in contacts]
+    n = len(pts)
+    best = max(range(n), key=lambda i: pts[i][2])
+    chosen = [best]
+    p0 = pts[best][0]
+    dmin = [(p[0][0] - p0[0]) ** 2 + (p[0][1] - p0[1]) ** 2 + (p[0][2] - p0[2]) ** 2 for p in pts]
+    used = set(chosen)
+    while len(chosen) < k:
+        far = max((i for i in range(n) if i not in used), key=lambda i: dmin[i])
+        chosen.append(far)
+        used.add(far)
+        pf = pts[far][0]
+        for i in range(n):
+            d = (pts[i][0][0] - pf[0]) ** 2 + (pts[i][0][1] - pf[1]) ** 2 + (pts[i][0][2] - pf[2]) ** 2
+            if d < dmin[i]:
+                dmin[i] = d
+    return [contacts[i] for i in chosen]
+
+
+def _given_fdir(geom, fdir, n):
+    """<fdir1> (collision frame) in the world, projected on the contact plane; None if parallel."""
+    if isinstance(geom, ode.GeomPlane):  # not placeable: its fdir1 is in the world frame
+        r = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+    else:
+        r = geom.getRotation()
+    f = (r[0] * fdir[0] + r[1] * fdir[1] + r[2] * fdir[2],
+         r[3] * fdir[0] + r[4] * fdir[1] + r[5] * fdir[2],
+         r[6] * fdir[0] + r[7] * fdir[1] + r[8] * fdir[2])
+    fn = f[0] * n[0] + f[1] * n[1] + f[2] * n[2]
+    t = (f[0] - fn * n[0], f[1] - fn * n[1], f[2] - fn * n[2])
+    t2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
+    if t2 < 1e-12:
+        return None
+    k = 1.0 / math.sqrt(t2)
+    return (t[0] * k, t[1] * k, t[2] * k)
+
+
+def geom_ptr(geom):
+    """The dGeomID of a PyODE geom or a native mesh (for C code that takes geoms)."""
+    return geom.ptr if isinstance(geom, NativeMesh) else geom._id()
+
+
+class NativeBackend(object):
+    """The C hot loop (ctypes, ``native.LIB``) on the World's PyODE world and spaces."""
+    native = True
+
+    def __init__(self, nat, ode_world, static_space, dyn_space):
+        self.nat = nat
+        self.ctx = nat.mr_ctx_new(odelib.raw_pointer(ode_world), static_space._id(), dyn_space._id())
+        self._surface_index = {}
+        self._model_slots = []
+        self._next_uid = 1
+        self._body_owner = []
+        self._body_array = None
+        self._damp_arrays = None
+        self.ncontacts = 0
+
+    def set_seed(self, seed):
+        self.nat.mr_set_seed(self.ctx, seed)
+
+    def register_geom(self, world, info):
+        model = info.model
+        if model._uid is None:
+            model._uid = self._next_uid
+            self._next_uid += 1
+            free = [i for i, m in enumerate(self._model_slots) if m is None]
+            if free:
+                model._cindex = free[0]
+                self._model_slots[free[0]] = model
+            else:
+                model._cindex = len(self._model_slots)
+                self._model_slots.append(model)
+        self.update_geom(world, info)
+
+    def _surface_idx(self, s):
+        key = s.key()
+        idx = self._surface_index.get(key)
+        if idx is None:
+            idx = len(self._surface_index)
+            self._surface_index[key] = idx
+            self.nat.mr_set_surface(self.ctx, idx, *key)
+        return idx
+
+    def update_geom(self, world, info):
+        m = info.model
+        self.nat.mr_set_geom(self.ctx, geom_ptr(info.geom), m._cindex, m._uid, info.group,
+                             1 if info.self_collide else 0, self._surface_idx(info.surface))
+
+    def forget_model(self, model):
+        if model._cindex is not None and model._cindex < len(self._model_slots) and \
+                self._model_slots[model._cindex] is model:
+            self._model_slots[model._cindex] = None
+
+    def remove_geom(self, geom):
+        """True when the geom is gone entirely (a native mesh); else it still has to leave its space."""
+        if isinstance(geom, NativeMesh):
+            geom.destroy()
+            return True
+        if self.ctx is not None:
+            self.nat.mr_remove_geom(self.ctx, geom._id())
+        return False
+
+    def close(self):
+        if self.ctx is not None:
+            self.nat.mr_ctx_free(self.ctx)
+            self.ctx = None
+
+    def rebuild(self, world):
+        nat, ctx = self.nat, self.ctx
+        nat.mr_clear_adjacency(ctx)
+        for m in world.models.values():
+            for a, b in m._adjacent:
+                nat.mr_add_adjacent(ctx, m._uid or 0, a, b)
+        nat.mr_set_model_count(ctx, len(self._model_slots))
+        owners = [(m, g) for m in world._dynamic_models for g in m._dyn_groups]
+        self._body_owner = owners
+        self._body_array = (ctypes.c_void_p * max(1, len(owners)))(
+            *[odelib.raw_pointer(g.body) for _, g in owners])
+        damped = world._damped
+        n = len(damped)
+        self._damp_arrays = (n, (ctypes.c_void_p * max(1, n))(*[odelib.raw_pointer(j._ode) for j in damped]),
+                             (ctypes.c_int * max(1, n))(*[0 if j._angular else 1 for j in damped]),
+                             (ctypes.c_double * max(1, n))(*[j._damping_eff for j in damped]))
+
+    def make_mesh_geom(self, world, mesh, dynamic, what):
+        verts, tris = mesh
+        return NativeMesh(self.nat, self.ctx, verts, tris, dynamic), IDENTITY_POSE
+
+    def apply_damping(self, world):
+        n, jp, kinds, coef = self._damp_arrays
+        if n:
+            self.nat.mr_apply_damping(jp, kinds, coef, n)
+
+    def step(self, world, dt):
+        g = world.gravity
+        self.ncontacts = self.nat.mr_step(self.ctx, dt, g[0], g[1], g[2], world._layer, world._max_contacts)
+        return self.ncontacts
+
+    def find_blowups(self, world):
+        nat = self.nat
+        owners = self._body_owner
+        nb = len(owners)
+        vmax2, wmax2 = world._vmax2, world._wmax2
+        flagged = []
+        i = nat.mr_check_bodies(self._body_array, 0, nb, vmax2, wmax2) if nb else -1
+        while i >= 0:
+            m, g = owners[i]
+            flagged.append((m, g, velocity_reason(g.body, vmax2, wmax2)))
+            k = i + 1
+            while k < nb and owners[k][0] is m:
+                k += 1
+            i = nat.mr_check_bodies(self._body_array, k, nb, vmax2, wmax2) if k < nb else -1
+        cmax = world._params["guard_max_contacts"]
+        if self.ncontacts > cmax:
+            for m in world._dynamic_models:
+                n = nat.mr_model_contacts(self.ctx, m._cindex)
+                if n > cmax and all(f[0] is not m for f in flagged):
+                    flagged.append(contact_explosion(m, n, cmax))
+        return flagged
+
+    def contacts(self, world):
+        out = []
+        n = self.ncontacts
+        if n <= 0:
+            return out
+        gs = (ctypes.c_void_p * (2 * n))()
+        vals = (ctypes.c_double * (7 * n))()
+        n = self.nat.mr_contact_log(self.ctx, gs, vals, n)
+        by_ptr = {geom_ptr(g): info for g, info in world._geom_info.items()}
+        for k in range(n):
+            i1, i2 = by_ptr.get(gs[2 * k]), by_ptr.get(gs[2 * k + 1])
+            if i1 is None or i2 is None:
+                continue  # removed since
+            v = vals[7 * k:7 * k + 7]
+            out.append((i1, i2, tuple(v[0:3]), tuple(v[3:6]), v[6]))
+        return out
+
+    def overlaps(self, world, model):
+        """The C collider knows every geom type (also triangle meshes): AABB-overlapping pairs."""
+        found = {}
+        others = [(g, i) for g, i in world._geom_info.items() if i.model is not model]
+        boxes = {}
+        for g, _ in others + [(g, None) for g in model._geoms]:
+            if not isinstance(g, ode.GeomPlane):
+                boxes[g] = g.getAABB()
+        for geom in model._geoms:
+            mine = world._geom_info[geom]
+            for other, info in others:
+                if mine.body is None and info.body is None:
+                    continue
+                a, b = boxes.get(geom), boxes.get(other)
+                if a is not None and b is not None and (a[1] < b[0] or b[1] < a[0] or a[3] < b[2]
+                                                        or b[3] < a[2] or a[5] < b[4] or b[5] < a[4]):
+                    continue
+                d = self.nat.mr_max_depth(geom_ptr(geom), geom_ptr(other))
+                key = (model.name, mine.link.name, info.model.name, info.link.name)
+                if d > found.get(key, 0.0):
+                    found[key] = d
+        return found
+
+
+class NativeMesh(object):
+    """A triangle-mesh geom made by the C loop (no PyODE object exists for it); implements the
+    few geom methods the builder and the World use."""
+
+    def __init__(self, nat, ctx, verts, tris, dynamic):
+        import array
+        va = array.array("d", [c for v in verts for c in v])
+        ta = array.array("i", [i for t in tris for i in t])
+        self._nat = nat
+        self._ctx = ctx
+        self.ptr = self._nat.mr_mesh_create(self._ctx, va.buffer_info()[0], len(verts),
+                                            ta.buffer_info()[0], len(tris), 1 if dynamic else 0)
+        self._pos = (0.0, 0.0, 0.0)
+        self._quat = (1.0, 0.0, 0.0, 0.0)
+        self._body = None
+
+    def setBody(self, body):
+        self._body = body  # keeps the PyODE body alive as long as the geom
+        self._nat.mr_geom_set_body(self.ptr, odelib.raw_pointer(body) if body is not None else None)
+
+    def setOffsetPosition(self, p):
+        self._pos = tuple(p)
+        self._nat.mr_geom_set_offset(self.ptr, *(self._pos + self._quat))
+
+    def setOffsetQuaternion(self, q):
+        self._quat = tuple(q)
+        self._nat.mr_geom_set_offset(self.ptr, *(self._pos + self._quat))
+
+    def setPosition(self, p):
+        self._pos = tuple(p)
+        self._nat.mr_geom_set_pose(self.ptr, *(self._pos + self._quat))
+
+    def setQuaternion(self, q):
+        self._quat = tuple(q)
+        self._nat.mr_geom_set_pose(self.ptr, *(self._pos + self._quat))
+
+    def setCategoryBits(self, bits):
+        self._cat = bits
+        self._nat.mr_geom_set_bits(self.ptr, bits, getattr(self, "_col", bits))
+
+    def setCollideBits(self, bits):
+        self._col = bits
+        self._nat.mr_geom_set_bits(self.ptr, getattr(self, "_cat", bits), bits)
+
+    def getAABB(self):
+        out = (ctypes.c_double * 6)()
+        self._nat.mr_geom_aabb(self.ptr, out)
+        return tuple(out)
+
+    def destroy(self):
+        if self.ptr:
+            self._nat.mr_mesh_destroy(self._ctx, self.ptr)
+            self.ptr = None
+            self._body = None
