@@ -22,8 +22,11 @@ class PidConfigType(object):
     def __init__(self, gains):
         big = max(100000.0, 10.0 * max(abs(gains.p), abs(gains.i), abs(gains.d),
                                        abs(gains.i_max), abs(gains.i_min)))
-        self.defaults = {"p": gains.p, "i": gains.i, "d": gains.d, "i_clamp_min": gains.i_min,
-                         "i_clamp_max": gains.i_max, "antiwindup": gains.antiwindup}
+        # doubles as dynamic_reconfigure declares them: a YAML gain written as 30 must not reach
+        # clients as an int parameter
+        self.defaults = {"p": float(gains.p), "i": float(gains.i), "d": float(gains.d),
+                         "i_clamp_min": float(gains.i_min), "i_clamp_max": float(gains.i_max),
+                         "antiwindup": bool(gains.antiwindup)}
         self.min = {"p": -big, "i": -big, "d": -big, "i_clamp_min": -big, "i_clamp_max": 0.0,
                     "antiwindup": False}
         self.max = {"p": big, "i": big, "d": big, "i_clamp_min": 0.0, "i_clamp_max": big, "antiwindup": True}
