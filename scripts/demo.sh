@@ -16,7 +16,7 @@ case "$scenario" in
     runner="$root/src/polaris_description/scripts/polaris_demo"
     ;;
   ptrz)
-    runner=""
+    runner="$root/src/ptrz_camera/scripts/ptrz_demo"
     ;;
   *)
     echo "make demo: unknown SCENARIO '$scenario'; choose one of one_robot, two_robots, ptrz, katana, polaris" >&2

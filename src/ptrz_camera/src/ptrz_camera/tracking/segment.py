@@ -7,12 +7,13 @@ import numpy as np
 
 Detection = namedtuple("Detection", "u v area")
 
-#: HSV range of the ball (OpenCV: H 0..180, S and V 0..255): a saturated orange.
-ORANGE = ((5, 150, 90), (22, 255, 255))
+#: HSV range of the ball (OpenCV: H 0..180, S and V 0..255): a saturated magenta, a colour nothing
+#: else in the worlds has (the seed's pole is Gazebo/Orange, its camera link red).
+MAGENTA = ((140, 120, 70), (170, 255, 255))
 
 
 class BallFinder(object):
-    def __init__(self, hsv_low=ORANGE[0], hsv_high=ORANGE[1], min_area=6):
+    def __init__(self, hsv_low=MAGENTA[0], hsv_high=MAGENTA[1], min_area=6):
         self.low = np.array(hsv_low, dtype=np.uint8)
         self.high = np.array(hsv_high, dtype=np.uint8)
         self.min_area = min_area

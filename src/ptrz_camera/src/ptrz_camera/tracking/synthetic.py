@@ -1,12 +1,12 @@
 """Synthetic camera images from the pinhole model (for tests and for checking the tracking core
-without a renderer): a green floor with white lines, an orange ball, grey sky."""
+without a renderer): a green floor with white lines, a magenta ball, grey sky."""
 import numpy as np
 
 from ptrz_camera import pinhole
 
 SKY = (170, 190, 210)
 FLOOR = (46, 140, 56)
-BALL = (255, 110, 0)
+BALL = (230, 0, 190)
 
 
 def render(pose, intr, ball_centre, ball_radius, noise=0.0, rng=None):

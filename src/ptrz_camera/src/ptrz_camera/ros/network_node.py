@@ -1,0 +1,170 @@
+"""ptrz_network: the camera network at work (ptrz_camera.tracking.network behind ROS topics).
+
+Per camera <ns>: in <ns>/camera1/image_raw, <ns>/camera1/camera_info, <ns>/joint_states and the
+camera's robot_description; out <ns>/pan_position_controller/command and tilt, <ns>/ball_point
+(PointStamped, world: this camera's floor estimate) and <ns>/ball_pixel (PointStamped, frame
+'image': x = u, y = v, z = area in px). For the network: /ptrz_network/ball (PointStamped, world:
+the fused floor position, z = the ball's radius), /ptrz_network/coverage (nav_msgs/OccupancyGrid:
+-1 never seen, 0 seen now ... 100 not seen for ~stale_time s) and /ptrz_network/mode (tracking |
+scanning)."""
+import threading
+import time
+
+import numpy as np
+import rospy
+from geometry_msgs.msg import PointStamped
+from nav_msgs.msg import OccupancyGrid
+from sensor_msgs.msg import CameraInfo, Image, JointState
+from std_msgs.msg import Float64, String
+
+from ptrz_camera import kinematics, pinhole
+from ptrz_camera.errors import PtrzError
+from ptrz_camera.tracking import network, segment
+from ptrz_camera.worlds import FIELD
+
+
+def description_param(ns):
+    return "/robot_description" if ns == "ptrz" else "/%s/robot_description" % ns
+
+
+class CameraIO(object):
+    def __init__(self, ns, node):
+        self.ns = ns
+        self.lock = threading.Lock()
+        self.image = None
+        self.intr = None
+        self.pan = rospy.Publisher("/%s/pan_position_controller/command" % ns, Float64, queue_size=1)
+        self.tilt = rospy.Publisher("/%s/tilt_position_controller/command" % ns, Float64, queue_size=1)
+        self.point = rospy.Publisher("/%s/ball_point" % ns, PointStamped, queue_size=5)
+        self.pixel = rospy.Publisher("/%s/ball_pixel" % ns, PointStamped, queue_size=5)
+        self.subs = [rospy.Subscriber("/%s/camera1/image_raw" % ns, Image, self._on_image, queue_size=1),
+                     rospy.Subscriber("/%s/camera1/camera_info" % ns, CameraInfo, self._on_info, queue_size=1),
+                     rospy.Subscriber("/%s/joint_states" % ns, JointState, node.on_joints, callback_args=ns,
+                                      queue_size=50)]
+
+    def _on_image(self, msg):
+        with self.lock:
+            self.image = msg
+
+    def _on_info(self, msg):
+        if msg.width > 0 and msg.K[0] > 0:
+            with self.lock:
+                self.intr = pinhole.intrinsics_from_camera_info(msg)
+
+    def take(self):
+        with self.lock:
+            img, self.image = self.image, None
+            return img, self.intr
+
+
+class NetworkNode(object):
+    def __init__(self, names, floor, radius, rate, finder, lead):
+        chains = {}
+        for ns in names:
+            param = description_param(ns)
+            xml = rospy.get_param(param, None)
+            if not xml:
+                raise PtrzError("camera %s: no robot description on %s (start ptrz.launch first)" % (ns, param))
+            chains[ns] = kinematics.CameraChain(xml)
+        self.core = network.Network(chains, floor, radius, finder=finder, lead=lead)
+        self.core_lock = threading.Lock()
+        self.rate = rate
+        self.io = {ns: CameraIO(ns, self) for ns in names}
+        self.ball_pub = rospy.Publisher("/ptrz_network/ball", PointStamped, queue_size=10)
+        self.grid_pub = rospy.Publisher("/ptrz_network/coverage", OccupancyGrid, queue_size=1, latch=True)
+        self.mode_pub = rospy.Publisher("/ptrz_network/mode", String, queue_size=1, latch=True)
+        self.last_mode = None
+
+    def on_joints(self, msg, ns):
+        q = {n: p for n, p in zip(msg.name, msg.position)}
+        with self.core_lock:
+            self.core.on_joints(ns, msg.header.stamp.to_sec(), q)
+
+    def step(self):
+        t = rospy.get_time()
+        for ns, io in self.io.items():
+            img, intr = io.take()
+            if img is None or intr is None or img.encoding != "rgb8":
+                continue
+            rgb = np.frombuffer(img.data, np.uint8).reshape(img.height, img.width, 3)
+            stamp = img.header.stamp.to_sec()
+            with self.core_lock:
+                obs = self.core.on_image(ns, stamp, rgb, intr)
+            if obs is not None and obs.detection is not None:
+                px = PointStamped()
+                px.header.stamp, px.header.frame_id = img.header.stamp, "image"
+                px.point.x, px.point.y, px.point.z = obs.detection.u, obs.detection.v, obs.detection.area
+                io.pixel.publish(px)
+                if obs.estimate is not None:
+                    io.point.publish(self._point(img.header.stamp, obs.estimate.xy))
+        with self.core_lock:
+            fused = self.core.fuse(t)
+            settled = {}
+            for ns, cam in self.core.cameras.items():
+                settled[ns] = (cam.command is not None and abs(cam.q.get("pan", 0) - cam.command[0]) < 0.02
+                               and abs(cam.q.get("tilt", 0) - cam.command[1]) < 0.02)
+            cmds = self.core.commands(t, settled)
+            mode = self.core.mode
+        if fused is not None:
+            self.ball_pub.publish(self._point(rospy.Time.from_sec(fused[0]), fused[1].xy))
+        for ns, (pan, tilt) in cmds.items():
+            io = self.io[ns]          # every step: a late-connecting controller still gets it
+            io.pan.publish(Float64(pan))
+            io.tilt.publish(Float64(tilt))
+        if mode != self.last_mode:
+            self.mode_pub.publish(String(mode))
+            rospy.loginfo("ptrz_network: %s" % mode)
+            self.last_mode = mode
+
+    def _point(self, stamp, xy):
+        p = PointStamped()
+        p.header.stamp, p.header.frame_id = stamp, "world"
+        p.point.x, p.point.y, p.point.z = float(xy[0]), float(xy[1]), self.core.radius
+        return p
+
+    def publish_grid(self):
+        t = rospy.get_time()
+        with self.core_lock:
+            g = self.core.grid
+            data = g.values(t)
+        msg = OccupancyGrid()
+        msg.header.stamp, msg.header.frame_id = rospy.Time.from_sec(t), "world"
+        msg.info.resolution = g.resolution
+        msg.info.width, msg.info.height = g.nx, g.ny
+        msg.info.origin.position.x, msg.info.origin.position.y = g.x0, g.y0
+        msg.info.origin.orientation.w = 1.0
+        msg.data = data.ravel().tolist()
+        self.grid_pub.publish(msg)
+
+    def run(self):
+        next_grid = 0.0
+        while not rospy.is_shutdown():
+            self.step()
+            now = time.monotonic()
+            if now >= next_grid:
+                self.publish_grid()
+                next_grid = now + 1.0
+            try:
+                rospy.rostime.wallsleep(1.0 / self.rate)
+            except rospy.ROSInterruptException:
+                return
+
+
+def main():
+    rospy.init_node("ptrz_network")
+    names = rospy.get_param("~cameras", None) or rospy.get_param("/ptrz_network/cameras", "ptrz")
+    if isinstance(names, str):
+        names = names.split()
+    floor = rospy.get_param("~floor", [FIELD.centre_x - FIELD.length / 2, FIELD.centre_y - FIELD.width / 2,
+                                       FIELD.length, FIELD.width])
+    finder = segment.BallFinder(tuple(rospy.get_param("~hsv_low", list(segment.MAGENTA[0]))),
+                                tuple(rospy.get_param("~hsv_high", list(segment.MAGENTA[1]))))
+    try:
+        rospy.wait_for_message("/clock", rospy.AnyMsg, timeout=120)
+        node = NetworkNode(names, tuple(floor), float(rospy.get_param("~ball_radius", 0.11)),
+                           float(rospy.get_param("~rate", 30.0)), finder, float(rospy.get_param("~lead", 0.25)))
+    except (PtrzError, rospy.ROSException) as exc:
+        rospy.logerr("ptrz_network: %s" % exc)
+        return 2
+    node.run()
+    return 0
