@@ -10,7 +10,6 @@ import os
 import signal
 import socket
 import subprocess
-import sys
 import time
 
 import cv2
@@ -76,11 +75,13 @@ def run(args, launch):
     print("[ptrz demo] waiting for the first network estimate ...", flush=True)
     while time.monotonic() < deadline and not rec.snapshot()[1]:
         if launch.poll() is not None:
-            print("RESULT %s: FAILURE -- the simulation stopped (see %s/ptrz_launch.log)" % (args.scenario, args.out))
+            print("RESULT %s: FAILURE -- the simulation stopped (see %s/ptrz_launch.log)"
+                  % (args.scenario, args.out))
             return 1
         time.sleep(0.5)
     t0_sim, t0_wall = rospy.get_time(), time.monotonic()
-    print("[ptrz demo] tracking from sim time %.1f s; recording %.0f s of simulated time" % (t0_sim, args.duration),
+    print("[ptrz demo] tracking from sim time %.1f s; recording %.0f s of simulated time"
+          % (t0_sim, args.duration),
           flush=True)
     last_report = 0
     while time.monotonic() < deadline and rospy.get_time() - t0_sim < args.duration:
@@ -107,10 +108,11 @@ def run(args, launch):
         w.writerow(["kind", "t", "x", "y"])
         w.writerows([("true",) + tuple(p) for p in truth] + [("estimate",) + tuple(p) for p in est])
     ok = s.n > 0 and s.max <= args.tolerance and sim >= 0.95 * args.duration
-    print("[ptrz demo] wrote %s, %s" % (plot, ", ".join("ptrz_%s.png" % n for n in sorted(images))), flush=True)
-    print("RESULT %s: %s -- %d camera(s), %.1f s simulated (real-time factor %.2f), %d estimates, error mean "
-          "%.1f cm, 95 %% %.1f cm, max %.1f cm, %.0f %% within %.0f cm, ball in the central third of the image "
-          "in %.0f %% of detections" % (args.scenario, "SUCCESS" if ok else "FAILURE", len(names), sim, rtf, s.n,
-                                         100 * s.mean, 100 * s.p95, 100 * s.max, 100 * s.within,
-                                         100 * args.tolerance, 100 * s.centred), flush=True)
+    frames = ", ".join("ptrz_%s.png" % n for n in sorted(images))
+    print("[ptrz demo] wrote %s, %s" % (plot, frames), flush=True)
+    values = (args.scenario, "SUCCESS" if ok else "FAILURE", len(names), sim, rtf, s.n, 100 * s.mean,
+              100 * s.p95, 100 * s.max, 100 * s.within, 100 * args.tolerance, 100 * s.centred)
+    print("RESULT %s: %s -- %d camera(s), %.1f s simulated (real-time factor %.2f), %d estimates, error "
+          "mean %.1f cm, 95 %% %.1f cm, max %.1f cm, %.0f %% within %.0f cm, ball in the central third of "
+          "the image in %.0f %% of detections" % values, flush=True)
     return 0 if ok else 1

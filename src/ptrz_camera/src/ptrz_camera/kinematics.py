@@ -44,7 +44,8 @@ class CameraChain(object):
             rpy = [float(v) for v in (origin.get("rpy", "0 0 0") if origin is not None else "0 0 0").split()]
             axis = j.find("axis")
             ax = [float(v) for v in axis.get("xyz").split()] if axis is not None else [1.0, 0.0, 0.0]
-            by_child[j.find("child").get("link")] = (j.get("name"), j.get("type"), j.find("parent").get("link"),
+            by_child[j.find("child").get("link")] = (j.get("name"), j.get("type"),
+                                                     j.find("parent").get("link"),
                                                      transform(rot_rpy(*rpy), xyz), ax)
         if camera_link is None:
             cams = [c for c in by_child if c == "camera" or c.endswith("_camera")]

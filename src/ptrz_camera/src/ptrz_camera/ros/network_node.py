@@ -38,7 +38,8 @@ class CameraIO(object):
         self.point = rospy.Publisher("/%s/ball_point" % ns, PointStamped, queue_size=5)
         self.pixel = rospy.Publisher("/%s/ball_pixel" % ns, PointStamped, queue_size=5)
         self.subs = [rospy.Subscriber("/%s/camera1/image_raw" % ns, Image, self._on_image, queue_size=1),
-                     rospy.Subscriber("/%s/camera1/camera_info" % ns, CameraInfo, self._on_info, queue_size=1),
+                     rospy.Subscriber("/%s/camera1/camera_info" % ns, CameraInfo, self._on_info,
+                                      queue_size=1),
                      rospy.Subscriber("/%s/joint_states" % ns, JointState, node.on_joints, callback_args=ns,
                                       queue_size=50)]
 
@@ -64,7 +65,8 @@ class NetworkNode(object):
             param = description_param(ns)
             xml = rospy.get_param(param, None)
             if not xml:
-                raise PtrzError("camera %s: no robot description on %s (start ptrz.launch first)" % (ns, param))
+                raise PtrzError("camera %s: no robot description on %s (start ptrz.launch first)"
+                                % (ns, param))
             chains[ns] = kinematics.CameraChain(xml)
         self.core = network.Network(chains, floor, radius, finder=finder, lead=lead)
         self.core_lock = threading.Lock()
@@ -77,8 +79,9 @@ class NetworkNode(object):
 
     def on_joints(self, msg, ns):
         q = {n: p for n, p in zip(msg.name, msg.position)}
+        qd = {n: v for n, v in zip(msg.name, msg.velocity)} if len(msg.velocity) == len(msg.name) else None
         with self.core_lock:
-            self.core.on_joints(ns, msg.header.stamp.to_sec(), q)
+            self.core.on_joints(ns, msg.header.stamp.to_sec(), q, qd)
 
     def step(self):
         t = rospy.get_time()
@@ -162,7 +165,8 @@ def main():
     try:
         rospy.wait_for_message("/clock", rospy.AnyMsg, timeout=120)
         node = NetworkNode(names, tuple(floor), float(rospy.get_param("~ball_radius", 0.11)),
-                           float(rospy.get_param("~rate", 30.0)), finder, float(rospy.get_param("~lead", 0.25)))
+                           float(rospy.get_param("~rate", 30.0)), finder,
+                           float(rospy.get_param("~lead", 0.25)))
     except (PtrzError, rospy.ROSException) as exc:
         rospy.logerr("ptrz_network: %s" % exc)
         return 2

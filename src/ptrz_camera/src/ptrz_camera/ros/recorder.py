@@ -22,7 +22,8 @@ class TrackingRecorder(object):
                      rospy.Subscriber("/ptrz_network/ball", PointStamped, self._est, queue_size=50),
                      rospy.Subscriber("/ptrz_network/mode", String, self._mode, queue_size=5)]
         for c in cameras:
-            self.subs += [rospy.Subscriber("/%s/ball_point" % c, PointStamped, self._cam_point, c, queue_size=50),
+            self.subs += [rospy.Subscriber("/%s/ball_point" % c, PointStamped, self._cam_point, c,
+                                           queue_size=50),
                           rospy.Subscriber("/%s/ball_pixel" % c, PointStamped, self._pixel, c, queue_size=50),
                           rospy.Subscriber("/%s/camera1/image_raw" % c, Image, self._image, c, queue_size=1)]
 
@@ -55,5 +56,6 @@ class TrackingRecorder(object):
 
     def snapshot(self):
         with self.lock:
-            return (list(self.truth), list(self.estimates), {k: list(v) for k, v in self.camera_points.items()},
+            return (list(self.truth), list(self.estimates),
+                    {k: list(v) for k, v in self.camera_points.items()},
                     {k: list(v) for k, v in self.pixels.items()}, dict(self.images))

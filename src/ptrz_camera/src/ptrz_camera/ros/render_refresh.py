@@ -55,5 +55,6 @@ class RenderRefresh(object):
 
 def main():
     rospy.init_node("render_refresh")
-    RenderRefresh(rospy.get_param("~prefix", "/camera_renderer/"), float(rospy.get_param("~rate", 20.0))).run()
+    RenderRefresh(rospy.get_param("~prefix", "/camera_renderer/"),
+                  float(rospy.get_param("~rate", 20.0))).run()
     return 0

@@ -42,7 +42,8 @@ def main():
     camera = rospy.get_param("~camera", ns.rstrip("/") + "/camera1")
     try:
         ZoomNode(ns, camera, float(rospy.get_param("~fov", zoom.NOMINAL_FOV)),
-                 float(rospy.get_param("~fov_min", zoom.TELE_FOV)), float(rospy.get_param("~fov_max", zoom.WIDE_FOV)))
+                 float(rospy.get_param("~fov_min", zoom.TELE_FOV)),
+                 float(rospy.get_param("~fov_max", zoom.WIDE_FOV)))
     except (ZoomRangeError, ValueError) as exc:
         rospy.logerr("ptrz_zoom: %s" % exc)
         return 2

@@ -11,8 +11,9 @@ def footprint(pose, intr, max_range=12.0, samples=8):
     """Floor polygon (N x 2, world xy) seen by the camera, or None if it sees no floor."""
     rot, t = pose
     w, h = intr.width, intr.height
-    border = ([(w * i / samples, 0) for i in range(samples)] + [(w, h * i / samples) for i in range(samples)]
-              + [(w - w * i / samples, h) for i in range(samples)] + [(0, h - h * i / samples) for i in range(samples)])
+    steps = [i / float(samples) for i in range(samples)]
+    border = ([(w * s, 0) for s in steps] + [(w, h * s) for s in steps]
+              + [(w - w * s, h) for s in steps] + [(0, h - h * s) for s in steps])
     pts = []
     for u, v in border:
         d = rot.dot(pinhole.ray(intr, u, v))

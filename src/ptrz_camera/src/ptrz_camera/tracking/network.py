@@ -19,17 +19,25 @@ class Camera(object):
         self.chain = chain
         self.joint_times = deque(maxlen=400)
         self.joint_values = deque(maxlen=400)
+        self.joint_rates = deque(maxlen=400)
         self.last = None              # last Observation with a detection
         self.command = None           # (pan, tilt)
         self.q = {}
 
-    def add_joints(self, t, q):
+    def add_joints(self, t, q, qd=None):
         if self.joint_times and t < self.joint_times[-1]:
             self.joint_times.clear()          # time went back (simulation reset)
             self.joint_values.clear()
         self.joint_times.append(t)
         self.joint_values.append(dict(q))
         self.q = dict(q)
+        if qd is not None:
+            self.joint_rates.append((t, max(abs(qd.get("pan", 0.0)), abs(qd.get("tilt", 0.0)))))
+
+    def slewing(self, t, limit):
+        """True if pan or tilt turned faster than ``limit`` rad/s within 0.1 s of time t: the
+        rendered image and the joint angles of its time stamp may then disagree."""
+        return any(abs(tr - t) <= 0.1 and rate > limit for tr, rate in self.joint_rates)
 
     def joints_at(self, t):
         """Joint angles at time t, linearly interpolated; None before any are known."""
@@ -49,7 +57,7 @@ class Camera(object):
 
 class Network(object):
     def __init__(self, chains, floor, ball_radius=0.11, finder=None, lead=0.25, lost_time=2.0,
-                 fuse_window=0.06, sigma_px=1.0, resolution=0.1, stale_time=20.0):
+                 fuse_window=0.06, sigma_px=1.0, resolution=0.1, stale_time=20.0, max_slew=0.15):
         self.cameras = {name: Camera(name, chain) for name, chain in chains.items()}
         self.order = list(chains)
         self.floor = floor
@@ -59,6 +67,7 @@ class Network(object):
         self.lost_time = lost_time
         self.window = fuse_window
         self.sigma_px = sigma_px
+        self.max_slew = max_slew
         self.grid = coverage.CoverageGrid(floor[0], floor[1], floor[2], floor[3], resolution, stale_time)
         xy = [tuple(chain.pose({})[1][:2]) for chain in chains.values()]
         self.plan = scan_plan.ScanPlan(xy, floor)
@@ -66,8 +75,8 @@ class Network(object):
         self.velocity = np.zeros(2)
         self.mode = "scanning"
 
-    def on_joints(self, name, t, q):
-        self.cameras[name].add_joints(t, q)
+    def on_joints(self, name, t, q, qd=None):
+        self.cameras[name].add_joints(t, q, qd)
 
     def on_image(self, name, t, rgb, intr):
         """Process one image taken at time t; returns the Observation (detection may be None)."""
@@ -81,7 +90,7 @@ class Network(object):
             self.grid.mark(poly, t)
         det = self.finder.find(rgb)
         est = None
-        if det is not None:
+        if det is not None and not cam.slewing(t, self.max_slew):
             est = localize.floor_estimate(pose, intr, det.u, det.v, self.radius, self.sigma_px)
             if est is not None and not self.plausible_size(pose, intr, est, det.area):
                 est = None

@@ -22,7 +22,8 @@ def render(pose, intr, ball_centre, ball_radius, noise=0.0, rng=None):
     s_floor = np.where(down, -t[2] / np.where(down, d[..., 2], -1), np.inf)
     img[down] = FLOOR
     p = t + s_floor[..., None] * d
-    lines = down & ((np.abs(np.mod(p[..., 0], 1.0) - 0.5) < 0.02) | (np.abs(np.mod(p[..., 1], 1.0) - 0.5) < 0.02))
+    on_x = np.abs(np.mod(p[..., 0], 1.0) - 0.5) < 0.02
+    lines = down & (on_x | (np.abs(np.mod(p[..., 1], 1.0) - 0.5) < 0.02))
     img[lines] = (240, 240, 240)
     oc = t - np.asarray(ball_centre, dtype=float)
     b = d.dot(oc)
