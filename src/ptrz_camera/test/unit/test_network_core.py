@@ -57,4 +57,4 @@ def test_scanning_covers_the_floor_when_nothing_is_seen(chains):
     assert net.mode == "scanning"
     assert net.grid.fraction_seen(30.0) > 0.9
     values = net.grid.values(30.0)
-    assert values.min() == 0 and (values >= 0).all()
+    assert values.min() <= 2 and (values >= 0).all()      # the last image was 0.25 s before
