@@ -290,3 +290,14 @@ def test_the_guard_backs_off_and_stops_a_model_that_keeps_blowing_up(caplog):
     assert len(lines) <= seconds + 2, (len(lines), seconds)  # one per model per simulated second
     assert world_mod.GUARD_STREAK_LIMIT > 100 * len(lines)  # was one ERROR line per restoration
     world.step(10)  # the next steps go on (the node pauses; unpausing tries again)
+
+
+def test_spawn_initial_positions_are_bounded_like_set_configuration():
+    world = scene()
+    before = signature(world)
+    with pytest.raises(ModelError, match="initial position 1e\\+12 of joint 's' is beyond"):
+        world.add_urdf("s1", _slider(), pose=((3, 0, 1), (0, 0, 0, 1)), joint_positions={"s": 1e12})
+    assert signature(world) == before
+    m = world.add_urdf("s2", _slider(), pose=((3, 0, 1), (0, 0, 0, 1)), joint_positions={"s": 3.0})
+    assert m.joints["s"].position == pytest.approx(0.5, abs=1e-9)
+    world.step(10)

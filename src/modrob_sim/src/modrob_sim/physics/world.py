@@ -347,6 +347,12 @@ class World(object):
                 if not math.isfinite(q):
                     raise ModelError("model '%s': initial position of joint '%s' is not a finite "
                                      "number: %r" % (desc.name, jn, joint_positions[jn]))
+                if abs(q) > limits.JOINT_POSITION_LIMIT:
+                    raise ModelError("model '%s': initial position %g of joint '%s' is beyond %g "
+                                     "(limits: docs/simulator.md)"
+                                     % (desc.name, q, jn, limits.JOINT_POSITION_LIMIT))
+                if jd.lower is not None and jd.upper is not None:
+                    q = min(max(q, jd.lower), jd.upper)  # as set_model_configuration: to the limit
                 targets[jn] = q
         meshes = self._prepare_meshes(desc)
         model = build_model(self, desc, pose, robot_namespace, meshes)
