@@ -49,7 +49,8 @@ def test_shutdown_during_a_long_step_is_clean(master):
     assert wait(lambda: subprocess.run(["rosnode", "list"], env=master,
                                        capture_output=True).returncode == 0, 30)
     node = subprocess.Popen([sys.executable, GAZEBO, "_paused:=true", "_real_time_factor:=0",
-                             "__name:=gazebo"], env=master, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+                             "__name:=gazebo"], env=master, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
     caller = None
     try:
         # ROS clients in their own processes: this pytest process must not become a ROS node
