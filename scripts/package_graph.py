@@ -74,7 +74,8 @@ def levels(pkgs):
 
 def dot_source(pkgs):
     lv = levels(pkgs)
-    lines = ["digraph packages {", '  rankdir=BT; node [shape=box, style="rounded,filled", fillcolor="#eef3fb",'
+    lines = ["digraph packages {",
+             '  rankdir=BT; node [shape=box, style="rounded,filled", fillcolor="#eef3fb",'
              ' fontname="Helvetica"]; edge [color="#555555"];']
     for level in sorted(set(lv.values())):
         names = " ".join('"%s"' % n for n in sorted(pkgs) if lv[n] == level)
