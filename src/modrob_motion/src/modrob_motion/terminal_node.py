@@ -6,12 +6,13 @@ angles come from ``/modrob<N>/joint_states``; ``xyz`` targets are solved with KD
 ``/gazebo/get_model_state`` when its URDF root is not ``world``.
 Parameters: ~robot (start robot id, 0), ~tip_link, ~tcp_offset [x,y,z] (tool point in the tip
 frame, default the gripper's fingertip centre when ~tcp_offset is unset: [0,0,0]),
-~connect_timeout (s to wait for a motion_publisher before sending, 3), ~linger (s to stay after
+~connect_timeout (wall-clock s to wait for a motion_publisher before sending, 3), ~linger (s to stay after
 end of input so the last command is delivered, 0.5).
 """
 import re
 import sys
 import threading
+import time
 
 import rospy
 from sensor_msgs.msg import JointState
@@ -113,9 +114,11 @@ class MotionTerminalNode(object):
 
     def send(self, command):
         pub = self._publisher(command.robot_id)
-        deadline = rospy.get_time() + self.connect_timeout
-        while pub.get_num_connections() == 0 and rospy.get_time() < deadline and not rospy.is_shutdown():
-            rospy.sleep(0.05)
+        # connecting to a subscriber takes wall-clock time: at real_time_factor 0 the simulated
+        # seconds of connect_timeout pass long before the handshake ends
+        deadline = time.monotonic() + self.connect_timeout
+        while pub.get_num_connections() == 0 and time.monotonic() < deadline and not rospy.is_shutdown():
+            time.sleep(0.05)
         if pub.get_num_connections() == 0:
             self.write("warning: nothing listens on /modrob%d/motion_command (start motion_publisher); "
                        "sent anyway" % command.robot_id)
@@ -163,4 +166,4 @@ def main():
                               tuple(float(v) for v in offset),
                               float(rospy.get_param("~connect_timeout", 3.0)))
     node.run()
-    rospy.sleep(float(rospy.get_param("~linger", 0.5)))
+    time.sleep(float(rospy.get_param("~linger", 0.5)))  # wall time: let the last messages go out
