@@ -1,6 +1,14 @@
 """ROS layer of the ``camera_renderer`` node: cameras from ``~cameras`` and from the simulator's
 camera sensors (``~sensors_param``), rendered by :class:`RvizScene`, published as
-``sensor_msgs/Image`` (+ ``CameraInfo`` when asked) stamped with ROS (sim) time.
+``sensor_msgs/Image`` (+ ``CameraInfo`` when asked).
+
+An image is consistent with its stamp: each frame is rendered from the camera frame's pose at one
+tf time T (the newest transform of the frame when the frame is started: RViz's Camera display
+looks the pose up at the stamp of its 1x1 placeholder image, which carries T), the frame is
+grabbed only once RViz has drawn that placeholder, and the image is stamped T. A user can look
+the camera pose up in tf at the image's stamp and cast rays from it, also while the camera moves.
+The scene's objects are drawn where RViz's newest tf has them, which is T or at most one scene tf
+message later. Cameras on static frames are stamped with the time of the grab.
 
 Callbacks only store the latest CameraInfo; a Qt timer in the main thread does all the work
 (RViz is not thread-safe). Problems with one camera (no intrinsics, zero-size CameraInfo, frame
@@ -42,6 +50,7 @@ class _Camera(object):
         self.last_rgb = None
         self.frames = 0
         self.recorder = None
+        self.pending = None         # (stamp, RViz image count, wall time, intrinsics, frame): frame in flight
 
     def close(self):
         for p in (self.pub_image, self.pub_info, self.pub_blank, self.pub_rviz_info, self.sub):
@@ -244,6 +253,9 @@ class CameraRendererNode(object):
         with self.lock:
             cams = list(self.cams.values())
         for cam in cams:
+            if cam.pending is not None:
+                self._collect(cam, now)
+                continue
             if now < cam.next_t:
                 continue
             cam.next_t = max(cam.next_t + 1.0 / cam.spec["rate"], now - 0.5 / cam.spec["rate"])
@@ -255,20 +267,39 @@ class CameraRendererNode(object):
             self._show(cam, frame, intr)
             if not shown_before or not self.scene.ready(cam.spec["id"]):
                 continue            # RViz renders the new pinhole on its next frame
-            rgb = self.scene.grab(cam.spec["id"])
-            # RViz's Camera display moves its camera to the frame's latest pose only when an image
-            # arrives: a new (1x1) image per frame keeps a moving camera up to date
-            cam.pub_blank.publish(cam.blank)
-            if rgb is None:
-                continue
-            self._publish(cam, rgb, intr, frame)
+            self._start_frame(cam, frame, intr, now)
 
-    def _publish(self, cam, rgb, intr, frame):
+    def _start_frame(self, cam, frame, intr, now):
+        """Send the placeholder stamped with the time T of the frame's newest transform: RViz's
+        Camera display moves its camera to the frame's pose at that stamp when the image arrives
+        (and only then: a new placeholder per frame keeps a moving camera up to date)."""
+        try:
+            stamp = self.tf_buffer.lookup_transform(self.fixed_frame, frame, rospy.Time(0)).header.stamp
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+                tf2_ros.ExtrapolationException):
+            return
+        cam.blank.header.stamp = stamp          # zero for a static frame: RViz takes the latest
+        cam.pending = (stamp, self.scene.images_received(cam.spec["id"]), now, intr, frame)
+        cam.pub_blank.publish(cam.blank)
+
+    def _collect(self, cam, now):
+        """Grab the frame once RViz has drawn the placeholder (its image count went up; RViz
+        takes messages, updates its displays and renders in one pass of this thread's loop)."""
+        stamp, count, since, intr, frame = cam.pending
+        if self.scene.images_received(cam.spec["id"]) <= count:
+            if now - since > 1.0:       # dropped (e.g. tf at T never reached RViz): start again
+                cam.pending = None
+            return
+        cam.pending = None
+        rgb = self.scene.grab(cam.spec["id"])
+        if rgb is not None:
+            self._publish(cam, rgb, intr, frame, stamp if not stamp.is_zero() else rospy.Time.now())
+
+    def _publish(self, cam, rgb, intr, frame, stamp):
         spec = cam.spec
         rgb = camera_spec.apply_noise(rgb, spec["noise_mean"], spec["noise_stddev"], self.rng)
         cam.last_rgb = rgb
         cam.frames += 1
-        stamp = rospy.Time.now()
         info_frame = cam.info.header.frame_id if cam.info is not None else ""
         header_frame = spec["header_frame"] or info_frame or frame
         arr, encoding, step = camera_spec.convert(rgb, spec["format"])

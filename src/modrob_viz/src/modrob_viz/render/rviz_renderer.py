@@ -165,6 +165,13 @@ class RvizScene(object):
         return not (st.get("Image", "No Image").startswith("No Image")
                     or st.get("Camera Info", "No CameraInfo").startswith("No CameraInfo"))
 
+    def images_received(self, name):
+        """How many (placeholder) images the camera's display has taken so far (RViz's status
+        'N images received'); 0 before the first."""
+        text = self.status(name).get("Image", "")
+        head = text.split(" ", 1)[0]
+        return int(head) if head.isdigit() else 0
+
     def process_events(self):
         self.app.processEvents()
 
