@@ -149,7 +149,7 @@ def test_fixed_joint_child_keeps_its_own_frame():
     world = World()
     m = world.add_urdf("arm", H.robot("arm", body))
     assert set(m.links) == {"base", "arm", "tool", "camera_frame"}
-    assert len(m._bodies) == 1  # arm + tool + camera_frame lumped into one body
+    assert len(m.bodies) == 1  # arm + tool + camera_frame lumped into one body
     assert m.links["tool"].mass == 0.2
     m.set_configuration(["shoulder"], [0.7])
     world.step(10)
@@ -205,7 +205,7 @@ def test_floating_joint_child_falls_freely_at_g():
             H.joint("free", "floating", "base", "drone", "0 0 2"))
     world = World()
     m = world.add_urdf("f", H.robot("f", body), pose=((0, 0, 100.0), (0, 0, 0, 1)))
-    assert len(m._bodies) == 2 and not m._ode_joints
+    assert len(m.bodies) == 2 and not m.articulated
     n, dt = 400, world.time_step
     world.step(n)
     t = world.time

@@ -163,7 +163,7 @@ def test_wrench_lever_arm_beyond_the_limit_is_refused_and_nothing_is_queued():
         next(iter(world.models["box"].links.values()))
     with pytest.raises(ValueError, match="reference_point .* beyond 1e\\+06 m"):
         ln.add_wrench((0, 1e9, 0), (0, 0, 0), reference_point=(1e308, 0, 0))
-    assert not ln._wrenches
+    assert not ln.has_wrenches
     world.step(20)
     assert all(abs(x) < 10 for x in world.models["box"].pose[0])
 
@@ -193,7 +193,7 @@ def test_planar_joint_leaves_the_child_free_as_gazebo_does(caplog):
     with caplog.at_level(logging.WARNING, logger="modrob_sim.physics"):
         m = world.add_urdf("planar", xml, pose=((0, 0, 2), (0, 0, 0, 1)))
     assert "joint 'p' is planar" in caplog.text
-    assert len(m._bodies) == 2
+    assert len(m.bodies) == 2
     world.step(200)  # no ground: both fall freely, each on its own
     assert m.links["b"].pose[0][2] < 2.5 - 0.15
 

@@ -16,7 +16,7 @@ _spec.loader.exec_module(H)
 
 def world_signature(world):
     return (list(world.models), len(world._geom_info), world._ode_world is not None,
-            sum(len(m._bodies) for m in world.models.values()), world.state_digest())
+            sum(len(m.bodies) for m in world.models.values()), world.state_digest())
 
 
 @pytest.mark.parametrize("xml, message", [
@@ -167,7 +167,7 @@ def test_huge_wrench_is_caught_and_model_restored():
     events = world.pop_events()
     assert events and events[0].model == "box" and events[0].link == "box"
     assert all(math.isfinite(v) for v in box.pose[0])
-    assert not box.links["box"]._wrenches  # the offending wrench is cleared
+    assert not box.links["box"].has_wrenches  # the offending wrench is cleared
 
 
 def build_scene(world):
@@ -318,7 +318,7 @@ def test_sleeping_bodies_wake_when_their_support_goes():
         "<include><uri>model://ground_plane</uri></include>", ""))
     can = world.models["can"]
     world.step(800)
-    assert not can._bodies[0].isEnabled()  # asleep on the table
+    assert not can.bodies[0].isEnabled()  # asleep on the table
     z = can.pose[0][2]
     world.models["table"].set_pose(((1.0, 0.0, 0.525), (0, 0, 0, 1)))  # table top lowered by 0.2 m
     world.step(600)

@@ -5,13 +5,15 @@ meshes collide as their bounding boxes). The World picks one at construction and
 everything that differs; nothing else in the World knows which one runs.
 
 Interface (``world`` is passed in; a backend keeps no reference to its World, so the World's
-finalizer can tear the ODE objects down through the backend):
+finalizer can tear the ODE objects down through the backend). A backend is part of the World:
+it reads the World's own state (spaces, parameters, caches, its per-model entries) and uses
+only the physics-side interface of Model, Link and Joint (model.py):
 
     native                          True for the C loop
     set_seed(seed)                  ODE's random seed (quickStep's row order) after a reset
     register_geom(world, info)      a new geom of a model (info: the World's _GeomInfo)
     update_geom(world, info)        its collision bits / self_collide changed
-    forget_model(model)             the model left the World
+    forget_model(entry)             the model (the World's entry for it) left the World
     remove_geom(geom)               free one geom (model removal and teardown)
     rebuild(world)                  the set of models, joints or the time step changed
     make_mesh_geom(world, mesh, dynamic, what) -> (geom, pose of the geom in the mesh frame)
@@ -54,7 +56,8 @@ def velocity_reason(b, vmax2, wmax2):
 
 
 def contact_explosion(model, n, cmax):
-    return (model, model._dyn_groups[0], "contact explosion: %d contacts in one step (limit %d)" % (n, cmax))
+    return (model, model.dynamic_groups[0],
+            "contact explosion: %d contacts in one step (limit %d)" % (n, cmax))
 
 
 class PureBackend(object):
@@ -74,7 +77,7 @@ class PureBackend(object):
     def update_geom(self, world, info):
         pass
 
-    def forget_model(self, model):
+    def forget_model(self, entry):
         pass
 
     def remove_geom(self, geom):
@@ -98,12 +101,8 @@ class PureBackend(object):
         return ode.GeomBox(space, lengths=size), (center, (0.0, 0.0, 0.0, 1.0))
 
     def apply_damping(self, world):
-        for j in world._damped:
-            o = j._ode
-            if j._angular:
-                o.addTorque(-j._damping_eff * o.getAngleRate())
-            else:
-                o.addForce(-j._damping_eff * o.getPositionRate())
+        for j, coefficient in world._damped:
+            j.add_damping(coefficient)
 
     def step(self, world, dt):
         world._contact_group.empty()
@@ -119,9 +118,11 @@ class PureBackend(object):
         vmax2, wmax2 = world._vmax2, world._wmax2
         cmax = world._params["guard_max_contacts"]
         flagged = []
+        entries = world._entries
         for m in world._dynamic_models:
             bad = None
-            for g in m._dyn_groups:
+            e = entries[m]
+            for g in m.dynamic_groups:
                 b = g.body
                 v = b.getLinearVel()
                 w = b.getAngularVel()
@@ -130,9 +131,9 @@ class PureBackend(object):
                 if not (v2 < vmax2 and w2 < wmax2):
                     bad = (m, g, velocity_reason(b, vmax2, wmax2))
                     break
-            if bad is None and m._ncontacts > cmax:
-                bad = contact_explosion(m, m._ncontacts, cmax)
-            m._ncontacts = 0
+            if bad is None and e.ncontacts > cmax:
+                bad = contact_explosion(m, e.ncontacts, cmax)
+            e.ncontacts = 0
             if bad is not None:
                 flagged.append(bad)
         return flagged
@@ -155,7 +156,7 @@ class PureBackend(object):
                 if d > found.get(key, 0.0):
                     found[key] = d
 
-        for geom in model._geoms:
+        for geom in model.geoms:
             if isinstance(geom, ode.GeomPlane):
                 continue
             for sp in (world._static_space, world._dyn_space):
@@ -210,7 +211,7 @@ class PureBackend(object):
         m = i1.model
         if m is i2.model:
             if not (i1.self_collide or i2.self_collide) or i1.group == i2.group or \
-                    (i1.group, i2.group) in m._adjacent:
+                    (i1.group, i2.group) in i1.entry.adjacent:
                 return
         b1, b2 = i1.body, i2.body
         if (b1 is None or not b1.isEnabled()) and (b2 is None or not b2.isEnabled()):
@@ -224,8 +225,8 @@ class PureBackend(object):
             contacts = _select_spread(contacts, cap)
             n = cap
         self.ncontacts += n
-        m._ncontacts += n
-        i2.model._ncontacts += n
+        i1.entry.ncontacts += n
+        i2.entry.ncontacts += n
         pp = self._pair(w, i1.surface, i2.surface, b1 is None, b2 is None)
         mode = pp.mode
         fdir = None
@@ -350,17 +351,17 @@ class NativeBackend(object):
         self.nat.mr_set_seed(self.ctx, seed)
 
     def register_geom(self, world, info):
-        model = info.model
-        if model._uid is None:
-            model._uid = self._next_uid
+        e = info.entry
+        if e.uid is None:
+            e.uid = self._next_uid
             self._next_uid += 1
             free = [i for i, m in enumerate(self._model_slots) if m is None]
             if free:
-                model._cindex = free[0]
-                self._model_slots[free[0]] = model
+                e.cindex = free[0]
+                self._model_slots[free[0]] = e
             else:
-                model._cindex = len(self._model_slots)
-                self._model_slots.append(model)
+                e.cindex = len(self._model_slots)
+                self._model_slots.append(e)
         self.update_geom(world, info)
 
     def _surface_idx(self, s):
@@ -373,14 +374,14 @@ class NativeBackend(object):
         return idx
 
     def update_geom(self, world, info):
-        m = info.model
-        self.nat.mr_set_geom(self.ctx, geom_ptr(info.geom), m._cindex, m._uid, info.group,
+        e = info.entry
+        self.nat.mr_set_geom(self.ctx, geom_ptr(info.geom), e.cindex, e.uid, info.group,
                              1 if info.self_collide else 0, self._surface_idx(info.surface))
 
-    def forget_model(self, model):
-        if model._cindex is not None and model._cindex < len(self._model_slots) and \
-                self._model_slots[model._cindex] is model:
-            self._model_slots[model._cindex] = None
+    def forget_model(self, entry):
+        if entry.cindex is not None and entry.cindex < len(self._model_slots) and \
+                self._model_slots[entry.cindex] is entry:
+            self._model_slots[entry.cindex] = None
 
     def remove_geom(self, geom):
         """True when the geom is gone entirely (a native mesh); else it still has to leave its space."""
@@ -400,18 +401,20 @@ class NativeBackend(object):
         nat, ctx = self.nat, self.ctx
         nat.mr_clear_adjacency(ctx)
         for m in world.models.values():
-            for a, b in m._adjacent:
-                nat.mr_add_adjacent(ctx, m._uid or 0, a, b)
+            e = world._entries[m]
+            for a, b in e.adjacent:
+                nat.mr_add_adjacent(ctx, e.uid or 0, a, b)
         nat.mr_set_model_count(ctx, len(self._model_slots))
-        owners = [(m, g) for m in world._dynamic_models for g in m._dyn_groups]
+        owners = [(m, g) for m in world._dynamic_models for g in m.dynamic_groups]
         self._body_owner = owners
         self._body_array = (ctypes.c_void_p * max(1, len(owners)))(
             *[odelib.raw_pointer(g.body) for _, g in owners])
         damped = world._damped
         n = len(damped)
-        self._damp_arrays = (n, (ctypes.c_void_p * max(1, n))(*[odelib.raw_pointer(j._ode) for j in damped]),
-                             (ctypes.c_int * max(1, n))(*[0 if j._angular else 1 for j in damped]),
-                             (ctypes.c_double * max(1, n))(*[j._damping_eff for j in damped]))
+        self._damp_arrays = (n, (ctypes.c_void_p * max(1, n))(*[odelib.raw_pointer(j.ode_joint)
+                                                                for j, _ in damped]),
+                             (ctypes.c_int * max(1, n))(*[0 if j.is_angular else 1 for j, _ in damped]),
+                             (ctypes.c_double * max(1, n))(*[c for _, c in damped]))
 
     def make_mesh_geom(self, world, mesh, dynamic, what):
         verts, tris = mesh
@@ -444,7 +447,7 @@ class NativeBackend(object):
         cmax = world._params["guard_max_contacts"]
         if self.ncontacts > cmax:
             for m in world._dynamic_models:
-                n = nat.mr_model_contacts(self.ctx, m._cindex)
+                n = nat.mr_model_contacts(self.ctx, world._entries[m].cindex)
                 if n > cmax and all(f[0] is not m for f in flagged):
                     flagged.append(contact_explosion(m, n, cmax))
         return flagged
@@ -471,10 +474,10 @@ class NativeBackend(object):
         found = {}
         others = [(g, i) for g, i in world._geom_info.items() if i.model is not model]
         boxes = {}
-        for g, _ in others + [(g, None) for g in model._geoms]:
+        for g, _ in others + [(g, None) for g in model.geoms]:
             if not isinstance(g, ode.GeomPlane):
                 boxes[g] = g.getAABB()
-        for geom in model._geoms:
+        for geom in model.geoms:
             mine = world._geom_info[geom]
             for other, info in others:
                 if mine.body is None and info.body is None:

@@ -241,7 +241,7 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
             link._T = pose_mul(inv, poses[link.name])
         model._bodies.append(body)
         model._dyn_groups.append(g)
-        world._update_group_gravity(g)
+        world.group_gravity_changed(g)
     model.is_static = not model._bodies
 
     # ---- geoms ------------------------------------------------------------------------------
@@ -273,7 +273,7 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
                 geom.setOffsetPosition(rel[0])
                 geom.setOffsetQuaternion(to_ode_quat(rel[1]))
             else:
-                world._place_static_geom(geom, pose_mul(link._static_pose, origin))
+                world.place_static_geom(geom, pose_mul(link._static_pose, origin))
             world._register_geom(geom, model, link, surface, body)
             link._geoms.append((geom, origin))
 

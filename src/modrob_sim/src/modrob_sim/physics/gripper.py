@@ -90,7 +90,7 @@ class Gripper(object):
 
     # -- the hook ----------------------------------------------------------------------------
     def after_step(self, t, dt):
-        if getattr(self.model, "_removed", False):
+        if self.model.removed:
             self.close()
             return
         if t < self._last_t:  # reset / reset_world: let go and start counting again
@@ -99,7 +99,7 @@ class Gripper(object):
             self._seen.clear()
             self._next = t + UPDATE_PERIOD
         self._last_t = t
-        if self.attached is not None and getattr(self.attached[0], "_removed", False):
+        if self.attached is not None and self.attached[0].removed:
             self._detach("model '%s' was deleted" % self.attached[0].name)
         name = self.model.name
         for c in self.world.contacts():
@@ -115,14 +115,14 @@ class Gripper(object):
         if model_name == self.model.name and link_name in self.links:
             return
         m = self.world.models.get(model_name)
-        if m is None or link_name not in m.links or m.links[link_name]._body is None:
+        if m is None or link_name not in m.links or m.links[link_name].body is None:
             return  # static: Gazebo's gripper ignores those
         self._seen.add((glink, model_name, link_name))
 
     def _update(self):
         models = self.world.models
         seen = set(s for s in self._seen if s[1] in models and s[2] in models[s[1]].links
-                   and not getattr(models[s[1]], "_removed", False))
+                   and not models[s[1]].removed)
         self._seen = set()
         if len(seen) >= self.desc.min_contact_count:
             self._pos += 1
@@ -154,10 +154,10 @@ class Gripper(object):
             return
 
     def _attach(self, obj_model, obj_link):
-        if obj_link._body is None:
+        if obj_link.body is None:
             return
-        j = ode.FixedJoint(self.world._ode_world)
-        j.attach(obj_link._body, self.palm._body)  # a static palm (no body): to the world
+        j = ode.FixedJoint(self.world.ode_world)
+        j.attach(obj_link.body, self.palm.body)  # a static palm (no body): to the world
         j.setFixed()
         self._joint = j
         self.attached = (obj_model, obj_link.name)
@@ -171,7 +171,7 @@ class Gripper(object):
         self._joint.attach(None, None)
         self._joint = None
         obj = self.attached
-        body = obj[0].links[obj[1]]._body if not getattr(obj[0], "_removed", False) else None
+        body = obj[0].links[obj[1]].body if not obj[0].removed else None
         if body is not None:
             body.enable()  # it may have fallen asleep while held
         self.attached = None

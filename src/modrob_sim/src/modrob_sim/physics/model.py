@@ -5,16 +5,25 @@ Frames: every ODE body sits at the centre of mass of its *group* (a link plus ev
 to it by fixed joints), oriented like the group's root link. Each Link keeps ``_T`` = pose of the
 link frame in its body frame, so link poses go both ways without loss (also for links behind
 fixed joints, which Gazebo loses).
+
+Each class has two faces: the contract (poses, twists, efforts, wrenches, configuration) and a
+*physics-side interface* used by the World and its backends (marked as such below: the ODE
+objects, state capture/restore, applying this step's commands). The World calls these and never
+touches the objects' private attributes; the builder (:func:`builder.build_model`) is the only
+code besides the classes themselves that sets them.
 """
 import logging
 import math
 import weakref
 
+import ode
+
 from ..errors import InputError, SimulationError
 from . import odelib
 from .limits import JOINT_POSITION_LIMIT, LENGTH_LIMIT
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, pose_inv, pose_mul,
-                         quat_from_axis_angle, quat_rotate, from_ode_quat, to_ode_quat)
+                         quat_from_axis_angle, quat_rotate, from_ode_quat, to_ode_quat,
+                         transform_point)
 
 LOG = logging.getLogger("modrob_sim.physics")
 TWO_PI = 2.0 * math.pi
@@ -26,6 +35,8 @@ FORCE_CAP = 1e9
 #: teleport twists beyond this are refused (m/s, rad/s): nothing physical moves that fast, and
 #: astronomic values drive ODE's quaternion update to overflow
 TWIST_CAP = 1e6
+MIMIC_COUPLING_FORCE = 1e4     # N or N m: the largest force a mimic coupling (a linkage) carries
+MIMIC_GAIN = 0.5               # share of a mimic joint's position error corrected per step
 
 
 def _capped(v):
@@ -163,7 +174,57 @@ class Link(object):
     def gravity_enabled(self, on):
         self._gravity = bool(on)
         if self._group is not None:
-            self.model._world._update_group_gravity(self._group)
+            self.model._world.group_gravity_changed(self._group)
+
+    # ---- physics-side interface (World and backends) -------------------------------------------
+    @property
+    def body(self):
+        """The ODE body this link is part of (None when static or removed)."""
+        return self._body
+
+    @property
+    def group(self):
+        """The Group (links welded by fixed joints) this link belongs to."""
+        return self._group
+
+    @property
+    def body_offset(self):
+        """Pose of the link frame in its body's frame."""
+        return self._T
+
+    @property
+    def has_wrenches(self):
+        return bool(self._wrenches)
+
+    def apply_wrenches(self, dt):
+        """Add this step's wrenches to the body; drop those whose duration ran out. Returns True
+        while some remain."""
+        b = self._body
+        keep = []
+        for w in self._wrenches:
+            f, tq, p, remaining = w
+            if b is not None:
+                b.enable()
+                q = b.getQuaternion()
+                bp = b.getPosition()
+                pw = transform_point(((bp[0], bp[1], bp[2]), (q[1], q[2], q[3], q[0])),
+                                     transform_point(self._T, p))
+                b.addForceAtPos(f, pw)
+                b.addTorque(tq)
+            if remaining is not None:
+                remaining -= dt
+                if remaining <= 1e-12:
+                    continue
+                w[3] = remaining
+            keep.append(w)
+        self._wrenches = keep
+        return bool(keep)
+
+    def release(self):
+        """The model left the world: forget the ODE objects."""
+        self._geoms = []
+        self._body = None
+        self._wrenches = []
 
     # ---- wrenches ----------------------------------------------------------------------------
     def add_wrench(self, force, torque, reference_point=(0.0, 0.0, 0.0), duration=None):
@@ -184,7 +245,7 @@ class Link(object):
         if self._body is None:
             return
         self._wrenches.append([f, t, p, duration])
-        self.model._world._wrench_links.add(self)
+        self.model._world.queue_wrench(self)
 
     def clear_wrenches(self):
         del self._wrenches[:]
@@ -289,7 +350,7 @@ class Joint(object):
     def _queue(self):
         if not self._has_cmd:
             self._has_cmd = True
-            self.model._world._effort_joints.append(self)
+            self.model._world.queue_effort(self)
 
     def set_effort(self, f):
         """Effort (N m or N) for the NEXT step only; clamped to +-effort_limit. Several calls in one
@@ -333,6 +394,94 @@ class Joint(object):
         fm = min(fm, FORCE_CAP)
         self._vel_target = (v, fm) if fm > 0 else None
         self._apply_motor()
+
+    # ---- physics-side interface (World and backends) -------------------------------------------
+    @property
+    def ode_joint(self):
+        """The ODE joint (None for fixed joints and removed models)."""
+        return self._ode
+
+    @property
+    def is_angular(self):
+        return self._angular
+
+    @property
+    def child_inertia(self):
+        """Inertia (kg m^2) or mass (kg) of the child body about/along the axis."""
+        return self._child_inertia
+
+    @property
+    def tracks_turns(self):
+        """True for an angular joint whose position counts whole turns (no stops inside +-pi)."""
+        return self._unwrap
+
+    @property
+    def has_soft_limits(self):
+        """True for revolute limits beyond +-pi (ODE's stops are moved with the turn count)."""
+        return self._soft_limits
+
+    def apply_command(self):
+        """Apply the effort queued for this step to ODE and report it in ``effort``."""
+        f = self._cmd
+        if self._angular:
+            self._ode.addTorque(f)
+        else:
+            self._ode.addForce(f)
+        self.effort = f
+        self._cmd = 0.0
+        self._has_cmd = False
+
+    def add_damping(self, coefficient):
+        """Explicit viscous damping for this step: -coefficient * velocity."""
+        o = self._ode
+        if self._angular:
+            o.addTorque(-coefficient * o.getAngleRate())
+        else:
+            o.addForce(-coefficient * o.getPositionRate())
+
+    def track_turns(self):
+        """After a step: count a whole turn when ODE's raw angle wrapped across +-pi."""
+        raw = self._ode.getAngle()
+        d = raw - self._last_raw
+        if d > math.pi:
+            self._turns -= 1
+        elif d < -math.pi:
+            self._turns += 1
+        self._last_raw = raw
+
+    def update_soft_limits(self):
+        """Revolute limits beyond +-pi: ODE stops only work on the raw angle in (-pi, pi], so move
+        them with the turn count each step."""
+        k = TWO_PI * self._turns
+        lo, hi = self.lower - k, self.upper - k
+        o = self._ode
+        o.setParam(odelib.PARAM_LO_STOP, lo if lo > -math.pi else -ode.Infinity)
+        o.setParam(odelib.PARAM_HI_STOP, hi if hi < math.pi else ode.Infinity)
+
+    def drive_mimic(self, master, dt):
+        """The mimic coupling as a stiff velocity constraint solved inside ODE's LCP (the joint's
+        motor row): target velocity = MIMIC_GAIN * (multiplier * q_master + offset - q) / dt, so
+        the error halves every step. It stands for a linkage, not a second actuator: its force is
+        bounded by MIMIC_COUPLING_FORCE and NOT by the mimic joint's effort limit (bounded by the
+        grip force, a mimic finger pressed by its master with that same force gave way). No
+        feed-forward of the master's velocity: that velocity is one step old, and through a
+        squeezed object the delay closed a loop that made the fingers chatter and lose it."""
+        mult, off = self.mimic[1], self.mimic[2]
+        q = self.position
+        v = MIMIC_GAIN * (master.position * mult + off - q) / dt
+        fmax = MIMIC_COUPLING_FORCE
+        if (self.lower is not None and q <= self.lower) or (self.upper is not None and q >= self.upper):
+            # At a stop ODE applies a powered motor's whole force EXPLICITLY (one LCP row for
+            # both): bound it by what reaches the target velocity in this step.
+            fmax = min(fmax, self._child_inertia * abs(v - self.velocity) / dt)
+        self._ode.setParam(odelib.PARAM_VEL, v)
+        self._ode.setParam(odelib.PARAM_FMAX, fmax)
+
+    def release(self):
+        """The model left the world: detach and forget the ODE joint."""
+        if self._ode is not None:
+            self._ode.attach(None, None)
+        self._ode = None
 
     def _apply_motor(self):
         j = self._ode
@@ -385,8 +534,8 @@ class Model(object):
         self._root_name = None
         self._adjacent = frozenset()  # (group index, group index) pairs joined by a joint
         self._ncontacts = 0
-        self._uid = None      # native loop: unique model id
-        self._cindex = None   # native loop: compact index (contact counters)
+        self._grippers = []
+        self._removed = False
 
     def __repr__(self):
         return "<Model %s>" % self.name
@@ -435,7 +584,7 @@ class Model(object):
                 for ln in g.links:
                     ln._static_pose = pose_mul(delta, ln._static_pose)
                     for geom, rel in ln._geoms:
-                        self._world._place_static_geom(geom, pose_mul(ln._static_pose, rel))
+                        self._world.place_static_geom(geom, pose_mul(ln._static_pose, rel))
             elif not only_static:
                 b = g.body
                 _set_body_pose(b, pose_mul(delta, _body_pose(b)))
@@ -572,8 +721,92 @@ class Model(object):
             j._turns = 0
             j._last_raw = 0.0
 
+    # ---- physics-side interface (World and backends) -------------------------------------------
+    @property
+    def bodies(self):
+        """The model's ODE bodies, one per dynamic Group, in group order."""
+        return tuple(self._bodies)
+
+    @property
+    def geoms(self):
+        """Every ODE geom of the model."""
+        return tuple(self._geoms)
+
+    @property
+    def groups(self):
+        return tuple(self._groups)
+
+    @property
+    def dynamic_groups(self):
+        """The Groups that have a body."""
+        return tuple(self._dyn_groups)
+
+    @property
+    def joints_in_order(self):
+        """Every joint, parents before children."""
+        return tuple(self._joint_order)
+
+    @property
+    def articulated(self):
+        """True when the model has ODE joints (not only welded links)."""
+        return bool(self._ode_joints)
+
+    @property
+    def world_attached(self):
+        """True when a non-fixed joint anchors the model to the world."""
+        return self._world_attached
+
+    @property
+    def removed(self):
+        return self._removed
+
+    def add_geom(self, geom):
+        self._geoms.append(geom)
+
+    def wake(self):
+        for b in self._bodies:
+            b.enable()
+
+    def state_finite(self):
+        """False when a body's pose has NaN/inf in it."""
+        for b in self._bodies:
+            for v in b.getPosition() + b.getQuaternion():
+                if not math.isfinite(v):
+                    return False
+        return True
+
+    def apply_configuration(self, targets):
+        """Teleport joints to ``targets`` ({name: position}, already checked) without the
+        teleport notification: for the World while it builds the model."""
+        self._apply_configuration(targets, rigid_velocity=False)
+
+    def capture_state(self):
+        """An opaque snapshot of every body and joint turn count (restore_state takes it)."""
+        return self._capture()
+
+    def restore_state(self, state, zero_velocity):
+        self._restore(state, zero_velocity)
+
+    def close_grippers(self):
+        for g in self._grippers:
+            g.close()
+
+    def release(self):
+        """The model left the world: forget every ODE object (the World removed the geoms)."""
+        for ln in self.links.values():
+            ln.release()
+        for j in self.joints.values():
+            j.release()
+        self._geoms = []
+        self._ode_joints = []
+        self._removed = True
+        for g in self._groups:
+            g.body = None
+        self._bodies = []
+        self._dyn_groups = []
+
     def _after_teleport(self):
-        self._world._model_teleported(self)
+        self._world.model_teleported(self)
 
     # ---- state snapshots (spawn state, guard) ------------------------------------------------
     def _capture(self):
@@ -591,7 +824,7 @@ class Model(object):
             for ln, p in statics:
                 ln._static_pose = p
                 for geom, rel in ln._geoms:
-                    self._world._place_static_geom(geom, pose_mul(p, rel))
+                    self._world.place_static_geom(geom, pose_mul(p, rel))
             if self._world_attached:
                 self._place_zero_configuration()
                 self._reset_joint_frames()

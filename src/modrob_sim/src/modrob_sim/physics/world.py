@@ -18,9 +18,9 @@ from . import native as native_mod
 from . import odelib
 from .backends import NativeBackend, NativeMesh, PureBackend  # noqa: F401 (NativeMesh: public name)
 from .builder import build_model
-from .model import FORCE_CAP, TWO_PI
+from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN  # noqa: F401 (public names)
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, dot, normalized, pose_mul,
-                         quat_rotate, to_ode_quat, transform_point)
+                         quat_rotate, to_ode_quat)
 from .urdf_reader import read_urdf
 
 LOG = logging.getLogger("modrob_sim.physics")
@@ -55,21 +55,37 @@ _ALL_BITS = (1 << 62) - 1
 AUTO_DISABLE_LINEAR = 0.005   # m/s
 AUTO_DISABLE_ANGULAR = 0.01   # rad/s
 AUTO_DISABLE_TIME = 0.2       # s
-MIMIC_COUPLING_FORCE = 1e4     # N or N m: the largest force a mimic coupling (a linkage) carries
-MIMIC_GAIN = 0.5               # share of a mimic joint's position error corrected per step
+
+
+class _ModelEntry(object):
+    """What the World keeps about one of its models (the model itself knows nothing of it):
+    collision filtering, the guard's snapshots and the native loop's ids."""
+    __slots__ = ("model", "slot", "adjacent", "ncontacts", "uid", "cindex", "spawn_state",
+                 "snapshot_state")
+
+    def __init__(self, model):
+        self.model = model
+        self.slot = 0                  # collision category bit (0: filtered in the callback)
+        self.adjacent = frozenset()    # (group index, group index) pairs joined by a joint
+        self.ncontacts = 0             # contacts of the last step (pure backend)
+        self.uid = None                # native loop: unique model id
+        self.cindex = None             # native loop: compact index (contact counters)
+        self.spawn_state = None
+        self.snapshot_state = None
 
 
 class _GeomInfo(object):
-    __slots__ = ("model", "link", "body", "surface", "self_collide", "group", "geom")
+    __slots__ = ("model", "link", "body", "surface", "self_collide", "group", "geom", "entry")
 
-    def __init__(self, geom, model, link, surface, body):
+    def __init__(self, geom, entry, link, surface, body):
         self.geom = geom
-        self.model = model
+        self.entry = entry
+        self.model = entry.model
         self.link = link
         self.body = body
         self.surface = surface
         self.self_collide = link.self_collide
-        self.group = link._group.index
+        self.group = link.group.index
 
 
 class World(object):
@@ -111,6 +127,7 @@ class World(object):
         self._guard_log = {}     # model -> [last logged t, suppressed, streak, last restore t]
         self._guard_stop = None  # a message: step() raises SimulationError with it
         self.models = OrderedDict()
+        self._entries = {}       # model -> _ModelEntry
         self._geom_info = {}
         self._hooks = OrderedDict()
         self._next_hook = 1
@@ -161,8 +178,7 @@ class World(object):
         self._gravity = limits.check_gravity(check_vec3(g, "World gravity"), "World gravity")
         self._ode_world.setGravity(self._gravity)
         for m in self.models.values():
-            for b in m._bodies:
-                b.enable()
+            m.wake()
 
     @property
     def seed(self):
@@ -224,8 +240,9 @@ class World(object):
     def _apply_auto_disable(self, model):
         """Auto-disable (as Gazebo's allow_auto_disable) only for free single-body models: an
         articulated robot under control must never fall asleep."""
-        on = bool(self._params["auto_disable"]) and len(model._bodies) == 1 and not model._ode_joints
-        for b in model._bodies:
+        bodies = model.bodies
+        on = bool(self._params["auto_disable"]) and len(bodies) == 1 and not model.articulated
+        for b in bodies:
             _set_auto_disable(b, on)
 
     def _reseed(self):
@@ -358,25 +375,32 @@ class World(object):
         model = build_model(self, desc, pose, robot_namespace, meshes)
         model.spawn_pose = pose
         try:
-            self._finalize_model(model, desc)
+            entry = self._entry(model)
+            self._finalize_model(model, entry, desc)
             if targets:
-                model._apply_configuration(targets, rigid_velocity=False)
+                model.apply_configuration(targets)
         except Exception:
             self._destroy_model_objects(model)
             raise
         self.models[model.name] = model
         self._rebuild_caches()
-        model._spawn_state = model._capture()
+        entry.spawn_state = model.capture_state()
         # ODE renormalises quaternions on every set (not idempotent to the last bit): restore the
         # captured state once so that the live state is exactly what reset() will produce
-        model._restore(model._spawn_state, zero_velocity=False)
-        model._snapshot_state = model._spawn_state
+        model.restore_state(entry.spawn_state, zero_velocity=False)
+        entry.snapshot_state = entry.spawn_state
         self._check_spawn_overlap(model)
         LOG.info("spawned model '%s': %d links, %d joints, %d bodies%s", model.name, len(model.links),
-                 len(model.joints), len(model._bodies), " (static)" if model.is_static else "")
+                 len(model.joints), len(model.bodies), " (static)" if model.is_static else "")
         return model
 
-    def _finalize_model(self, model, desc):
+    def _entry(self, model):
+        e = self._entries.get(model)
+        if e is None:
+            e = self._entries[model] = _ModelEntry(model)
+        return e
+
+    def _finalize_model(self, model, entry, desc):
         # collision filtering: links of one model never collide unless selfCollide; a model with
         # several bodies and no selfCollide gets a category bit so that ODE itself drops its
         # internal pairs before any Python callback (62 slots; beyond, Python filters)
@@ -385,36 +409,35 @@ class World(object):
                 ln.self_collide = True
         any_self = any(ln.self_collide for ln in model.links.values())
         slot = 0
-        if len(model._groups) > 1 and not any_self:
+        if len(model.groups) > 1 and not any_self:
             for s in range(1, 62):
                 if s not in self._used_slots:
                     slot = s
                     break
-        model._slot = slot
+        entry.slot = slot
         if slot:
             self._used_slots.add(slot)
             cat, col = 1 << slot, _ALL_BITS & ~(1 << slot)
         else:
             cat, col = _ALL_BITS, _ALL_BITS
-        for geom in model._geoms:
+        for geom in model.geoms:
             info = self._geom_info[geom]
             info.self_collide = info.link.self_collide
             geom.setCategoryBits(cat)
             geom.setCollideBits(col)
             self._backend.update_geom(self, info)
         adj = set()
-        for j in model._joint_order:
+        for j in model.joints_in_order:
             if j.type in ("fixed", "floating"):
                 continue  # floating: no constraint, the links are independent bodies
-            cg = model.links[j.child]._group.index
+            cg = model.links[j.child].group.index
             if j.parent == "world":
-                pg = model.links[model.canonical_link.name]._group.index if \
-                    model.canonical_link._body is None else -1
+                pg = model.canonical_link.group.index if model.canonical_link.body is None else -1
             else:
-                pg = model.links[j.parent]._group.index
+                pg = model.links[j.parent].group.index
             adj.add((pg, cg))
             adj.add((cg, pg))
-        model._adjacent = frozenset(adj)
+        entry.adjacent = frozenset(adj)
         self._apply_auto_disable(model)
 
     def remove_model(self, name):
@@ -422,9 +445,10 @@ class World(object):
         if model is None:
             raise ModelError("no model named '%s' (models: %s)" % (name, ", ".join(self.models) or "none"))
         del self.models[name]
+        slot = self._entry(model).slot
         self._destroy_model_objects(model)
         self._wake_all()  # whatever rested on it must fall
-        self._used_slots.discard(model._slot)
+        self._used_slots.discard(slot)
         self._rebuild_caches()
         LOG.info("removed model '%s'", name)
 
@@ -433,29 +457,45 @@ class World(object):
         self._effort_joints = [j for j in self._effort_joints if j.model is not model]
         self._last_effort_joints = [j for j in self._last_effort_joints if j.model is not model]
         self._contact_group.empty()
-        self._backend.forget_model(model)
+        entry = self._entries.pop(model, None)
+        if entry is not None:
+            self._backend.forget_model(entry)
 
     def _rebuild_caches(self):
         ms = list(self.models.values())
-        self._dynamic_models = [m for m in ms if m._bodies]
-        joints = [j for m in ms for j in m._joint_order if j._ode is not None]
-        self._damped = [j for j in joints if j.damping > 0.0]
-        self._mimics = [(j, m.joints[j.mimic[0]]) for m in ms for j in m._joint_order
-                        if j.mimic is not None and j._ode is not None]
-        self._unwrap = [j for j in joints if j._unwrap]
-        self._soft = [j for j in joints if j._soft_limits]
-        self._anti_gravity = [g for m in ms for g in m._dyn_groups if g.anti_gravity]
-        for j in self._damped:
-            j._damping_eff = min(j.damping, j._child_inertia / self._dt)
+        self._dynamic_models = [m for m in ms if m.bodies]
+        joints = [j for m in ms for j in m.joints_in_order if j.ode_joint is not None]
+        # explicit damping, bounded by what the step can take stably: (joint, coefficient)
+        self._damped = [(j, min(j.damping, j.child_inertia / self._dt)) for j in joints
+                        if j.damping > 0.0]
+        self._mimics = [(j, m.joints[j.mimic[0]]) for m in ms for j in m.joints_in_order
+                        if j.mimic is not None and j.ode_joint is not None]
+        self._unwrap = [j for j in joints if j.tracks_turns]
+        self._soft = [j for j in joints if j.has_soft_limits]
+        self._anti_gravity = [g for m in ms for g in m.dynamic_groups if g.anti_gravity]
         self._backend.rebuild(self)
 
     def _register_geom(self, geom, model, link, surface, body):
-        model._geoms.append(geom)
-        info = _GeomInfo(geom, model, link, surface, body)
+        model.add_geom(geom)
+        info = _GeomInfo(geom, self._entry(model), link, surface, body)
         self._geom_info[geom] = info
         self._backend.register_geom(self, info)
 
-    def _place_static_geom(self, geom, pose):
+    # ---- physics-side interface (called by Model, Link, Joint and the builder) ----------------
+    @property
+    def ode_world(self):
+        """The PyODE world (for physics-side helpers that add their own ODE joints)."""
+        return self._ode_world
+
+    def queue_effort(self, joint):
+        """``joint`` has an effort command for the next step."""
+        self._effort_joints.append(joint)
+
+    def queue_wrench(self, link):
+        """``link`` has wrenches to apply from the next step on."""
+        self._wrench_links.add(link)
+
+    def place_static_geom(self, geom, pose):
         if isinstance(geom, ode.GeomPlane):
             n = geom.attribs.get("local_normal")
             if n is not None:
@@ -472,11 +512,11 @@ class World(object):
         geom.attribs["local_normal"] = n
         return geom
 
-    def _update_group_gravity(self, group):
+    def group_gravity_changed(self, group):
         body = group.body
         if body is None:
             return
-        flags = [ln._gravity for ln in group.links]
+        flags = [ln.gravity_enabled for ln in group.links]
         if all(flags):
             body.setGravityMode(True)
             group.anti_gravity = ()
@@ -487,8 +527,8 @@ class World(object):
             body.setGravityMode(True)
             anti = []
             for ln in group.links:
-                if not ln._gravity and ln.mass > 0:
-                    anti.append((ln.mass, pose_mul(ln._T, ln.inertial_origin)[0]))
+                if not ln.gravity_enabled and ln.mass > 0:
+                    anti.append((ln.mass, pose_mul(ln.body_offset, ln.inertial_origin)[0]))
             group.anti_gravity = tuple(anti)
         body.enable()
         if group.model.name in self.models:
@@ -565,13 +605,7 @@ class World(object):
         self.iterations += 1
         self.time = t + dt
         for j in self._unwrap:
-            raw = j._ode.getAngle()
-            d = raw - j._last_raw
-            if d > math.pi:
-                j._turns -= 1
-            elif d < -math.pi:
-                j._turns += 1
-            j._last_raw = raw
+            j.track_turns()
         self._guard()
         for h in self._after:
             h(self.time, dt)
@@ -581,45 +615,19 @@ class World(object):
             j.effort = 0.0
         if self._effort_joints:
             for j in self._effort_joints:
-                f = j._cmd
-                if j._angular:
-                    j._ode.addTorque(f)
-                else:
-                    j._ode.addForce(f)
-                j.effort = f
-                j._cmd = 0.0
-                j._has_cmd = False
+                j.apply_command()
             self._last_effort_joints = self._effort_joints
             self._effort_joints = []
         else:
             self._last_effort_joints = []
         self._backend.apply_damping(self)
         for j, m in self._mimics:
-            self._drive_mimic(j, m, dt)
+            j.drive_mimic(m, dt)
         for j in self._soft:
-            self._update_soft_limits(j)
+            j.update_soft_limits()
         if self._wrench_links:
             for ln in list(self._wrench_links):
-                b = ln._body
-                keep = []
-                for w in ln._wrenches:
-                    f, tq, p, remaining = w
-                    if b is not None:
-                        b.enable()
-                        q = b.getQuaternion()
-                        bp = b.getPosition()
-                        pw = transform_point(((bp[0], bp[1], bp[2]), (q[1], q[2], q[3], q[0])),
-                                             transform_point(ln._T, p))
-                        b.addForceAtPos(f, pw)
-                        b.addTorque(tq)
-                    if remaining is not None:
-                        remaining -= dt
-                        if remaining <= 1e-12:
-                            continue
-                        w[3] = remaining
-                    keep.append(w)
-                ln._wrenches = keep
-                if not keep:
+                if not ln.apply_wrenches(dt):
                     self._wrench_links.discard(ln)
         if self._anti_gravity:
             g = self._gravity
@@ -627,34 +635,6 @@ class World(object):
                 b = grp.body
                 for m, rel in grp.anti_gravity:
                     b.addForceAtRelPos((-m * g[0], -m * g[1], -m * g[2]), rel)
-
-    def _drive_mimic(self, j, master, dt):
-        """The mimic coupling as a stiff velocity constraint solved inside ODE's LCP (the joint's
-        motor row): target velocity = MIMIC_GAIN * (multiplier * q_master + offset - q) / dt, so
-        the error halves every step. It stands for a linkage, not a second actuator: its force is
-        bounded by MIMIC_COUPLING_FORCE and NOT by the mimic joint's effort limit (bounded by the
-        grip force, a mimic finger pressed by its master with that same force gave way). No
-        feed-forward of the master's velocity: that velocity is one step old, and through a
-        squeezed object the delay closed a loop that made the fingers chatter and lose it."""
-        mult, off = j.mimic[1], j.mimic[2]
-        q = j.position
-        v = MIMIC_GAIN * (master.position * mult + off - q) / dt
-        fmax = MIMIC_COUPLING_FORCE
-        if (j.lower is not None and q <= j.lower) or (j.upper is not None and q >= j.upper):
-            # At a stop ODE applies a powered motor's whole force EXPLICITLY (one LCP row for
-            # both): bound it by what reaches the target velocity in this step.
-            fmax = min(fmax, j._child_inertia * abs(v - j.velocity) / dt)
-        j._ode.setParam(odelib.PARAM_VEL, v)
-        j._ode.setParam(odelib.PARAM_FMAX, fmax)
-
-    def _update_soft_limits(self, j):
-        """Revolute limits beyond +-pi: ODE stops only work on the raw angle in (-pi, pi], so move
-        them with the turn count each step."""
-        k = TWO_PI * j._turns
-        lo, hi = j.lower - k, j.upper - k
-        o = j._ode
-        o.setParam(odelib.PARAM_LO_STOP, lo if lo > -math.pi else -ode.Infinity)
-        o.setParam(odelib.PARAM_HI_STOP, hi if hi < math.pi else ode.Infinity)
 
     # ---- guard -------------------------------------------------------------------------------
     def _guard(self):
@@ -667,7 +647,7 @@ class World(object):
             bad = set(id(f[0]) for f in flagged)
             for m in self._dynamic_models:
                 if id(m) not in bad:
-                    m._snapshot_state = m._capture()
+                    self._entries[m].snapshot_state = m.capture_state()
 
     def _restore_after_blowup(self, model, link, reason):
         ev = GuardEvent(model.name, link, reason, self.time)
@@ -693,18 +673,10 @@ class World(object):
                                 "%s): stepping stopped. Fix the model (masses, joint limits, mimic "
                                 "offsets) or what commands it (gains, efforts), or delete it; then "
                                 "unpause" % (model.name, GUARD_STREAK_LIMIT, link, reason))
-        state = model._snapshot_state or model._spawn_state
-        model._restore(state, zero_velocity=True)
-        if not self._state_finite(model):
-            model._restore(model._spawn_state, zero_velocity=True)
-
-    @staticmethod
-    def _state_finite(model):
-        for b in model._bodies:
-            for v in b.getPosition() + b.getQuaternion():
-                if not math.isfinite(v):
-                    return False
-        return True
+        entry = self._entries[model]
+        model.restore_state(entry.snapshot_state or entry.spawn_state, zero_velocity=True)
+        if not model.state_finite():
+            model.restore_state(entry.spawn_state, zero_velocity=True)
 
     def contacts(self):
         """The contact points made in the last step (addition to the contract): a list of
@@ -716,15 +688,17 @@ class World(object):
         ev, self._events = self._events, []
         return ev
 
-    def _model_teleported(self, model):
-        model._snapshot_state = model._capture()
-        if model.is_static or model._world_attached:
+    def model_teleported(self, model):
+        """``model`` was moved by hand: that is its new sane state for the guard."""
+        entry = self._entries.get(model)
+        if entry is not None:
+            entry.snapshot_state = model.capture_state()
+        if model.is_static or model.world_attached:
             self._wake_all()  # sleeping bodies resting on a moved static part must notice
 
     def _wake_all(self):
         for m in self._dynamic_models:
-            for b in m._bodies:
-                b.enable()
+            m.wake()
 
     # ---- reset, digest -----------------------------------------------------------------------
     def reset(self):
@@ -738,9 +712,10 @@ class World(object):
         """reset_world: poses and velocities of every model to the spawn state; time kept."""
         self._contact_group.empty()
         for m in self.models.values():
-            m._restore(m._spawn_state, zero_velocity=False)
-            m._snapshot_state = m._spawn_state
-            m._ncontacts = 0
+            e = self._entries[m]
+            m.restore_state(e.spawn_state, zero_velocity=False)
+            e.snapshot_state = e.spawn_state
+            e.ncontacts = 0
         self._effort_joints = []
         self._last_effort_joints = []
 
@@ -750,7 +725,7 @@ class World(object):
         h.update(struct.pack("<dq", self.time, self.iterations))
         for m in self.models.values():
             h.update(m.name.encode("utf-8"))
-            for b in m._bodies:
+            for b in m.bodies:
                 h.update(struct.pack("<13d", *(b.getPosition() + b.getQuaternion() +
                                                b.getLinearVel() + b.getAngularVel())))
         return h.hexdigest()
@@ -767,32 +742,18 @@ class World(object):
 
 def _destroy_objects(model, geom_info, backend, wrench_links=None):
     """Drop every ODE object of ``model`` in a safe order: geoms out of their spaces first."""
-    for g in getattr(model, "_grippers", ()):
-        g.close()  # its weld joint goes while the ODE world still exists
-    for geom in model._geoms:
+    model.close_grippers()  # their weld joints go while the ODE world still exists
+    for geom in model.geoms:
         geom_info.pop(geom, None)
         if backend.remove_geom(geom):
             continue
         sp = geom.getSpace()
         if sp is not None:
             sp.remove(geom)
-    for ln in model.links.values():
-        ln._geoms = []
-        ln._body = None
-        ln._wrenches = []
-        if wrench_links is not None:
+    if wrench_links is not None:
+        for ln in model.links.values():
             wrench_links.discard(ln)
-    for j in model.joints.values():
-        if j._ode is not None:
-            j._ode.attach(None, None)
-        j._ode = None
-    model._geoms = []
-    model._ode_joints = []
-    model._removed = True
-    for g in model._groups:
-        g.body = None
-    model._bodies = []
-    model._dyn_groups = []
+    model.release()
 
 
 def _teardown(models, geom_info, backend, ode_world, static_space, dyn_space, contact_group):

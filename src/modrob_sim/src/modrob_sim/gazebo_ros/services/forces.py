@@ -69,7 +69,7 @@ class ForceServices(ServiceGroup):
             joint = self.lookup.joint(req.joint_name)
             if not math.isfinite(req.effort):
                 raise RequestError("effort is NaN or infinite")
-            if joint.type in ("fixed", "floating", "planar") or joint._ode is None:
+            if joint.type in ("fixed", "floating", "planar") or joint.ode_joint is None:
                 raise RequestError("joint [%s] is %s: it takes no effort (nothing applied)"
                                    % (req.joint_name, joint.type))
             if abs(req.effort) > FORCE_CAP:
