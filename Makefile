@@ -16,7 +16,7 @@ help:
 	@echo "make build     catkin_make;  make build-colcon: colcon build into build_colcon/ install_colcon/"
 	@echo "make fuzz      the simulator's fuzz suite in full (MODROB_FUZZ_SCALE=20: models, requests, YAML; minutes)"
 	@echo "make lint      catkin_lint on all packages + flake8 on all Python"
-	@echo "make bench     benchmarks under scripts/bench/ (results in docs/benchmarks.md)"
+	@echo "make bench     quick benchmarks vs PyBullet/MuJoCo (< 10 min; FULL=1 everything, J=N side by side): docs/benchmarks.md, out/bench/"
 	@echo "make tune      rqt_reconfigure on the running system (FILTER=/ptrz narrows; LAUNCH='pkg file args' starts a scenario beside it)"
 	@echo "make graph     rqt_graph of the running system to out/rqt_graph.png/.svg, then its window (LAUNCH= as for tune)"
 	@echo "make plot SERIES='/topic/field[i] ...'  live plot; out/rqt_plot.png/.csv when closed (LAUNCH= as for tune)"
@@ -68,7 +68,7 @@ lint:
 
 bench:
 	@$(ROOT)/scripts/setup.sh
-	@$(ENV) && for b in $(ROOT)/scripts/bench/*.sh; do echo "== $$b"; bash $$b || exit 1; done
+	@$(ENV) && bash $(ROOT)/scripts/bench/run.sh $(if $(filter 1 true yes,$(FULL)),--full) $(if $(J),-j $(J))
 
 rviz:
 	@$(ENV) && roslaunch modrob_sim empty_world.launch gui:=true

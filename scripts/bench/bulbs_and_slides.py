@@ -20,7 +20,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 
 
 def run_once(scenario, jitter, seed, out):
-    cmd = [os.path.join(ROOT, "src", "modrob_sim", "scripts", "bulbs_and_slides_demo"), "--scenario",
+    cmd = [os.path.join(ROOT, "src", "modrob_motion", "scripts", "bulbs_and_slides_demo"), "--scenario",
            scenario, "--out", out, "--jitter", str(jitter), "--seed", str(seed)]
     t0 = time.time()
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)

@@ -1,0 +1,455 @@
+#!/usr/bin/env python3
+"""The benchmark units that scripts/bench/run.py runs, each in its own process (one rospy node per
+process, its own ROS master on a free port), so that units can run side by side (run.py -j N).
+
+    python3 units.py UNIT [--seconds S] [--rep K]      prints one JSON object on its last line
+
+A unit measures our figure AND its peer in the same process and run, so that a busy machine hits
+both alike; run.py takes the median, min and max over repetitions and the ratio per repetition.
+Units: physics_core, node, bulbs_one, bulbs_two, startup, rss, kdl_fk.
+"""
+import argparse
+import json
+import math
+import os
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, HERE)
+import physics_core as scene  # noqa: E402  (the scene, the PD gains, our engine and PyBullet's runs)
+
+N = scene.N_JOINTS
+JOINTS = ["joint%d" % (i + 1) for i in range(N)]
+
+
+# ---- helpers ------------------------------------------------------------------------------------
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def cpu_seconds(pid):
+    with open("/proc/%d/stat" % pid) as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def rss_mb(pid):
+    with open("/proc/%d/status" % pid) as f:
+        for ln in f:
+            if ln.startswith("VmRSS:"):
+                return int(ln.split()[1]) / 1024.0
+    return float("nan")
+
+
+def scene_files():
+    tmp = tempfile.mkdtemp(prefix="modrob_bench_")
+    files = {}
+    for name, text in (("arm", scene.arm_urdf()), ("table", scene.table_urdf()),
+                       ("can", scene.object_urdf())):
+        files[name] = os.path.join(tmp, name + ".urdf")
+        with open(files[name], "w") as f:
+            f.write(text)
+    return files
+
+
+class Master(object):
+    """roscore on a free port; ROS_MASTER_URI of this process points at it."""
+
+    def __init__(self):
+        self.port = free_port()
+        os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % self.port
+        self.proc = subprocess.Popen(["roscore", "-p", str(self.port)], stdout=subprocess.DEVNULL,
+                                     stderr=subprocess.DEVNULL, start_new_session=True)
+        import rosgraph
+        deadline = time.time() + 60
+        while not rosgraph.is_master_online():
+            if time.time() > deadline:
+                raise RuntimeError("roscore did not come up on port %d" % self.port)
+            time.sleep(0.1)
+
+    def close(self):
+        import signal
+        try:
+            os.killpg(self.proc.pid, signal.SIGINT)
+            self.proc.wait(15)
+        except (subprocess.TimeoutExpired, ProcessLookupError):
+            os.killpg(self.proc.pid, signal.SIGKILL)
+
+
+# ---- MuJoCo: the same URDF files, the same PD law ----------------------------------------------------
+def run_mujoco(steps, settle=500):
+    """MuJoCo loads the same three URDF strings (MjSpec.from_string), attached into one world;
+    the cans get free joints (MuJoCo's URDF import leaves a root link static). The PD law is the
+    same (tau = KP (q* - q) - KD dq), written as a MuJoCo affine actuator per joint so that the
+    damping term is integrated implicitly (implicitfast): as an explicit applied force, KD = 8 on
+    the last link (about its axis 1.2e-3 kg m^2) at 1 ms steps diverges in MuJoCo."""
+    import mujoco
+    import numpy as np
+    w = mujoco.MjSpec()
+    w.option.timestep = 0.001
+    w.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+
+    def attach(urdf, prefix, pos=(0.0, 0.0, 0.0)):
+        w.attach(mujoco.MjSpec.from_string(urdf), frame=w.worldbody.add_frame(pos=list(pos)), prefix=prefix)
+    attach(scene.table_urdf(), "table_")
+    attach(scene.arm_urdf(), "arm_")
+    for k, (x, y) in enumerate(scene.OBJECTS):
+        attach(scene.object_urdf(), "can%d_" % k, (x, y, scene.TABLE_TOP + scene.OBJ_H / 2 - 0.001))
+        w.body("can%d_can" % k).add_freejoint()
+    for j in JOINTS:
+        w.add_actuator(name=j + "_pd", target="arm_" + j, trntype=mujoco.mjtTrn.mjTRN_JOINT,
+                       gaintype=mujoco.mjtGain.mjGAIN_FIXED, biastype=mujoco.mjtBias.mjBIAS_AFFINE,
+                       gainprm=[scene.KP] + [0.0] * 9, biasprm=[0.0, -scene.KP, -scene.KD] + [0.0] * 7)
+    m = w.compile()
+    m.opt.iterations = 50
+    d = mujoco.MjData(m)
+    qa = np.array([m.jnt_qposadr[m.joint("arm_" + j).id] for j in JOINTS])
+    qh = np.array(scene.Q_HOLD)
+    d.qpos[qa] = qh
+    mujoco.mj_forward(m, d)
+    cans = [m.body("can%d_can" % k).id for k in range(len(scene.OBJECTS))]
+
+    def step(n):
+        for _ in range(n):
+            d.ctrl[:] = qh
+            mujoco.mj_step(m, d)
+    step(settle)
+    start = d.xpos[cans].copy()
+    t0, c0 = time.perf_counter(), time.process_time()
+    step(steps)
+    dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+    return {"steps_per_s": steps / cpu, "wall_steps_per_s": steps / dt, "contacts": int(d.ncon),
+            "can_drift_m": float(np.linalg.norm(d.xpos[cans] - start, axis=1).max()),
+            "arm_err_rad": float(np.abs(d.qpos[qa] - qh).max()), "version": mujoco.__version__}
+
+
+def unit_physics_core(args):
+    files = scene_files()
+    steps = int(args.seconds * 1000) if args.seconds else 20000
+    out = {"sleeping": scene.run_ours(steps, None),
+           "awake": scene.run_ours(steps, None, auto_disable=False),
+           "pybullet": scene.run_pybullet(steps, files)}
+    try:
+        out["mujoco"] = run_mujoco(steps)
+    except ImportError as exc:
+        out["mujoco_missing"] = str(exc)
+    return out
+
+
+# ---- the full node with ros_control -------------------------------------------------------------------
+def arm_with_ros_control(ns="/arm"):
+    trans = "".join(
+        '<transmission name="t%d"><type>transmission_interface/SimpleTransmission</type>'
+        '<joint name="%s"><hardwareInterface>hardware_interface/EffortJointInterface</hardwareInterface>'
+        '</joint><actuator name="m%d"><mechanicalReduction>1</mechanicalReduction></actuator></transmission>'
+        % (i, j, i) for i, j in enumerate(JOINTS))
+    plugin = ('<gazebo><plugin name="gazebo_ros_control" filename="libgazebo_ros_control.so">'
+              '<robotNamespace>%s</robotNamespace></plugin></gazebo>' % ns)
+    return scene.arm_urdf().replace("</robot>", trans + plugin + "</robot>")
+
+
+CONTROLLERS = ["joint_state_controller"] + ["%s_position_controller" % j for j in JOINTS]
+
+
+def controller_params(ns="/arm"):
+    p = {"joint_state_controller": {"type": "joint_state_controller/JointStateController",
+                                    "publish_rate": 50}}
+    for j, q in zip(JOINTS, scene.Q_HOLD):
+        p["%s_position_controller" % j] = {"type": "effort_controllers/JointPositionController", "joint": j,
+                                           "pid": {"p": scene.KP, "i": 0.0, "d": scene.KD}}
+    return {ns: p}
+
+
+def start_node(extra=(), env=None):
+    return subprocess.Popen([sys.executable, os.path.join(ROOT, "src/modrob_sim/scripts/gazebo"),
+                             "_real_time_factor:=0", "_paused:=true", "_rtf_log_period:=0"] + list(extra),
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+
+def build_scene(ns="/arm"):
+    """The physics-core scene through the services, the arm with its 7 controllers running."""
+    import rospy
+    from controller_manager_msgs.srv import LoadController, SwitchController
+    from gazebo_msgs.srv import SetModelConfiguration, SpawnModel
+    from geometry_msgs.msg import Point, Pose, Quaternion
+    from std_msgs.msg import Float64
+    g = "/gazebo/"
+    rospy.wait_for_service(g + "spawn_urdf_model", timeout=60)
+    for k, v in controller_params(ns)[ns].items():
+        rospy.set_param("%s/%s" % (ns, k), v)
+    spawn = rospy.ServiceProxy(g + "spawn_urdf_model", SpawnModel)
+    ident = Quaternion(0, 0, 0, 1)
+    ok = [spawn("table", scene.table_urdf(), "", Pose(orientation=ident), "").success,
+          spawn("arm", arm_with_ros_control(ns), "", Pose(orientation=ident), "").success,
+          rospy.ServiceProxy(g + "set_model_configuration", SetModelConfiguration)(
+              "arm", "", JOINTS, scene.Q_HOLD).success]
+    for k, (x, y) in enumerate(scene.OBJECTS):
+        pose = Pose(Point(x, y, scene.TABLE_TOP + scene.OBJ_H / 2 - 0.001), ident)
+        ok.append(spawn("can%d" % k, scene.object_urdf(), "", pose, "").success)
+    rospy.wait_for_service(ns + "/controller_manager/load_controller", timeout=30)
+    load = rospy.ServiceProxy(ns + "/controller_manager/load_controller", LoadController)
+    ok += [load(c).ok for c in CONTROLLERS]
+    ok.append(rospy.ServiceProxy(ns + "/controller_manager/switch_controller", SwitchController)(
+        CONTROLLERS, [], 2, False, 0.0).ok)
+    if not all(ok):
+        raise RuntimeError("building the scene failed: %s" % ok)
+    pubs = []
+    for j, q in zip(JOINTS, scene.Q_HOLD):
+        pub = rospy.Publisher("%s/%s_position_controller/command" % (ns, j), Float64, queue_size=1,
+                              latch=True)
+        pub.publish(Float64(q))
+        pubs.append(pub)
+    return pubs
+
+
+def run_node_once(seconds, clock_hz, ns="/arm", env=None):
+    import rospy
+    from gazebo_msgs.msg import LinkStates, ModelStates
+    from gazebo_msgs.srv import GetWorldProperties
+    from rosgraph_msgs.msg import Clock
+    from sensor_msgs.msg import JointState
+    from std_srvs.srv import Empty
+    node = start_node(["_pub_clock_frequency:=%g" % clock_hz], env=env)
+    try:
+        pubs = build_scene(ns)
+        g = "/gazebo/"
+        counts = {"clock": 0, "model_states": 0, "link_states": 0, "joint_states": 0}
+
+        def counter(key):
+            def cb(_msg):
+                counts[key] += 1
+            return cb
+        subs = [rospy.Subscriber("/clock", Clock, counter("clock"), queue_size=10),
+                rospy.Subscriber(g + "model_states", ModelStates, counter("model_states"), queue_size=1),
+                rospy.Subscriber(g + "link_states", LinkStates, counter("link_states"), queue_size=1),
+                rospy.Subscriber(ns + "/joint_states", JointState, counter("joint_states"), queue_size=10)]
+        deadline = time.time() + 20
+        while time.time() < deadline and any(s.get_num_connections() == 0 for s in subs + pubs):
+            time.sleep(0.05)
+        world = rospy.ServiceProxy(g + "get_world_properties", GetWorldProperties)
+        rospy.ServiceProxy(g + "unpause_physics", Empty)()
+        time.sleep(0.5)
+        t0, w0, c0 = world().sim_time, time.perf_counter(), cpu_seconds(node.pid)
+        n0 = dict(counts)
+        time.sleep(seconds)
+        t1, w1, c1 = world().sim_time, time.perf_counter(), cpu_seconds(node.pid)
+        rss = rss_mb(node.pid)
+        rospy.ServiceProxy(g + "pause_physics", Empty)()
+        for s in subs + pubs:
+            s.unregister()
+        steps, wall = (t1 - t0) / 0.001, w1 - w0
+        return {"cpu_steps_per_s": steps / max(1e-9, c1 - c0), "wall_steps_per_s": steps / wall,
+                "rtf": (t1 - t0) / wall, "cpu_load": (c1 - c0) / wall, "rss_mb": rss,
+                "rates": {k: (counts[k] - n0[k]) / wall for k in counts}}
+    finally:
+        node.terminate()
+        try:
+            node.wait(10)
+        except subprocess.TimeoutExpired:
+            node.kill()
+
+
+def unit_node(args):
+    master = Master()
+    try:
+        import rospy
+        rospy.set_param("/use_sim_time", True)
+        rospy.init_node("bench_node", disable_signals=True)
+        seconds = args.seconds or 5.0
+        # the node as it runs (roscpp publishing when built), then with rospy's (MODROB_SIM_ROSCPP=0)
+        rospy_env = dict(os.environ, MODROB_SIM_ROSCPP="0")
+        out = {"throttled": run_node_once(seconds, 1000.0), "every_step": run_node_once(seconds, 0.0),
+               "throttled_rospy": run_node_once(seconds, 1000.0, env=rospy_env),
+               "every_step_rospy": run_node_once(seconds, 0.0, env=rospy_env)}
+        out["pybullet"] = scene.run_pybullet(int(seconds * 2000), scene_files())
+        return out
+    finally:
+        master.close()
+
+
+# ---- Bulbs and Slides: simulated seconds per wall second ----------------------------------------------
+def unit_bulbs(scenario, args):
+    out = tempfile.mkdtemp(prefix="modrob_bench_bas_")
+    t0 = time.perf_counter()
+    demo = os.path.join(ROOT, "src/modrob_motion/scripts/bulbs_and_slides_demo")
+    proc = subprocess.run([demo, "--scenario", scenario, "--out", out, "--seed", str(args.rep)],
+                          capture_output=True, text=True, timeout=900)
+    wall = time.perf_counter() - t0
+    path = os.path.join(out, "bulbs_and_slides_%s_result.yaml" % scenario)
+    res = {}
+    if os.path.exists(path):
+        import yaml
+        with open(path) as f:
+            res = yaml.safe_load(f) or {}
+    sim, scen_wall = res.get("sim_time", 0.0), res.get("wall_time", 0.0)
+    line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT")]
+    return {"success": bool(proc.returncode == 0 and res.get("success")), "sim_time": sim,
+            "scenario_wall": scen_wall, "wall_incl_startup": wall,
+            "sim_per_wall": sim / scen_wall if scen_wall > 0 else 0.0,
+            "sim_per_wall_incl_startup": sim / wall if wall > 0 else 0.0,
+            "result": line[-1] if line else (proc.stdout[-300:] + proc.stderr[-300:])}
+
+
+# ---- start-up: roslaunch -> first /clock ------------------------------------------------------------
+PEER_LAUNCH = """<launch><param name="/use_sim_time" value="false"/>
+  <node pkg="rostopic" type="rostopic" name="clock_pub"
+        args="pub -r 10 /clock rosgraph_msgs/Clock '{clock: {secs: 1}}'"/>
+</launch>"""
+
+
+def first_clock(cmd, timeout=90.0):
+    """Wall seconds from starting ``cmd`` (a roslaunch with its own master on a free port) to the
+    first /clock message received here."""
+    import signal
+    port = free_port()
+    env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % port)
+    t0 = time.monotonic()
+    proc = subprocess.Popen(cmd + ["-p", str(port)], env=env, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        probe = subprocess.run([sys.executable, "-c", CLOCK_PROBE, str(timeout)], env=env,
+                               capture_output=True, text=True, timeout=timeout + 10)
+        if probe.returncode != 0:
+            raise RuntimeError("no /clock from %s: %s" % (" ".join(cmd), probe.stderr[-300:]))
+        return float(probe.stdout.split()[-1]) - t0
+    finally:
+        try:
+            os.killpg(proc.pid, signal.SIGINT)
+            proc.wait(20)
+        except (subprocess.TimeoutExpired, ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+
+
+# the probe prints time.monotonic() (CLOCK_MONOTONIC, the same in every process) when the first /clock arrives
+CLOCK_PROBE = r"""
+import sys, time, socket, xmlrpc.client
+import rosgraph
+deadline = time.time() + float(sys.argv[1])
+while not rosgraph.is_master_online():
+    if time.time() > deadline: sys.exit(2)
+    time.sleep(0.02)
+import rospy
+from rosgraph_msgs.msg import Clock
+rospy.init_node("first_clock_probe", anonymous=True, disable_signals=True, disable_rostime=True)
+got = []
+sub = rospy.Subscriber("/clock", Clock, lambda m: got.append(time.monotonic()) if not got else None)
+while not got:
+    if time.time() > deadline: sys.exit(3)
+    time.sleep(0.005)
+print(got[0])
+"""
+
+
+def unit_startup(_args):
+    peer = os.path.join(tempfile.mkdtemp(prefix="modrob_bench_launch_"), "peer.launch")
+    with open(peer, "w") as f:
+        f.write(PEER_LAUNCH)
+    ours = first_clock(["roslaunch", "modrob_sim", "empty_world.launch", "gui:=false"])
+    base = first_clock(["roslaunch", peer])
+    return {"ours_s": ours, "peer_s": base}
+
+
+# ---- memory: the node's RSS with the 6-DoF scene ----------------------------------------------------
+PYBULLET_RSS = r"""
+import sys, json
+sys.path.insert(0, sys.argv[1])
+import physics_core as scene, pybullet as p, tempfile, os
+d = tempfile.mkdtemp()
+files = {}
+for n, t in (("arm", scene.arm_urdf()), ("table", scene.table_urdf()), ("can", scene.object_urdf())):
+    files[n] = os.path.join(d, n + ".urdf"); open(files[n], "w").write(t)
+p.connect(p.DIRECT)
+p.loadURDF(files["table"], useFixedBase=True); p.loadURDF(files["arm"], useFixedBase=True)
+for x, y in scene.OBJECTS:
+    p.loadURDF(files["can"], basePosition=(x, y, 0.8))
+for _ in range(1000):
+    p.stepSimulation()
+for ln in open("/proc/self/status"):
+    if ln.startswith("VmRSS:"):
+        print(int(ln.split()[1]) / 1024.0)
+"""
+
+
+def unit_rss(args):
+    master = Master()
+    try:
+        import rospy
+        rospy.set_param("/use_sim_time", True)
+        rospy.init_node("bench_rss", disable_signals=True)
+        from std_srvs.srv import Empty
+        node = start_node()
+        try:
+            build_scene()
+            rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
+            time.sleep(args.seconds or 2.0)
+            ours = rss_mb(node.pid)
+        finally:
+            node.terminate()
+            node.wait(10)
+    finally:
+        master.close()
+    peer = float(subprocess.run([sys.executable, "-c", PYBULLET_RSS, HERE], capture_output=True, text=True,
+                                check=True).stdout.split()[-1])
+    return {"ours_mb": ours, "peer_mb": peer}
+
+
+# ---- KDL FK of a 3700-point trajectory -----------------------------------------------------------------
+def unit_kdl_fk(_args):
+    import numpy as np
+    from modrob_kinematics.kdl_urdf import KinematicChain
+    rng = np.random.default_rng(0)
+    n = 3700
+    traj = np.array(scene.Q_HOLD) + 0.5 * np.sin(np.linspace(0, 2 * math.pi, n)[:, None] * (1 + np.arange(N)))
+    traj += 0.01 * rng.standard_normal(traj.shape)
+    chain = KinematicChain.from_urdf_string(scene.arm_urdf(), "base", "link%d" % N)
+    c0 = time.process_time()
+    ours = [chain.fk_position(list(q)) for q in traj]
+    ours_cpu = time.process_time() - c0
+    import pybullet as p
+    cid = p.connect(p.DIRECT)
+    try:
+        f = scene_files()["arm"]
+        arm = p.loadURDF(f, useFixedBase=True, basePosition=(0, 0, 0))
+        jidx = [i for i in range(p.getNumJoints(arm)) if p.getJointInfo(arm, i)[2] == p.JOINT_REVOLUTE]
+        c0 = time.process_time()
+        theirs = []
+        for q in traj:
+            for i, v in zip(jidx, q):
+                p.resetJointState(arm, i, float(v))
+            theirs.append(p.getLinkState(arm, jidx[-1], computeForwardKinematics=True)[4])
+        peer_cpu = time.process_time() - c0
+    finally:
+        p.disconnect(cid)
+    # both give link6's frame origin; ours relative to "base", PyBullet's in its world (base at the
+    # fixed joint's origin, z = TABLE_TOP): compare after removing that offset
+    diff = max(math.dist(a, (b[0], b[1], b[2] - scene.TABLE_TOP)) for a, b in zip(ours, theirs))
+    return {"points": n, "ours_points_per_s": n / ours_cpu, "peer_points_per_s": n / peer_cpu,
+            "max_diff_m": diff}
+
+
+UNITS = {"physics_core": unit_physics_core, "node": unit_node,
+         "bulbs_one": lambda a: unit_bulbs("one_robot", a),
+         "bulbs_two": lambda a: unit_bulbs("two_robots", a),
+         "startup": unit_startup, "rss": unit_rss, "kdl_fk": unit_kdl_fk}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("unit", choices=sorted(UNITS))
+    ap.add_argument("--seconds", type=float, default=0.0)
+    ap.add_argument("--rep", type=int, default=0)
+    args = ap.parse_args()
+    res = UNITS[args.unit](args)
+    res["load_avg"] = os.getloadavg()[0]
+    print(json.dumps(res))
+
+
+if __name__ == "__main__":
+    main()
