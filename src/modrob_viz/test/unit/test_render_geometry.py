@@ -92,3 +92,16 @@ def test_camera_specs():
         camera_spec.parse_all([{"name": "a", "image": "/i", "camera_info": "/c"}] * 2, 10.0)
     with pytest.raises(ConfigError, match="format"):
         camera_spec.parse({"name": "a", "image": "/i", "camera_info": "/c", "format": "YUV"}, 10.0)
+
+
+def test_clip_distances():
+    base = {"name": "a", "image": "/i", "camera_info": "/c"}
+    cam = camera_spec.parse(base, 10.0)
+    assert (cam["clip_near"], cam["clip_far"]) == (camera_spec.CLIP_NEAR, camera_spec.CLIP_FAR)
+    cam = camera_spec.parse(dict(base, clip_near=0.5, clip_far=3.0), 10.0)
+    assert (cam["clip_near"], cam["clip_far"]) == (0.5, 3.0)
+    for near, far in ((0.0, 3.0), (3.0, 0.5), (-1.0, 2.0), (1.0, 1.0)):
+        with pytest.raises(ConfigError, match="clip_near < clip_far"):
+            camera_spec.parse(dict(base, clip_near=near, clip_far=far), 10.0)
+    with pytest.raises(ConfigError, match="clip_far must be finite"):
+        camera_spec.parse(dict(base, clip_far=float("nan")), 10.0)

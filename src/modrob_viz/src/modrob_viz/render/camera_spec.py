@@ -43,6 +43,9 @@ def _num(spec, key, default, where):
     return value
 
 
+CLIP_NEAR, CLIP_FAR = 0.01, 100.0     # RViz's camera clip distances (m), for cameras that give none
+
+
 def parse(spec, default_rate, where="camera"):
     """A normalised camera dict, or ConfigError naming the camera and the key."""
     if not isinstance(spec, dict):
@@ -72,6 +75,11 @@ def parse(spec, default_rate, where="camera"):
     if out["noise_stddev"] < 0:
         raise ConfigError("%s: noise_stddev must be >= 0" % where)
     out["hack_baseline"] = _num(spec, "hack_baseline", 0.0, where)
+    out["clip_near"] = _num(spec, "clip_near", CLIP_NEAR, where)
+    out["clip_far"] = _num(spec, "clip_far", CLIP_FAR, where)
+    if not 0 < out["clip_near"] < out["clip_far"]:
+        raise ConfigError("%s: clip needs 0 < clip_near < clip_far, got %r and %r"
+                          % (where, out["clip_near"], out["clip_far"]))
     out["intrinsics"] = None
     if not out["camera_info"]:
         if "width" not in spec or "fx" not in spec and "hfov" not in spec:

@@ -223,6 +223,7 @@ class CameraRendererNode(object):
         cam.blank = blank
         cam.pub_blank.publish(blank)
         self.scene.resize_camera(cam.spec["id"], intr.width, intr.height)
+        self.scene.set_clip(cam.spec["id"], cam.spec["clip_near"], cam.spec["clip_far"])
         if not self.scene.fits(cam.spec["id"]):
             sw, sh = self.scene.screen_size()
             self._problem(cam, "does not fit on the X screen (%dx%d) beside the other cameras: "

@@ -18,6 +18,14 @@ TITLE_SPACE = 40     # px left above each panel for the dock's title bar
 MARGIN = 8
 
 
+def _has_prop(disp, name):
+    """True if the display has a property ``name`` (subProp returns a stand-in when it has not)."""
+    if disp is None:
+        return False
+    prop = disp.subProp(name)
+    return prop is not None and prop.getName() == name
+
+
 class RvizScene(object):
     """``config`` is an .rviz file with the scene displays (no cameras)."""
 
@@ -48,6 +56,7 @@ class RvizScene(object):
             central.setFixedSize(8, 8)
         self.cameras = {}           # name -> dict(display, dock, panel, size)
         self.max_cameras = max_cameras
+        self.clip_supported = None  # the ClipCamera plugin loaded (set by _make_display)
         self._pool = [self._make_display(i) for i in range(max_cameras)]
         self._origin = (0, 130)
 
@@ -62,7 +71,19 @@ class RvizScene(object):
         return g.width(), g.height()
 
     def _make_display(self, slot):
-        disp = self.manager.createDisplay("rviz/Camera", "cam%d" % slot, False)
+        # modrob_viz/ClipCamera (this package's rviz plugin) is rviz/Camera with near/far clip
+        disp = None
+        if self.clip_supported is not False:
+            disp = self.manager.createDisplay("modrob_viz/ClipCamera", "cam%d" % slot, False)
+        if not _has_prop(disp, "Near Clip"):
+            if self.clip_supported is not False:
+                print("camera_renderer: the rviz plugin modrob_viz/ClipCamera is not available (build "
+                      "the workspace: bash scripts/build.sh); cameras clip at RViz's 0.01 m and 100 m",
+                      flush=True)
+            self.clip_supported = False
+            disp = self.manager.createDisplay("rviz/Camera", "cam%d" % slot, False)
+        else:
+            self.clip_supported = True
         if disp is None:
             raise ConfigError("RViz could not create an rviz/Camera display (is the rviz package complete?)")
         disp.subProp("Image Rendering").setValue("background")   # a 1x1 image of the background colour
@@ -127,6 +148,16 @@ class RvizScene(object):
             cam["fits"] = x + dw <= sw and y + dh <= sh
             x += dw + MARGIN
             row = max(row, dh)
+
+    def set_clip(self, name, near, far):
+        """Nothing nearer than ``near`` or farther than ``far`` (m) is drawn by camera ``name``
+        (False when the ClipCamera plugin is missing: RViz's 0.01 m and 100 m apply)."""
+        disp = self.cameras[name]["display"]
+        if not _has_prop(disp, "Near Clip"):
+            return False
+        disp.subProp("Far Clip").setValue(float(far))
+        disp.subProp("Near Clip").setValue(float(near))
+        return True
 
     def fits(self, name):
         return self.cameras[name].get("fits", False)
