@@ -21,7 +21,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 
 def run_once(scenario, jitter, seed, out):
     cmd = [os.path.join(ROOT, "src", "modrob_motion", "scripts", "bulbs_and_slides_demo"), "--scenario",
-           scenario, "--out", out, "--jitter", str(jitter), "--seed", str(seed)]
+           scenario, "--out", out, "--jitter", str(jitter), "--seed", str(seed), "--no-streams"]
     t0 = time.time()
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     wall = time.time() - t0
@@ -76,7 +76,8 @@ def main():
         rev = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True,
                              text=True).stdout.strip()
         text = ("Command: `bash scripts/bench/bulbs_and_slides.sh` (%d runs of `bulbs_and_slides_demo "
-                "--scenario %s --jitter %g --seed <run>`: the bulb at the red tip is moved by up to %g mm "
+                "--scenario %s --jitter %g --seed <run> --no-streams`: the bulb at the red tip is moved by "
+                "up to %g mm "
                 "along and across the slide before the pick). Measured %s, commit %s, on this 2-core "
                 "machine.\n\n"
                 "**%s**\n\n| run | success | sim time (s) | wall time incl. start-up (s) | grasp force (N) | "

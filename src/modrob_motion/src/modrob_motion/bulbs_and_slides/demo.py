@@ -7,6 +7,13 @@ process, prints progress and one RESULT line, and writes under --out:
     bulbs_and_slides_<scenario>_joints.png   commanded vs measured joint angles
     bulbs_and_slides_<scenario>_result.yaml  the result in numbers
     bulbs_and_slides_<scenario>_sim.log      the simulator's output
+    bulbs_and_slides_<scenario>_frame.png    a frame of the orthographic camera stream (end of the run)
+    bulbs_and_slides_<scenario>_views.avi    the pick-and-place from the top, front, right and
+                                             orthographic views, tiled 2x2 (MJPG)
+    bulbs_and_slides_<scenario>_camera/      each view's video and frame (camera_renderer's files)
+    bulbs_and_slides_<scenario>_camera.log   the renderer's output
+The camera streams (modrob_viz's rviz_camera_stream.launch, headless) are on unless --no-streams;
+their files are checked (decodable by OpenCV) before the demo reports success.
 Exit status 0 only on success.
 """
 import argparse
@@ -104,6 +111,10 @@ def main(argv=None):
     p.add_argument("--gains", choices=("tuned", "computed"), default="tuned",
                    help="arm PID gains: tune_pid's table (default) or computed from the inertias")
     p.add_argument("--arm-speed", type=float, default=0.5, help="joint speed of the free moves (rad/s)")
+    p.add_argument("--no-streams", action="store_true",
+                   help="no camera streams (frame and video of the principal views)")
+    p.add_argument("--stream-rate", type=float, default=5.0, help="frames per second of each view")
+    p.add_argument("--stream-size", default="320x240", help="WIDTHxHEIGHT of each view")
     args = p.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     stem = os.path.join(args.out, "bulbs_and_slides_%s" % args.scenario)
@@ -117,14 +128,25 @@ def main(argv=None):
     proc, log = start_simulation(args.scenario, stem + "_sim.log", args.gui, args.real_time_factor,
                                  args.grip_force, gains=args.gains)
     result = None
+    streams = None if args.no_streams else make_streams(args, stem)
+    stream_files = None
     try:
         if not wait_for_master() or not wait_for_param("/use_sim_time"):
             raise ScenarioError("the simulation did not start: see %s_sim.log" % stem)
         import rospy
         from modrob_motion.bulbs_and_slides.scenario import Scenario
         rospy.init_node("bulbs_and_slides_demo", disable_signals=True)
+        if streams is not None:
+            streams.start(stem + "_camera.log")
+            print("bulbs_and_slides_demo: camera streams %s starting (log: %s_camera.log)"
+                  % (", ".join(streams.views), stem), flush=True)
+            streams.wait_ready()
         sc = Scenario(layout, jitter=args.jitter, seed=args.seed, arm_speed=args.arm_speed)
         result = sc.run_two_robots() if args.scenario == "two_robots" else sc.run_one_robot()
+        if streams is not None:
+            stream_files = streams.finish()
+            for path in stream_files:
+                print("wrote %s" % path, flush=True)
         if sc.recorder and sc.recorder.rows:
             n = sc.recorder.write_bag(stem + "_ee.bag")
             names = {rid: r.info.arm_joints for rid, r in sc.robots.items()}
@@ -136,6 +158,8 @@ def main(argv=None):
     except ModrobError as exc:
         print("bulbs_and_slides_demo: %s" % exc, file=sys.stderr, flush=True)
     finally:
+        if streams is not None:
+            streams.stop()
         stop_simulation(proc, log)
     if result is None:
         print("RESULT %s: FAILURE -- the scenario did not run (see above)" % args.scenario, flush=True)
@@ -143,7 +167,23 @@ def main(argv=None):
     with open(stem + "_result.yaml", "w") as fh:
         yaml.safe_dump(dict(result.as_dict(), scenario=args.scenario, jitter=args.jitter, seed=args.seed), fh)
     print(result.line(args.scenario), flush=True)
+    if streams is not None and stream_files is None:
+        print("RESULT %s: FAILURE -- the camera streams' frame and video were not written (see above)"
+              % args.scenario, flush=True)
+        return 1
     return 0 if result.success else 1
+
+
+def make_streams(args, stem):
+    """The camera streams of the run (see camera_streams.CameraStreams)."""
+    from modrob_motion.bulbs_and_slides.camera_streams import CameraStreams
+    try:
+        width, height = (int(v) for v in args.stream_size.lower().split("x"))
+    except ValueError:
+        raise SystemExit("bulbs_and_slides_demo: --stream-size must be WIDTHxHEIGHT, got %r"
+                         % args.stream_size)
+    return CameraStreams(stem + "_camera", stem, rate=args.stream_rate, width=width, height=height,
+                         f=width * 200.0 / 320.0)
 
 
 def node_main():
