@@ -17,6 +17,7 @@ from modrob_motion.bulbs_and_slides import ScenarioError, camera_streams, demo
 
 SRC = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 VIZ = os.path.join(SRC, "modrob_viz")
+MOTION = os.path.join(SRC, "modrob_motion")
 
 
 def _video(path, n, size=(64, 48), colour=(0, 0, 255)):
@@ -31,9 +32,9 @@ def _video(path, n, size=(64, 48), colour=(0, 0, 255)):
 
 def test_launch_command_uses_arguments_the_launch_file_declares():
     cmd = camera_streams.launch_command("out/x", 320, 240, 200.0, 5.0)
-    assert cmd[:3] == ["roslaunch", "modrob_viz", "rviz_camera_stream.launch"]
+    assert cmd[:3] == ["roslaunch", "modrob_motion", "rviz_camera_stream.launch"]
     given = dict(a.split(":=", 1) for a in cmd[3:])
-    launch = ET.parse(os.path.join(VIZ, "launch", "rviz_camera_stream.launch")).getroot()
+    launch = ET.parse(os.path.join(MOTION, "launch", "rviz_camera_stream.launch")).getroot()
     declared = {a.get("name") for a in launch.iter("arg")}
     assert set(given) <= declared, "not declared by rviz_camera_stream.launch: %s" % (set(given) - declared)
     assert given["sim"] == "false" and given["ee_view"] == "false"

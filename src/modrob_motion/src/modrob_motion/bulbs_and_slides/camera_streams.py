@@ -1,11 +1,8 @@
 """Camera streams of the demo: seed 000's principal views (top, front, right, orthographic) of the
-running pick-and-place, rendered by modrob_viz's ``rviz_camera_stream.launch`` (``sim:=false``: it
-joins the demo's simulation), recorded to video, one frame saved by the renderer's service.
-
-The launch file is started by name (``roslaunch modrob_viz ...``), not imported: modrob_viz builds
-on modrob_motion, so this runtime use is not a package dependency (the demo says clearly when
-modrob_viz is missing). Checking the files (:func:`check_image`, :func:`check_video`) and the
-2x2 mosaic (:func:`mosaic_video`) need no ROS.
+running pick-and-place, rendered by ``rviz_camera_stream.launch`` (``sim:=false``: it joins the
+demo's simulation; modrob_viz's camera_renderer), recorded to video, one frame saved by the
+renderer's service. Checking the files (:func:`check_image`, :func:`check_video`) and the 2x2
+mosaic (:func:`mosaic_video`) need no ROS.
 """
 import os
 import re
@@ -22,7 +19,7 @@ RENDERER = "/camera_stream_renderer"
 
 def launch_command(output_dir, width=320, height=240, f=200.0, rate=5.0):
     """``roslaunch`` of the four principal views only (no end-effector camera), recording them."""
-    return ["roslaunch", "modrob_viz", "rviz_camera_stream.launch", "sim:=false", "ee_view:=false",
+    return ["roslaunch", "modrob_motion", "rviz_camera_stream.launch", "sim:=false", "ee_view:=false",
             "width:=%d" % width, "height:=%d" % height, "f:=%g" % f, "rate:=%g" % rate,
             "record:=%s" % ",".join(VIEWS), "output_dir:=%s" % os.path.abspath(output_dir)]
 
@@ -130,7 +127,7 @@ class CameraStreams(object):
             import rospkg
             rospkg.RosPack().get_path("modrob_viz")
         except Exception:
-            raise ScenarioError("camera streams need the modrob_viz package (rviz_camera_stream.launch); "
+            raise ScenarioError("camera streams need the modrob_viz package (camera_renderer); "
                                 "build the workspace or run the demo with --no-streams")
         if os.path.isdir(self.dir):
             shutil.rmtree(self.dir)     # no stale frames or videos from an earlier run

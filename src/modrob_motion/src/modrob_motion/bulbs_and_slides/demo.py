@@ -12,7 +12,7 @@ process, prints progress and one RESULT line, and writes under --out:
                                              orthographic views, tiled 2x2 (MJPG)
     bulbs_and_slides_<scenario>_camera/      each view's video and frame (camera_renderer's files)
     bulbs_and_slides_<scenario>_camera.log   the renderer's output
-The camera streams (modrob_viz's rviz_camera_stream.launch, headless) are on unless --no-streams;
+The camera streams (rviz_camera_stream.launch, headless) are on unless --no-streams;
 their files are checked (decodable by OpenCV) before the demo reports success.
 Exit status 0 only on success.
 """

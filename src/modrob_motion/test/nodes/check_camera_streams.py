@@ -123,4 +123,4 @@ class CameraStreams(unittest.TestCase):
 
 if __name__ == "__main__":
     rospy.init_node("check_camera_streams")
-    rostest.rosrun("modrob_viz", "check_camera_streams", CameraStreams)
+    rostest.rosrun("modrob_motion", "check_camera_streams", CameraStreams)
