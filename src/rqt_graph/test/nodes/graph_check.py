@@ -6,7 +6,6 @@ rqt_graph rqt_graph -o x.png -o x.svg` writes real images; the window shows the 
 (screenshot in $ROS_HOME)."""
 import os
 import subprocess
-import sys
 import tempfile
 import time
 import unittest
@@ -17,8 +16,7 @@ import rostest
 from rqt_graph.graph_model import Options, build_graph, parse_dot_edges, to_dot
 from rqt_graph.ros_graph import snapshot
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from xvfb import Xvfb  # noqa: E402
+from modrob_viz.render.xvfb import Xvfb
 
 CONTROLLERS = ("pan", "tilt", "roll")
 PAN_CMD = "/ptrz/pan_position_controller/command"
@@ -105,7 +103,7 @@ class GraphOfPtrz(unittest.TestCase):
             self.assertIn("output '%s' must end in one of" % os.path.join(tmp, "g.jpeg"), bad.stderr)
 
     def test_5_window_under_xvfb(self):
-        with Xvfb():
+        with Xvfb(1280, 1024):
             from PyQt5 import QtWidgets
             from rqt_graph.graph_window import GraphWindow
             app = QtWidgets.QApplication.instance() or QtWidgets.QApplication(["graph_check"])

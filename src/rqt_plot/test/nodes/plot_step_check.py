@@ -9,7 +9,6 @@ import os
 import shutil
 import signal
 import subprocess
-import sys
 import tempfile
 import time
 import unittest
@@ -24,8 +23,7 @@ from std_msgs.msg import Float64
 
 from rqt_plot.series import read_csv
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from xvfb import Xvfb  # noqa: E402
+from modrob_viz.render.xvfb import Xvfb
 
 CTRL = "/ptrz/pan_position_controller"
 STATE = CTRL + "/state"
@@ -57,7 +55,7 @@ class PlotMatchesBag(unittest.TestCase):
         cmd = rospy.Publisher(CTRL + "/command", Float64, queue_size=1, latch=True)
         tmp = tempfile.mkdtemp(prefix="plot_step_")
         bag_path, csv_path, png_path = (os.path.join(tmp, n) for n in ("state.bag", "plot.csv", "plot.png"))
-        with Xvfb():
+        with Xvfb(1280, 1024):
             bag = subprocess.Popen(["rosbag", "record", "-O", bag_path, "__name:=plot_bag", STATE],
                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             plot = subprocess.Popen(["rosrun", "rqt_plot", "rqt_plot", STATE + "/process_value",

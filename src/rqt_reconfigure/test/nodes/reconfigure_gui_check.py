@@ -12,10 +12,10 @@ import unittest
 import rospy
 import rostest
 from dynamic_reconfigure.client import Client
+from modrob_viz.render.xvfb import Xvfb
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from step_response import StepProbe, rise_time  # noqa: E402
-from xvfb import Xvfb  # noqa: E402
 
 CTRL = "/ptrz/pan_position_controller"
 SERVER = CTRL + "/pid"
@@ -25,7 +25,7 @@ class ReconfigureGui(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("reconfigure_gui_check")
-        cls.xvfb = Xvfb().__enter__()
+        cls.xvfb = Xvfb(1280, 1024).__enter__()
         from PyQt5 import QtWidgets
         from rqt_reconfigure.main_window import ReconfigureWindow
         from rqt_reconfigure.ros_servers import ServerConnection, list_servers

@@ -43,6 +43,15 @@ class Xvfb(object):
                 proc.wait()
         raise ConfigError("Xvfb did not start (exit code %r) on three display numbers" % (last,))
 
+    def __enter__(self):
+        """As a context manager (tests that open windows): $DISPLAY points here until exit."""
+        os.environ["DISPLAY"] = self.display
+        os.environ.pop("QT_QPA_PLATFORM", None)
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
     def stop(self):
         if self.proc.poll() is None:
             self.proc.terminate()
