@@ -273,23 +273,78 @@ def test_prismatic_mimic_with_an_offset_starts_coupled_and_never_trips_the_guard
     assert m.joints["f"].position == pytest.approx(m.joints["m"].position + 0.1, abs=1e-3)
 
 
-def test_the_guard_backs_off_and_stops_a_model_that_keeps_blowing_up(caplog):
-    from modrob_sim.errors import SimulationError
-    from modrob_sim.physics import world as world_mod
+def _runaway_world():
+    """A slider pushed far beyond the guard's speed limit every step, beside a falling box."""
     world = World()
     m = world.add_urdf("slider", _slider(-100, 100), pose=((0, 0, 5), (0, 0, 0, 1)))
-    world.set_physics_params(guard_max_linear_velocity=1.0)
-    world.add_step_hook(before=lambda t, dt: m.joints["s"].set_effort(1e3))  # 10 N cap: runaway anyway
+    box = world.add_urdf("box", H.fixture("box.urdf"), pose=((3, 0, 50), (0, 0, 0, 1)))
     m.joints["s"].effort_limit = 1e6
+    world.add_step_hook(before=lambda t, dt: "slider" in world.models and m.joints["s"].set_effort(1e6))
+    return world, m, box
+
+
+def _step_until_frozen(world, limit=20000):
+    for _ in range(limit):
+        world.step(1)
+        if world.frozen_models:
+            return
+    raise AssertionError("the guard never froze the model")
+
+
+def test_the_guard_backs_off_and_freezes_only_the_model_that_keeps_blowing_up(caplog):
+    from modrob_sim.physics import world as world_mod
+    world, m, box = _runaway_world()
     with caplog.at_level(logging.ERROR, logger="modrob_sim.physics"):
-        with pytest.raises(SimulationError, match="model 'slider' was restored %d times in a row"
-                           % world_mod.GUARD_STREAK_LIMIT):
-            world.step(20000)
+        _step_until_frozen(world)   # never raises: stepping goes on
+    assert list(world.frozen_models) == ["slider"]
+    msg = world.frozen_models["slider"]
+    assert "model 'slider' was restored %d times in a row" % world_mod.GUARD_STREAK_LIMIT in msg
+    assert "FROZEN" in msg and "set_model_state" in msg and "delete_model" in msg
+    assert any(msg in r.getMessage() for r in caplog.records)
     lines = [r for r in caplog.records if "blow-up guard" in r.getMessage()]
-    seconds = world.time
-    assert len(lines) <= seconds + 2, (len(lines), seconds)  # one per model per simulated second
-    assert world_mod.GUARD_STREAK_LIMIT > 100 * len(lines)  # was one ERROR line per restoration
-    world.step(10)  # the next steps go on (the node pauses; unpausing tries again)
+    assert len(lines) <= world.time + 3, (len(lines), world.time)  # one per model per simulated second
+    events = world.pop_events()
+    assert [e.model for e in events if e.reason == world_mod.FROZEN_REASON] == ["slider"]
+    # the frozen model stands still and logs nothing more; the rest of the world goes on
+    pose, t0, z0 = m.pose, world.time, box.pose[0][2]
+    caplog.clear()
+    with caplog.at_level(logging.ERROR, logger="modrob_sim.physics"):
+        world.step(500)
+    assert world.time == pytest.approx(t0 + 0.5)
+    assert box.pose[0][2] < z0 - 0.5  # still falling
+    assert m.pose == pose
+    assert not world.pop_events() and not caplog.records
+
+
+def test_a_frozen_model_is_released_by_set_state_reset_or_delete():
+    world, m, box = _runaway_world()
+    _step_until_frozen(world)
+    m.set_pose(((0, 0, 6), (0, 0, 0, 1)))      # set_model_state
+    assert not world.frozen_models
+    world.step(1)
+    assert world.pop_events()  # it moves (and blows up) again: the guard watches it again
+    _step_until_frozen(world)
+    m.set_configuration(["s"], [0.5])          # set_model_configuration
+    assert not world.frozen_models
+    _step_until_frozen(world)
+    world.reset()                              # reset_simulation
+    assert not world.frozen_models and world.time == 0.0
+    _step_until_frozen(world)
+    world.remove_model("slider")              # delete_model
+    assert not world.frozen_models and "slider" not in world._guard_log
+    world.pop_events()
+    world.step(100)
+    assert not world.pop_events()
+
+
+def test_a_body_falling_on_a_frozen_model_does_not_move_it():
+    world, m, box = _runaway_world()
+    _step_until_frozen(world)
+    pose = m.pose
+    box.set_pose(((0, 0, 5.6), (0, 0, 0, 1)))  # above the frozen slider
+    world.step(1000)
+    assert m.pose == pose
+    assert box.pose[0][2] > 5.0  # it rests on the frozen model instead of falling through
 
 
 def test_spawn_initial_positions_are_bounded_like_set_configuration():

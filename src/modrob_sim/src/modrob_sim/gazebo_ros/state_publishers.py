@@ -13,6 +13,7 @@ from visualization_msgs.msg import MarkerArray
 from modrob_sim.camera.scene import ScenePublisher
 from modrob_sim.gazebo_ros import markers
 from modrob_sim.gazebo_ros.conversions import pose_to_msg, ros_time, twist_to_msg
+from modrob_sim.physics.world import FROZEN_REASON
 
 
 class StatePublishers(object):
@@ -105,6 +106,8 @@ class StatePublishers(object):
         for ev in self.world.pop_events():
             self._guard_pub.publish(String(data="model=%s link=%s time=%.6f reason=%s"
                                            % (ev.model, ev.link, ev.time, ev.reason)))
+            if ev.reason == FROZEN_REASON:
+                continue  # the core's error names the model and what releases it
             wall = time.monotonic()
             if wall - self._guard_hint.get(ev.model, -1e9) >= 5.0:
                 self._guard_hint[ev.model] = wall

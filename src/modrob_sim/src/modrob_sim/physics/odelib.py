@@ -45,6 +45,11 @@ def _load():
     lib.dBodyGetWorld.argtypes = [vp]
     lib.dBodySetAutoDisableFlag.restype = None
     lib.dBodySetAutoDisableFlag.argtypes = [vp, ctypes.c_int]
+    for fn in ("dBodySetKinematic", "dBodySetDynamic"):  # ODE >= 0.13: infinite mass, moves by its velocity
+        getattr(lib, fn).restype = None
+        getattr(lib, fn).argtypes = [vp]
+    lib.dBodyIsKinematic.restype = ctypes.c_int
+    lib.dBodyIsKinematic.argtypes = [vp]
     return lib
 
 

@@ -47,9 +47,11 @@ DEFAULT_PARAMS = OrderedDict([
     ("snapshot_interval", 50),
 ])
 
-#: restorations of one model, each within a second of the last, after which step() stops (a
-#: model restored every step of a simulated second at 1 ms)
+#: restorations of one model, each within a second of the last, after which the guard freezes that
+#: model (a model restored every step of a simulated second at 1 ms); the rest of the world goes on
 GUARD_STREAK_LIMIT = 1000
+#: the GuardEvent reason of the event that freezes a model
+FROZEN_REASON = "frozen"
 
 _ALL_BITS = (1 << 62) - 1
 AUTO_DISABLE_LINEAR = 0.005   # m/s
@@ -125,7 +127,7 @@ class World(object):
             self._backend = PureBackend()
         self._params = OrderedDict(DEFAULT_PARAMS)
         self._guard_log = {}     # model -> [last logged t, suppressed, streak, last restore t]
-        self._guard_stop = None  # a message: step() raises SimulationError with it
+        self._frozen = OrderedDict()  # model name -> (Model, state it is held in, message)
         self.models = OrderedDict()
         self._entries = {}       # model -> _ModelEntry
         self._geom_info = {}
@@ -446,6 +448,8 @@ class World(object):
             raise ModelError("no model named '%s' (models: %s)" % (name, ", ".join(self.models) or "none"))
         del self.models[name]
         slot = self._entry(model).slot
+        self._frozen.pop(name, None)
+        self._guard_log.pop(name, None)
         self._destroy_model_objects(model)
         self._wake_all()  # whatever rested on it must fall
         self._used_slots.discard(slot)
@@ -463,7 +467,7 @@ class World(object):
 
     def _rebuild_caches(self):
         ms = list(self.models.values())
-        self._dynamic_models = [m for m in ms if m.bodies]
+        self._dynamic_models = [m for m in ms if m.bodies and m.name not in self._frozen]
         joints = [j for m in ms for j in m.joints_in_order if j.ode_joint is not None]
         # explicit damping, bounded by what the step can take stably: (joint, coefficient)
         self._damped = [(j, min(j.damping, j.child_inertia / self._dt)) for j in joints
@@ -591,9 +595,6 @@ class World(object):
             raise InputError("step(n): n must not be negative")
         for _ in range(n):
             self._step_once()
-            if self._guard_stop is not None:
-                msg, self._guard_stop = self._guard_stop, None
-                raise SimulationError(msg)
 
     def _step_once(self):
         dt = self._dt
@@ -607,6 +608,8 @@ class World(object):
         for j in self._unwrap:
             j.track_turns()
         self._guard()
+        if self._frozen:
+            self._hold_frozen()
         for h in self._after:
             h(self.time, dt)
 
@@ -653,8 +656,8 @@ class World(object):
         ev = GuardEvent(model.name, link, reason, self.time)
         self._events.append(ev)
         # back off: one message per model per simulated second, with the count of the others;
-        # a model restored GUARD_STREAK_LIMIT times without a second of peace stops the stepping
-        # (the node pauses physics) instead of looping for ever
+        # a model restored GUARD_STREAK_LIMIT times without a second of peace is frozen (held
+        # still, the rest of the world goes on) instead of looping for ever
         g = self._guard_log.get(model.name)
         t = self.time
         if g is None or not 0.0 <= t - g[0] < 1.0:
@@ -667,16 +670,80 @@ class World(object):
             g[1] += 1
         g[2] = g[2] + 1 if 0.0 <= t - g[3] < 1.0 else 1
         g[3] = t
+        entry = self._entries[model]
+        state = entry.snapshot_state or entry.spawn_state
+        model.restore_state(state, zero_velocity=True)
+        if not model.state_finite():
+            state = entry.spawn_state
+            model.restore_state(state, zero_velocity=True)
         if g[2] >= GUARD_STREAK_LIMIT:
             g[2] = 0
-            self._guard_stop = ("blow-up guard: model '%s' was restored %d times in a row (last: link '%s', "
-                                "%s): stepping stopped. Fix the model (masses, joint limits, mimic "
-                                "offsets) or what commands it (gains, efforts), or delete it; then "
-                                "unpause" % (model.name, GUARD_STREAK_LIMIT, link, reason))
-        entry = self._entries[model]
-        model.restore_state(entry.snapshot_state or entry.spawn_state, zero_velocity=True)
-        if not model.state_finite():
-            model.restore_state(entry.spawn_state, zero_velocity=True)
+            self._freeze(model, state, link, reason)
+
+    # ---- frozen models (the guard's last resort) ---------------------------------------------
+    def _freeze(self, model, state, link, reason):
+        """Hold ``model`` still in ``state`` (its last sane state): its bodies become kinematic
+        (infinite mass, zero velocity: others collide with it as with a static object, its joints
+        and efforts move nothing); the rest of the world goes on. set_model_state /
+        set_model_configuration / set_link_state, reset or delete release it."""
+        msg = ("blow-up guard: model '%s' was restored %d times in a row (last: link '%s', %s): "
+               "the model is FROZEN, the rest of the world goes on. Fix the model (masses, joint "
+               "limits, mimic offsets) or what commands it (gains, efforts); set_model_state, "
+               "set_model_configuration, reset_simulation/reset_world or delete_model release it"
+               % (model.name, GUARD_STREAK_LIMIT, link, reason))
+        LOG.error("%s", msg)
+        self._frozen[model.name] = (model, state, msg)
+        self._events.append(GuardEvent(model.name, link, FROZEN_REASON, self.time))
+        self._rebuild_caches()  # out of the guard's and the snapshots' lists
+        self._hold(model, state)
+
+    @staticmethod
+    def _hold(model, state):
+        model.restore_state(state, zero_velocity=True)
+        for b in model.bodies:
+            b.setForce((0.0, 0.0, 0.0))
+            b.setTorque((0.0, 0.0, 0.0))
+            if odelib.AVAILABLE:
+                odelib.LIB.dBodySetKinematic(odelib.raw_pointer(b))
+            else:
+                b.disable()
+
+    def _hold_frozen(self):
+        for model, state, _msg in self._frozen.values():
+            moved = False
+            for b in model.bodies:
+                # a kinematic body keeps its zero velocity; a disabled one (no ctypes access to
+                # libode) is woken by contacts: then put it back
+                moved = moved or b.isEnabled() != bool(odelib.AVAILABLE)
+                b.setForce((0.0, 0.0, 0.0))  # efforts commanded meanwhile must not pile up
+                b.setTorque((0.0, 0.0, 0.0))
+            if moved:
+                self._hold(model, state)
+
+    @property
+    def frozen_models(self):
+        """{model name: message} of the models the guard froze (addition)."""
+        return OrderedDict((n, f[2]) for n, f in self._frozen.items())
+
+    def unfreeze(self, name):
+        """Release a model the guard froze (addition); False if it was not frozen. Its bodies
+        wake with zero velocity; the guard's count starts again."""
+        f = self._frozen.pop(name, None)
+        if f is None:
+            return False
+        self._guard_log.pop(name, None)
+        model = f[0]
+        for b in model.bodies:
+            if odelib.AVAILABLE:
+                odelib.LIB.dBodySetDynamic(odelib.raw_pointer(b))  # its mass comes back
+            b.enable()
+        entry = self._entries.get(model)
+        if entry is not None:
+            entry.ncontacts = 0
+            entry.snapshot_state = model.capture_state()
+        self._rebuild_caches()
+        LOG.warning("model '%s' released from the blow-up guard's freeze", name)
+        return True
 
     def contacts(self):
         """The contact points made in the last step (addition to the contract): a list of
@@ -689,7 +756,10 @@ class World(object):
         return ev
 
     def model_teleported(self, model):
-        """``model`` was moved by hand: that is its new sane state for the guard."""
+        """``model`` was moved by hand: that is its new sane state for the guard (and a model the
+        guard froze is released)."""
+        if model.name in self._frozen and self._frozen[model.name][0] is model:
+            self.unfreeze(model.name)
         entry = self._entries.get(model)
         if entry is not None:
             entry.snapshot_state = model.capture_state()
@@ -711,6 +781,8 @@ class World(object):
     def reset_world(self):
         """reset_world: poses and velocities of every model to the spawn state; time kept."""
         self._contact_group.empty()
+        for name in list(self._frozen):
+            self.unfreeze(name)
         for m in self.models.values():
             e = self._entries[m]
             m.restore_state(e.spawn_state, zero_velocity=False)
