@@ -8,7 +8,9 @@ import unittest
 import actionlib
 import rospy
 import rostest
-from actionlib_msgs.msg import GoalStatus
+from actionlib_msgs.msg import GoalStatus, GoalStatusArray
+from gazebo_msgs.srv import GetPhysicsProperties, GetWorldProperties
+from rosgraph_msgs.msg import Log
 from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryGoal,
                               FollowJointTrajectoryResult,
                               JointTrajectoryControllerState)
@@ -72,6 +74,53 @@ class FollowJointTrajectory(unittest.TestCase):
         self.assertEqual(first.get_state(), GoalStatus.PREEMPTED)
         self.assertTrue(self.client.wait_for_result(rospy.Duration(60)))
         self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED, self.client.get_result().error_string)
+
+    def test_4_a_100k_point_goal_is_built_off_the_loop_thread(self):
+        """The node answers services while it builds a 100k-point goal: a request sent once the
+        action callback has started on the goal (its log line) is answered at a simulated time
+        before the goal's acceptance. Built in the loop thread, the loop answered it only
+        afterwards."""
+        seen = {"building": False, "active_stamp": None}
+        gid = []
+
+        def on_status(msg):
+            for st in msg.status_list:
+                if gid and st.goal_id.id == gid[0] and st.status == GoalStatus.ACTIVE:
+                    t = msg.header.stamp.to_sec()
+                    if seen["active_stamp"] is None or t < seen["active_stamp"]:
+                        seen["active_stamp"] = t
+
+        def on_log(msg):
+            if "100000-point trajectory" in msg.msg:
+                seen["building"] = True
+        subs = [rospy.Subscriber(NS + "/arm_controller/follow_joint_trajectory/status", GoalStatusArray,
+                                 on_status, queue_size=50),
+                rospy.Subscriber("/rosout", Log, on_log, queue_size=100)]
+        world = rospy.ServiceProxy("/gazebo/get_world_properties", GetWorldProperties)
+        physics = rospy.ServiceProxy("/gazebo/get_physics_properties", GetPhysicsProperties)
+        world.wait_for_service(30)
+        here = list(self.state.msg.desired.positions)
+        n = 100000
+        g = FollowJointTrajectoryGoal()
+        g.trajectory.joint_names = list(JOINTS)
+        g.trajectory.points = [JointTrajectoryPoint(positions=[q + 1e-7 * i for q in here],
+                                                    time_from_start=rospy.Duration(0.5 + 0.001 * i))
+                               for i in range(n)]
+        self.client.send_goal(g)
+        gid.append(self.client.gh.comm_state_machine.action_goal.goal_id.id)
+        wait_until(lambda: seen["building"], 60, "the controller to start building the goal")
+        self.assertIsNone(seen["active_stamp"], "accepted before the build was announced")
+        answered_at = world().sim_time
+        self.assertGreater(physics().time_step, 0.0)
+        wait_until(lambda: seen["active_stamp"] is not None, 60, "the 100k-point goal to be accepted")
+        for sub in subs:
+            sub.unregister()
+        self.assertLess(answered_at, seen["active_stamp"],
+                        "the service was answered only after the goal was built (sim time %.3f, goal "
+                        "active at %.3f): the build blocked the loop" % (answered_at, seen["active_stamp"]))
+        self.client.cancel_goal()
+        self.assertTrue(self.client.wait_for_result(rospy.Duration(30)))
+        self.assertEqual(self.client.get_state(), GoalStatus.PREEMPTED)
 
 
 if __name__ == "__main__":

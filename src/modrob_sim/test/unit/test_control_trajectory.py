@@ -203,3 +203,91 @@ def test_missing_gains_for_effort_type_names_the_path():
     from modrob_sim.errors import ControllerError
     with pytest.raises(ControllerError, match="/arm/arm_controller/gains"):
         rig("effort_controllers/JointTrajectoryController", iface="EffortJointInterface")
+
+
+def _reference_build(ctl, joint_names, points, start, now):
+    """The trajectory built point by point, as the controller did before it prepared segments off
+    the loop thread (the semantics the prepared form must keep)."""
+    from modrob_sim.ros_control import angles
+    index = {j: i for i, j in enumerate(joint_names)}
+    cur_pos, cur_vel, cur_acc = ctl._current_desired(now)
+    offsets = [0.0] * ctl.n
+    for c, j in enumerate(ctl.joints):
+        if j.type == "continuous" and j.name in index:
+            first = points[0].positions[index[j.name]]
+            offsets[c] = cur_pos[c] + angles.shortest_angular_distance(cur_pos[c], first) - first
+    out = []
+    for p in points:
+        if start + p.time_from_start <= now:
+            continue
+        pos, vel, acc = [], [], []
+        for c, j in enumerate(ctl.joint_names):
+            if j in index:
+                i = index[j]
+                pos.append(p.positions[i] + offsets[c])
+                vel.append(p.velocities[i] if p.velocities else None)
+                acc.append(p.accelerations[i] if p.accelerations else None)
+            else:
+                pos.append(cur_pos[c])
+                vel.append(0.0 if p.velocities else None)
+                acc.append(0.0 if p.accelerations else None)
+        out.append((start + p.time_from_start, State(pos, None if vel[0] is None else vel,
+                                                     None if acc[0] is None else acc)))
+    return Trajectory(now, State(cur_pos, cur_vel, cur_acc), out)
+
+
+@pytest.mark.parametrize("kind", ["linear", "cubic", "quintic"])
+@pytest.mark.parametrize("partial", [False, True])
+def test_a_trajectory_prepared_off_the_loop_samples_as_one_built_point_by_point(kind, partial):
+    import random
+    rng = random.Random(7)
+    joints, mgr, ctl, model = rig(extra={"allow_partial_joints_goal": True})
+    joints[1].type = "continuous"
+    model.run(mgr, 0.3)
+    names = ["c", "b"] if partial else ["c", "a", "b"]
+    points, t = [], 0.0
+    for _ in range(300):
+        t += rng.uniform(0.001, 0.02)
+        k = len(names)
+        vel = [rng.uniform(-1, 1) for _ in range(k)] if kind != "linear" else []
+        acc = [rng.uniform(-1, 1) for _ in range(k)] if kind == "quintic" else []
+        points.append(TrajectoryPoint([rng.uniform(-3, 9) for _ in range(k)], vel, acc, t))
+    assert ctl.check_points(names, points)[0]
+    prepared = ctl.prepare(names, points)          # what the ROS callback does, any thread
+    now = mgr.time
+    for start in (now - 1.234, now, now + 0.5):   # points in the past are skipped
+        placed = ctl._build(names, points, start, now, prepared)
+        ref = _reference_build(ctl, names, points, start, now)
+        assert placed.end_time == ref.end_time
+        for i in range(2000):
+            ts = now - 0.1 + i * (t + 0.7) / 2000.0
+            a, b = placed.sample(ts), ref.sample(ts)
+            for x, y in zip(a, b):
+                # relative vs absolute segment times: rounding, amplified in accelerations
+                assert x == pytest.approx(y, rel=1e-6, abs=1e-7), (start, ts)
+    everything_past = ctl._build(names, points, now - 100.0, now, prepared)  # jumps to the last point
+    assert everything_past.sample(now)[0] == pytest.approx(ref.sample(ref.end_time)[0], abs=1e-12)
+
+
+def test_the_loop_only_places_a_prepared_trajectory_in_time():
+    joints, mgr, ctl, model = rig()
+    points = [TrajectoryPoint([0.001 * i, 0.0, 0.0], time_from_start=0.001 * (i + 1)) for i in range(20000)]
+    prepared = ctl.prepare(JOINTS, points)
+    assert len(prepared.segments) == len(points) - 1
+    calls = []
+    import modrob_sim.ros_control.trajectory as tmod
+    real = tmod.Segment.__init__
+
+    def counting(self, *a):
+        calls.append(1)
+        real(self, *a)
+    tmod.Segment.__init__ = counting
+    try:
+        ok, _code, _text = ctl.submit(JOINTS, points, 0.0, mgr.time, goal_id="g", checked=True,
+                                      prepared=prepared)
+    finally:
+        tmod.Segment.__init__ = real
+    assert ok
+    assert len(calls) == 1  # the segment from the current state only: nothing O(points) in the loop
+    model.run(mgr, 0.5)
+    assert joints[0].position == pytest.approx(0.499 - 0.001, abs=0.02)

@@ -117,6 +117,10 @@ class SingleJointAdapter(Adapter):
         self.state_pub.publish(msg)
 
 
+#: trajectories from this many points on are announced (their segments take a second or more)
+LONG_TRAJECTORY = 10000
+
+
 def _point(pos, vel, acc=None):
     p = JointTrajectoryPoint(positions=list(pos), velocities=list(vel))
     if acc is not None:
@@ -151,19 +155,29 @@ class TrajectoryAdapter(Adapter):
             for pid, ns in zip(getattr(controller, "pids", []), getattr(controller, name, [])):
                 self.handles.append(PidReconfigure(pid, ns))
 
-    # callbacks: parse and check here (a 100k-point goal took the loop thread 1.3 s), then store
+    # callbacks: parse, check and build every segment here, then hand the finished trajectory over:
+    # the loop only places it in time (a 100k-point goal built in the loop thread blocked every
+    # service of the node for about a second)
+    def _parse(self, joint_names, msg_points):
+        points = _points_from_msg(msg_points)
+        check = self.c.check_points(joint_names, points)
+        if not (check[0] and points):
+            return points, check, None
+        if len(points) >= LONG_TRAJECTORY:
+            rospy.loginfo("%s: %d-point trajectory checked: building its segments off the simulation loop"
+                          % (self.ns, len(points)))
+        return points, check, self.c.prepare(joint_names, points)
+
     def _on_command(self, msg):
-        points = _points_from_msg(msg.points)
-        check = self.c.check_points(list(msg.joint_names), points)
+        parsed = self._parse(list(msg.joint_names), msg.points)
         with self.lock:
-            self.inbox.append(("command", (msg, points, check)))
+            self.inbox.append(("command", (msg,) + parsed))
 
     def _on_goal(self, gh):
         traj = gh.get_goal().trajectory
-        points = _points_from_msg(traj.points)
-        check = self.c.check_points(list(traj.joint_names), points)
+        parsed = self._parse(list(traj.joint_names), traj.points)
         with self.lock:
-            self.inbox.append(("goal", (gh, points, check)))
+            self.inbox.append(("goal", (gh,) + parsed))
 
     def _on_cancel(self, gh):
         with self.lock:
@@ -187,10 +201,10 @@ class TrajectoryAdapter(Adapter):
             self.inbox.clear()
         for kind, obj in items:
             if kind == "command":
-                msg, points, (ok, code, text) = obj
+                msg, points, (ok, code, text), prepared = obj
                 if ok:
                     ok, code, text = self.c.submit(list(msg.joint_names), points, msg.header.stamp.to_sec(),
-                                                   t, checked=True)
+                                                   t, checked=True, prepared=prepared)
                 if not ok:
                     rospy.logerr("%s/command rejected: %s" % (self.ns, text))
             elif kind == "goal":
@@ -201,7 +215,7 @@ class TrajectoryAdapter(Adapter):
                     self.goals.pop(gid).set_canceled(text="canceled before it became active")
 
     def _accept_or_reject(self, item, t):
-        gh, points, (ok, code, text) = item
+        gh, points, (ok, code, text), prepared = item
         goal = gh.get_goal()
         gid = gh.get_goal_id().id
         traj = goal.trajectory
@@ -211,7 +225,7 @@ class TrajectoryAdapter(Adapter):
                                            path_tolerance=goal.path_tolerance,
                                            goal_tolerance=goal.goal_tolerance,
                                            goal_time_tolerance=goal.goal_time_tolerance.to_sec(),
-                                           checked=True)
+                                           checked=True, prepared=prepared)
         if not ok:
             rospy.logerr("%s/follow_joint_trajectory: goal rejected: %s" % (self.ns, text))
             gh.set_rejected(FollowJointTrajectoryResult(error_code=code, error_string=text), text)

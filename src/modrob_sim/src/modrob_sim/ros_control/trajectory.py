@@ -2,7 +2,13 @@
 points a per-joint polynomial whose order follows what both ends specify (QuinticSplineSegment):
 positions only -> linear, positions + velocities -> cubic, positions + velocities +
 accelerations -> quintic. Before the first segment the start state holds; after the last the
-final positions hold with zero velocity."""
+final positions hold with zero velocity.
+
+A long trajectory is built in two parts: :class:`PreparedTrajectory` (every segment, in times
+relative to the trajectory's start; pure, any thread, O(points)) and
+:meth:`PreparedTrajectory.activate`, which places it in time and joins it to the current state
+(O(joints) plus a bisection, in the loop thread). Sampling is a bisection, not a scan."""
+import bisect
 
 
 class State(object):
@@ -74,6 +80,7 @@ class Trajectory(object):
         for t, st in points:
             self.segments.append(Segment(prev_t, prev, t, st))
             prev_t, prev = t, st
+        self._ends = [seg.t1 for seg in self.segments]
         self.start_time = t_start
         self.end_time = prev_t
         self.final = prev
@@ -86,10 +93,76 @@ class Trajectory(object):
         if t >= self.end_time:
             n = len(self.final.positions)
             return list(self.final.positions), [0.0] * n, [0.0] * n
-        for seg in self.segments:
-            if t < seg.t1:
-                return seg.sample(t)
-        return self.segments[-1].sample(t)
+        i = bisect.bisect_right(self._ends, t)
+        return self.segments[min(i, len(self.segments) - 1)].sample(t)
+
+
+class PreparedTrajectory(object):
+    """The segments between consecutive ``states`` at relative ``times`` (strictly increasing),
+    built in any thread; positions of joints the goal does not name are 0 here (activate() adds
+    the current desired position, as it adds the continuous joints' 2*pi*k shifts: a constant
+    added to both ends of a segment only shifts its positions)."""
+
+    def __init__(self, times, states):
+        self.times = list(times)
+        self.states = list(states)
+        self.segments = [Segment(times[i], states[i], times[i + 1], states[i + 1])
+                         for i in range(len(self.times) - 1)]
+
+    def activate(self, start, now, current, offsets):
+        """A trajectory that starts at ``now`` from the State ``current`` and reaches the first
+        point after ``now`` (points at ``start + time`` <= now are skipped), ``offsets`` added to
+        every position; None when every point is in the past."""
+        times = self.times
+        n = len(times)
+        k = bisect.bisect_right(times, now - start)
+        while k > 0 and start + times[k - 1] > now:  # the same float comparison as point by point
+            k -= 1
+        while k < n and start + times[k] <= now:
+            k += 1
+        if k == n:
+            return None
+        return _PlacedTrajectory(self, start, now, current, offsets, k)
+
+
+def _shifted(state, offsets):
+    return State([p + o for p, o in zip(state.positions, offsets)], state.velocities, state.accelerations)
+
+
+class _PlacedTrajectory(object):
+    """A PreparedTrajectory placed at ``start``: a first segment from the current state, then the
+    prepared segments from point ``k`` on (shared, not copied)."""
+
+    def __init__(self, prepared, start, now, current, offsets, k):
+        self._prep = prepared
+        self._times = prepared.times
+        self._segments = prepared.segments
+        self._start = start
+        self._k = k
+        self._off = list(offsets) if any(offsets) else None
+        first = _shifted(prepared.states[k], offsets)
+        self._first = Segment(now, current, start + prepared.times[k], first)
+        self.start_time = now
+        self.end_time = start + prepared.times[-1]
+        self.final = _shifted(prepared.states[-1], offsets)
+
+    @property
+    def segments(self):
+        return [self._first] + self._segments[self._k:]
+
+    def sample(self, t):
+        if t >= self.end_time:
+            n = len(self.final.positions)
+            return list(self.final.positions), [0.0] * n, [0.0] * n
+        if t < self._first.t1:
+            return self._first.sample(t)
+        rel = t - self._start
+        i = bisect.bisect_right(self._times, rel, self._k) - 1
+        i = min(max(i, self._k), len(self._segments) - 1)
+        pos, vel, acc = self._segments[i].sample(rel)
+        if self._off is not None:
+            pos = [p + o for p, o in zip(pos, self._off)]
+        return pos, vel, acc
 
 
 def hold_trajectory(t, positions, velocities=None, stop_duration=0.0):

@@ -24,7 +24,7 @@ from modrob_sim.errors import ControllerError
 from modrob_sim.ros_control import angles
 from modrob_sim.ros_control.controllers.base import Controller
 from modrob_sim.ros_control.pid import Pid, PidGains
-from modrob_sim.ros_control.trajectory import State, Trajectory, hold_trajectory
+from modrob_sim.ros_control.trajectory import PreparedTrajectory, State, Trajectory, hold_trajectory
 from modrob_sim.ros_control.transmissions import EFFORT, POSITION
 
 SUCCESSFUL = 0
@@ -149,11 +149,13 @@ class JointTrajectoryControllerBase(Controller):
 
     # -- commands --------------------------------------------------------------------------
     def submit(self, joint_names, points, start_time, now, goal_id=None, path_tolerance=None,
-               goal_tolerance=None, goal_time_tolerance=0.0, checked=False):
+               goal_tolerance=None, goal_time_tolerance=0.0, checked=False, prepared=None):
         """A new trajectory (from the ``command`` topic when goal_id is None, else an action goal).
         Returns (accepted, error_code, error_string). Accepting an action goal preempts the
         previous one (an event ('preempted') is queued for it). ``checked``: check_points() has
-        passed already (a ROS callback runs it, off the simulation loop)."""
+        passed already; ``prepared``: what prepare() made of these points. A ROS callback does
+        both, off the simulation loop, so that the loop only places the finished segments in
+        time (O(joints)) however long the trajectory is."""
         if self.state != "running":
             return False, INVALID_GOAL, "controller '%s' is not running (state: %s)" % (self.name, self.state)
         if not checked:
@@ -162,7 +164,7 @@ class JointTrajectoryControllerBase(Controller):
                 return ok, code, text
         start = start_time if start_time and start_time > 0.0 else now
         return self._after_check(joint_names, points, start, now, goal_id, path_tolerance, goal_tolerance,
-                                 goal_time_tolerance)
+                                 goal_time_tolerance, prepared)
 
     def check_points(self, joint_names, points):
         """The checks of a trajectory that need nothing but its joint names and points (pure, any
@@ -204,7 +206,7 @@ class JointTrajectoryControllerBase(Controller):
         return True, SUCCESSFUL, ""
 
     def _after_check(self, joint_names, points, start, now, goal_id, path_tolerance, goal_tolerance,
-                     goal_time_tolerance):
+                     goal_time_tolerance, prepared=None):
         if points and start + points[-1].time_from_start < now:
             return False, OLD_HEADER_TIMESTAMP, ("the trajectory ended %.3f s ago (header.stamp %.3f, "
                                                  "now %.3f)"
@@ -220,7 +222,7 @@ class JointTrajectoryControllerBase(Controller):
             if goal_id is not None:
                 self.events.append((goal_id, "succeeded", SUCCESSFUL, "empty trajectory: holding position"))
             return True, SUCCESSFUL, ""
-        self.trajectory = self._build(joint_names, points, start, now)
+        self.trajectory = self._build(joint_names, points, start, now, prepared)
         if goal_id is not None:
             path, goal = [], []
             by_name_path = {t.name: t for t in (path_tolerance or [])}
@@ -247,38 +249,44 @@ class JointTrajectoryControllerBase(Controller):
             return True
         return False
 
-    def _build(self, joint_names, points, start, now):
+    def prepare(self, joint_names, points):
+        """Every segment of a checked trajectory, in times relative to its start (pure, any
+        thread: it reads only the joints' names and types). Joints the goal does not name are
+        placed by _build, which adds their current desired position."""
+        index = {j: i for i, j in enumerate(joint_names)}
+        cols = [index.get(j) for j in self.joint_names]
+        times, states = [], []
+        for p in points:
+            P, V, A = p.positions, p.velocities, p.accelerations
+            pos = [0.0 if i is None else P[i] for i in cols]
+            vel = [0.0 if i is None else V[i] for i in cols] if V else None
+            acc = [0.0 if i is None else A[i] for i in cols] if A else None
+            times.append(p.time_from_start)
+            states.append(State(pos, vel, acc))
+        prepared = PreparedTrajectory(times, states)
+        prepared.joint_names = list(joint_names)
+        return prepared
+
+    def _build(self, joint_names, points, start, now, prepared=None):
+        if (prepared is None or prepared.joint_names != list(joint_names)
+                or len(prepared.times) != len(points)):
+            prepared = self.prepare(joint_names, points)
         index = {j: i for i, j in enumerate(joint_names)}
         cur_pos, cur_vel, cur_acc = self._current_desired(now)
-        # continuous joints: shift the whole joint trajectory by 2*pi*k so that it starts the short way
+        # continuous joints: shift the whole joint trajectory by 2*pi*k so that it starts the short
+        # way; joints the goal does not name hold their current desired position
         offsets = [0.0] * self.n
         for c, j in enumerate(self.joints):
-            if j.type == "continuous" and j.name in index:
+            if j.name not in index:
+                offsets[c] = cur_pos[c]
+            elif j.type == "continuous":
                 first = points[0].positions[index[j.name]]
                 offsets[c] = cur_pos[c] + angles.shortest_angular_distance(cur_pos[c], first) - first
-        out = []
-        for p in points:
-            t_abs = start + p.time_from_start
-            if t_abs <= now:
-                continue
-            pos, vel, acc = [], [], []
-            for c, j in enumerate(self.joint_names):
-                if j in index:
-                    i = index[j]
-                    pos.append(p.positions[i] + offsets[c])
-                    vel.append(p.velocities[i] if p.velocities else None)
-                    acc.append(p.accelerations[i] if p.accelerations else None)
-                else:  # partial goal: this joint holds its current desired position
-                    pos.append(cur_pos[c])
-                    vel.append(0.0 if p.velocities else None)
-                    acc.append(0.0 if p.accelerations else None)
-            out.append((t_abs, State(pos, None if vel[0] is None else vel, None if acc[0] is None else acc)))
-        if not out:  # every point is in the past but the last is 'now': jump to it
-            last = points[-1]
-            pos = [last.positions[index[j]] + offsets[c] if j in index else cur_pos[c]
-                   for c, j in enumerate(self.joint_names)]
-            return Trajectory(now, State(pos), [])
-        return Trajectory(now, State(cur_pos, cur_vel, cur_acc), out)
+        placed = prepared.activate(start, now, State(cur_pos, cur_vel, cur_acc), offsets)
+        if placed is None:  # every point is in the past but the last is 'now': jump to it
+            last = prepared.states[-1]
+            return Trajectory(now, State([p + o for p, o in zip(last.positions, offsets)]), [])
+        return placed
 
     # -- loop ------------------------------------------------------------------------------
     def update(self, t, dt):
