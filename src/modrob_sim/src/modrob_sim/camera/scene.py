@@ -50,6 +50,7 @@ class SceneModel(object):
         sig = tuple((m.name, id(m)) for m in self.world.models.values())
         if sig != self._signature:
             self._signature = sig
+            self._visuals.forget_removed()
             return True
         return False
 
@@ -98,6 +99,13 @@ class ScenePublisher(object):
 
     def link_frame(self, model_name, link_name):
         return link_frame(self.model.prefix, model_name, link_name)
+
+    def forget_removed(self):
+        """Deleted models leave the cached link list and visuals now, not at the next tf tick."""
+        live = self.model.world.models
+        self._links = [item for item in self._links if live.get(item[0].name) is item[0]]
+        self.model._visuals.forget_removed()
+        self.model._signature = None
 
     def add_frame(self, child, model_name, link_name, offset):
         """Publish ``child`` at ``offset`` (pose in the link frame) from the link, in tf."""

@@ -87,6 +87,15 @@ class WorldMarkers(object):
             self._visuals[model.name] = vis
         return vis[1]
 
+    def forget_removed(self):
+        """Drop the cached visuals of models no longer in the world (each entry holds a whole
+        Model: keyed by name, a spawn/delete cycle with a new name each time grew it for ever)."""
+        live = self.world.models
+        for name in [n for n, (m, _) in self._visuals.items() if live.get(n) is not m]:
+            del self._visuals[name]
+        for key in [k for k in self._last_poses if k[0] not in live]:
+            del self._last_poses[key]
+
     def update(self, force=False):
         models = [m for m in self.world.models.values() if _wanted(m, self.which)]
         names = tuple(m.name for m in models)
@@ -100,8 +109,7 @@ class WorldMarkers(object):
             return None
         self._models = names
         self._last_poses = poses
-        for gone in set(self._visuals) - set(self.world.models):
-            del self._visuals[gone]
+        self.forget_removed()
         return self._build(models, poses)
 
     def _moved(self, poses):

@@ -21,6 +21,7 @@ from modrob_sim.errors import ModelError, ModrobError, SimulationError
 from modrob_sim.gazebo_ros import plugins
 from modrob_sim.gazebo_ros.conversions import ros_time
 from modrob_sim.gazebo_ros.force_jobs import ForceJobs
+from modrob_sim.gazebo_ros import memory_debug
 from modrob_sim.gazebo_ros.lookup import Lookup
 from modrob_sim.gazebo_ros.node_params import Params, parse_server_args  # noqa: F401 (the node's API)
 from modrob_sim.gazebo_ros.plugin_host import PluginHost
@@ -113,6 +114,9 @@ class GazeboRosNode(object):
         self._services = []
         for group in (ModelServices(sim), PropertyServices(sim), ForceServices(sim), PhysicsServices(sim)):
             self._services.extend(group.advertise())
+        debug = memory_debug.advertise(self.node_name)
+        if debug is not None:
+            self._services.append(debug)
         rtf = settings.real_time_factor
         rospy.loginfo("%s: time step %g s, real-time factor %s, %s, %d models" % (
             self.node_name, settings.time_step, "unlimited" if rtf <= 0 else "%g" % rtf,

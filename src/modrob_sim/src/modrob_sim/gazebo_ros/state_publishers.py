@@ -115,6 +115,13 @@ class StatePublishers(object):
                              "commanded efforts, link masses/inertias and the time step; events on %s"
                              % (ev.model, ev.link, self._guard_pub.resolved_name))
 
+    def forget_model(self, name):
+        """A model was deleted: nothing of it stays in the publishers' caches (the scene's tf
+        list is rebuilt at once, the markers' visuals and the guard hint dropped)."""
+        self._guard_hint.pop(name, None)
+        self._markers.forget_removed()
+        self._scene.forget_removed()
+
     def publish_rtf(self, rtf, sim_time, paused):
         msg = gzm.PerformanceMetrics()
         msg.header.stamp = ros_time(sim_time)

@@ -450,6 +450,7 @@ class World(object):
         slot = self._entry(model).slot
         self._frozen.pop(name, None)
         self._guard_log.pop(name, None)
+        self._warned = set(k for k in self._warned if not k.startswith("planar:%s:" % name))
         self._destroy_model_objects(model)
         self._wake_all()  # whatever rested on it must fall
         self._used_slots.discard(slot)

@@ -6,6 +6,7 @@ from gazebo_msgs import msg as gzm
 from gazebo_msgs import srv as gzs
 
 from modrob_sim.errors import ModrobError, RequestError
+from modrob_sim.gazebo_ros import memory_debug
 from modrob_sim.gazebo_ros import transforms as tf
 from modrob_sim.gazebo_ros.conversions import (pose_from_msg, pose_to_msg, ros_time, twist_from_msg,
                                                twist_to_msg)
@@ -94,9 +95,12 @@ class ModelServices(ServiceGroup):
             self.sim.plugins.unload(req.model_name)
             self.sim.forces.drop_model(model)
             self.world.remove_model(req.model_name)
+            self.sim.outputs.forget_model(req.model_name)
             self.sim.outputs.publish_markers(force=True)
             return "successfully deleted model [%s]" % req.model_name
-        return self.run(do, gzs.DeleteModelResponse(), "DeleteModel")
+        resp = self.run(do, gzs.DeleteModelResponse(), "DeleteModel")
+        memory_debug.trim_heap()   # in this service thread: the loop does not wait for it
+        return resp
 
     # ---- states -------------------------------------------------------------------------------
     def get_model_state(self, req):

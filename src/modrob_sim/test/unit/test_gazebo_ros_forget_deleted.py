@@ -1,0 +1,64 @@
+"""Nothing of a deleted model stays in the node's per-model structures (no master): the world
+markers' and the scene's caches of visuals, the scene's tf link list, the guard's logs and
+warnings, the plugin host. Each of these is keyed by model name, so a spawn/delete cycle with a
+new name each time grew the /gazebo node's memory for ever (scripts/bench/spawn_delete_memory.py;
+docs/benchmarks.md). Checked deterministically: the deleted Model object itself must be freed."""
+import gc
+import os
+import weakref
+
+from modrob_sim.camera.scene import SceneModel
+from modrob_sim.gazebo_ros.markers import WorldMarkers
+from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
+from modrob_sim.gazebo_ros.plugin_host import PluginHost
+from modrob_sim.gazebo_ros.plugins import register_plugin
+
+FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "sim")
+
+
+def fixture(name):
+    with open(os.path.join(FIXTURES, name)) as f:
+        return f.read()
+
+
+class _Probe(ModelPlugin):
+    def before_step(self, t, dt):
+        pass
+
+
+register_plugin("libforget_probe.so", _Probe)
+
+
+def _with_plugin(xml):
+    return xml.replace("</robot>", "<gazebo><plugin name='p' filename='libforget_probe.so'/></gazebo></robot>")
+
+
+def test_a_deleted_model_leaves_no_cache_behind_and_is_freed():
+    from modrob_sim.physics import World
+    world = World(time_step=0.001)
+    world.add_urdf("ground", fixture("ground.urdf"))
+    props = WorldMarkers(world, "all")
+    scene = SceneModel(world)
+    host = PluginHost(world, "/gazebo", lambda uri: uri)
+    refs = []
+    for i in range(5):
+        name = "arm_%d" % i               # a new name each cycle
+        m = world.add_urdf(name, _with_plugin(fixture("arm2.urdf")), pose=((0, 0, 0.5), (0, 0, 0, 1)))
+        host.load(m)
+        refs.append(weakref.ref(m))
+        assert props.update(force=True) is not None
+        assert scene.changed() and scene.marker_array().markers
+        world.step(5)
+        host.unload(name)
+        world.remove_model(name)
+        del m
+        props.update()
+        scene.changed()
+        assert set(props._visuals) <= {"ground"} and set(scene._visuals._visuals) <= {"ground"}
+        assert all(k[0] == "ground" for k in props._last_poses)
+        assert name not in host._loaded and not host._before
+        assert name not in world._guard_log and name not in world.frozen_models
+    gc.collect()
+    alive = [r().name for r in refs if r() is not None]
+    assert not alive, "deleted models still referenced: %s (%s)" % (
+        alive, [type(o).__name__ for r in refs if r() is not None for o in gc.get_referrers(r())])
