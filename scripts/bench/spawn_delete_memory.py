@@ -65,7 +65,22 @@ def robot_xml(root):
     return xml.replace("</robot>", IMU.replace("link2", links[-1]))
 
 
-def run(root, cycles, every, memdebug, log):
+def start_master():
+    """A roscore on a free port for the whole benchmark (this process's rospy stays bound to the
+    master it first talked to, so every node run uses the same one)."""
+    env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % free_port(), ROS_HOME="/tmp/memroshome")
+    core = subprocess.Popen(["roscore", "-p", env["ROS_MASTER_URI"].rsplit(":", 1)[1]], env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
+    deadline = time.time() + 60
+    while subprocess.run(["rosnode", "list"], env=env, capture_output=True).returncode != 0:
+        if time.time() > deadline:
+            raise RuntimeError("roscore did not come up")
+        time.sleep(0.2)
+    return core, env
+
+
+def run(root, cycles, every, memdebug, log, env):
     """One node of checkout ``root``; returns [(cycle, rss_kib)] and the debug reports."""
     import rospy
     import rosparam
@@ -74,7 +89,6 @@ def run(root, cycles, every, memdebug, log):
     from geometry_msgs.msg import Pose
     from std_srvs.srv import Trigger
 
-    env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % free_port(), ROS_HOME="/tmp/memroshome")
     node_env = dict(env)
     if memdebug:
         node_env["MODROB_SIM_MEMDEBUG"] = memdebug
@@ -82,20 +96,13 @@ def run(root, cycles, every, memdebug, log):
         for var in ("PYTHONPATH", "ROS_PACKAGE_PATH", "CMAKE_PREFIX_PATH", "LD_LIBRARY_PATH"):
             if var in node_env:
                 node_env[var] = node_env[var].replace(ROOT, os.path.realpath(root))
-    core = subprocess.Popen(["roscore", "-p", env["ROS_MASTER_URI"].rsplit(":", 1)[1]], env=env,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     node = None
     try:
-        os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
-        deadline = time.time() + 60
-        while subprocess.run(["rosnode", "list"], env=env, capture_output=True).returncode != 0:
-            if time.time() > deadline:
-                raise RuntimeError("roscore did not come up")
-            time.sleep(0.2)
         node = subprocess.Popen([sys.executable, os.path.join(root, "src/modrob_sim/scripts/gazebo"),
                                  "_real_time_factor:=1", "__name:=gazebo"], env=node_env, stdout=log,
                                 stderr=subprocess.STDOUT)
-        rospy.init_node("spawn_delete_memory", anonymous=True, disable_signals=True)
+        if not rospy.core.is_initialized():
+            rospy.init_node("spawn_delete_memory", anonymous=True, disable_signals=True)
         for name, value in rosparam.load_file(os.path.join(
                 root, "src/modrob_sim/test/fixtures/control/arm3_controllers.yaml"))[0][0].items():
             rospy.set_param(NS + "/" + name, value)
@@ -138,8 +145,6 @@ def run(root, cycles, every, memdebug, log):
                 node.wait(30)
             except subprocess.TimeoutExpired:
                 node.kill()
-        os.killpg(core.pid, signal.SIGINT)
-        core.wait(30)
 
 
 def growth(samples, skip):
@@ -191,6 +196,8 @@ def main():
     ap.add_argument("--root", default=ROOT, help="checkout whose node runs (default: this one)")
     ap.add_argument("--compare", help="also run the node of this checkout (e.g. before a fix)")
     ap.add_argument("--compare-label", default="before")
+    ap.add_argument("--compare-log", help="instead of running --compare: the 'cycle N rss X KiB' lines "
+                                          "a previous run of this script printed for it")
     ap.add_argument("--memdebug", nargs="?", const="gc", default="",
                     help="MODROB_SIM_MEMDEBUG for the node (gc: object counts and malloc statistics; "
                          "N: + tracemalloc with N frames) and print its reports")
@@ -198,12 +205,22 @@ def main():
     args = ap.parse_args()
     log = open("/tmp/spawn_delete_memory_node.log", "w")
     curves = []
-    for label, root in ([(args.compare_label, args.compare)] if args.compare else []) + [("this tree", args.root)]:
-        t0 = time.time()
-        samples, reports = run(root, args.cycles, args.every, args.memdebug, log)
-        for cycle, text in reports:
-            print("---- node's memory report at cycle %d\n%s" % (cycle, text))
-        curves.append((label, samples, time.time() - t0))
+    if args.compare_log:
+        with open(args.compare_log) as f:
+            found = re.findall(r"^cycle (\d+) rss (\d+) KiB$", f.read(), re.M)
+        curves.append((args.compare_label, [(int(c), int(r)) for c, r in found], float("nan")))
+    core, env = start_master()
+    try:
+        for label, root in ([(args.compare_label, args.compare)] if args.compare else []) + [("this tree",
+                                                                                            args.root)]:
+            t0 = time.time()
+            samples, reports = run(root, args.cycles, args.every, args.memdebug, log, env)
+            for cycle, text in reports:
+                print("---- node's memory report at cycle %d\n%s" % (cycle, text))
+            curves.append((label, samples, time.time() - t0))
+    finally:
+        os.killpg(core.pid, signal.SIGINT)
+        core.wait(30)
     skip = min(args.cycles // 3, 500)
     rows = []
     for label, samples, secs in curves:
