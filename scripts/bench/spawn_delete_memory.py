@@ -211,8 +211,8 @@ def main():
         curves.append((args.compare_label, [(int(c), int(r)) for c, r in found], float("nan")))
     core, env = start_master()
     try:
-        for label, root in ([(args.compare_label, args.compare)] if args.compare else []) + [("this tree",
-                                                                                            args.root)]:
+        runs = ([(args.compare_label, args.compare)] if args.compare else []) + [("this tree", args.root)]
+        for label, root in runs:
             t0 = time.time()
             samples, reports = run(root, args.cycles, args.every, args.memdebug, log, env)
             for cycle, text in reports:
@@ -234,12 +234,12 @@ def main():
     plot([(lbl + " (%+.2f KiB/cycle after %d)" % (growth(s, skip), skip), s) for lbl, s, _ in curves],
          os.path.join(ROOT, PNG))
     text = ("## %s\n\n`bash scripts/bench/spawn_delete_memory.sh` (%s): resident memory of the `/gazebo`\n"
-            "node over spawn/delete cycles (a new model name each cycle) of a 3-joint arm with a ros_control\n"
-            "plugin and an IMU sensor;\n"
-            "each cycle also loads, starts, stops and unloads joint_state_controller and a\n"
-            "JointTrajectoryController. Growth is the least-squares slope from cycle %d on.\n\n"
-            "| node | cycles | RSS at start (MiB) | RSS at cycle %d (MiB) | RSS at the end (MiB) | growth from "
-            "cycle %d (KiB/cycle) | wall (s) |\n"
+            "node over spawn/delete cycles (a new model name each cycle) of a 3-joint arm with a\n"
+            "ros_control plugin and an IMU sensor; each cycle also loads, starts, stops and unloads\n"
+            "joint_state_controller and a JointTrajectoryController. Growth is the least-squares slope\n"
+            "from cycle %d on.\n\n"
+            "| node | cycles | RSS at start (MiB) | RSS at cycle %d (MiB) | RSS at the end (MiB) | "
+            "growth from cycle %d (KiB/cycle) | wall (s) |\n"
             "|---|---|---|---|---|---|---|\n%s\n\n![RSS over spawn/delete cycles](%s)\n"
             % (SECTION, time.strftime("%Y-%m-%d"), skip, skip, skip, "\n".join(rows),
                os.path.relpath(os.path.join(ROOT, PNG), os.path.join(ROOT, "docs"))))

@@ -30,7 +30,8 @@ register_plugin("libforget_probe.so", _Probe)
 
 
 def _with_plugin(xml):
-    return xml.replace("</robot>", "<gazebo><plugin name='p' filename='libforget_probe.so'/></gazebo></robot>")
+    plugin = "<gazebo><plugin name='p' filename='libforget_probe.so'/></gazebo>"
+    return xml.replace("</robot>", plugin + "</robot>")
 
 
 def test_a_deleted_model_leaves_no_cache_behind_and_is_freed():

@@ -124,7 +124,8 @@ class MemoryProbe(object):
         for st in diff[:top]:
             if st.size_diff:
                 fr = st.traceback[0]
-                lines.append("alloc %+d B %+d blocks %s:%d" % (st.size_diff, st.count_diff, fr.filename, fr.lineno))
+                lines.append("alloc %+d B %+d blocks %s:%d"
+                             % (st.size_diff, st.count_diff, fr.filename, fr.lineno))
         return "\n".join(lines)
 
 
@@ -140,6 +141,6 @@ def advertise(node_name):
     except ValueError:
         frames = 8
     probe = MemoryProbe(frames)
-    rospy.logwarn("%s: %s=%s: ~debug/memory reports growth%s" % (node_name, ENV, value,
-                                                                 " (tracemalloc on: slower)" if frames else ""))
+    slower = " (tracemalloc on: slower)" if frames else ""
+    rospy.logwarn("%s: %s=%s: ~debug/memory reports growth%s" % (node_name, ENV, value, slower))
     return rospy.Service("~debug/memory", Trigger, lambda _req: TriggerResponse(True, probe.report()))
