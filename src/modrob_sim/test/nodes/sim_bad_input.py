@@ -105,6 +105,31 @@ class SimBadInput(unittest.TestCase):
         self.assertLess(abs(s.twist.linear.x), 1e3)
         time.sleep(0.1)
 
+    def test_z_a_model_that_keeps_blowing_up_is_frozen_alone_until_set_model_state(self):
+        from gazebo_msgs.msg import ModelState
+        r = self.gz.spawn("runaway", "unstable.urdf", y=3.0)
+        self.assertTrue(r.success, r.status_message)
+        self.gz.unpause_physics()
+        e = self.gz.apply_joint_effort(joint_name="runaway::slide", effort=1e6, start_time=rospy.Time(0),
+                                       duration=rospy.Duration(-1))   # until cleared: every step blows up
+        self.assertTrue(e.success, e.status_message)
+        mine = lambda: [t for t in self.guard_events if "model=runaway " in t]  # noqa: E731
+        frozen = lambda: [t for t in mine() if t.endswith("reason=frozen")]  # noqa: E731
+        self.assertTrue(wait_for(frozen, 60.0), "never frozen: %d events" % len(mine()))
+        # the rest of the world goes on: physics not paused, time advances, no more events of it
+        self.assertFalse(self.gz.get_physics_properties().pause)
+        n, t0 = len(mine()), self.gz.sim_time()
+        self.assertTrue(wait_for(lambda: self.gz.sim_time() > t0 + 0.3, 20.0), "simulation stopped")
+        self.assertEqual(len(mine()), n, "a frozen model was still restored: %s" % mine()[n:])
+        # set_model_state releases it (the effort still runs: it blows up again, now reported)
+        state = ModelState(model_name="runaway")
+        state.pose.position.y = 3.0
+        state.pose.orientation.w = 1.0
+        self.assertTrue(self.gz.set_model_state(model_state=state).success)
+        self.assertTrue(wait_for(lambda: len(mine()) > n, 20.0), "not released by set_model_state")
+        self.assertTrue(self.gz.delete_model(model_name="runaway").success)
+        self.still_serving()
+
 
 if __name__ == "__main__":
     rospy.init_node("sim_bad_input_test")
