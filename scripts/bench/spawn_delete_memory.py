@@ -198,6 +198,7 @@ def main():
     ap.add_argument("--compare-label", default="before")
     ap.add_argument("--compare-log", help="instead of running --compare: the 'cycle N rss X KiB' lines "
                                           "a previous run of this script printed for it")
+    ap.add_argument("--this-log", help="no run at all: this tree's samples from a previous run's output")
     ap.add_argument("--memdebug", nargs="?", const="gc", default="",
                     help="MODROB_SIM_MEMDEBUG for the node (gc: object counts and malloc statistics; "
                          "N: + tracemalloc with N frames) and print its reports")
@@ -209,24 +210,30 @@ def main():
         with open(args.compare_log) as f:
             found = re.findall(r"^cycle (\d+) rss (\d+) KiB$", f.read(), re.M)
         curves.append((args.compare_label, [(int(c), int(r)) for c, r in found], float("nan")))
-    core, env = start_master()
+    if args.this_log:
+        with open(args.this_log) as f:
+            found = re.findall(r"^cycle (\d+) rss (\d+) KiB$", f.read(), re.M)
+        curves.append(("this tree", [(int(c), int(r)) for c, r in found], float("nan")))
+        args.cycles = curves[-1][1][-1][0]
+    core, env = start_master() if not args.this_log else (None, None)
     try:
         runs = ([(args.compare_label, args.compare)] if args.compare else []) + [("this tree", args.root)]
-        for label, root in runs:
+        for label, root in (runs if not args.this_log else []):
             t0 = time.time()
             samples, reports = run(root, args.cycles, args.every, args.memdebug, log, env)
             for cycle, text in reports:
                 print("---- node's memory report at cycle %d\n%s" % (cycle, text))
             curves.append((label, samples, time.time() - t0))
     finally:
-        os.killpg(core.pid, signal.SIGINT)
-        core.wait(30)
+        if core is not None:
+            os.killpg(core.pid, signal.SIGINT)
+            core.wait(30)
     skip = min(args.cycles // 3, 500)
     rows = []
     for label, samples, secs in curves:
         at_skip = [r for c, r in samples if c >= skip][0]
         rows.append("| %s | %d | %.1f | %.1f | %.1f | %.2f | %.0f |" % (
-            label, args.cycles, samples[0][1] / 1024.0, at_skip / 1024.0, samples[-1][1] / 1024.0,
+            label, samples[-1][0], samples[0][1] / 1024.0, at_skip / 1024.0, samples[-1][1] / 1024.0,
             growth(samples, skip), secs))
         print(rows[-1])
     if args.no_write:
