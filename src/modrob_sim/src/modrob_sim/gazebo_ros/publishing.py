@@ -103,10 +103,11 @@ class PublishQueue(object):
 
 
 def ros_advertiser(queue):
-    """``advertise(topic, msg_class, queue_size, latch)`` for PluginContext, with rospy."""
-    import rospy
+    """``advertise(topic, msg_class, queue_size, latch)`` for PluginContext: roscpp's transport
+    when the node runs it (native_pub), else rospy."""
+    from modrob_sim.gazebo_ros.native_pub import publisher
 
     def advertise(topic, msg_class, queue_size=1, latch=False):
-        return PluginPublisher(rospy.Publisher(topic, msg_class, queue_size=queue_size, latch=latch),
+        return PluginPublisher(publisher(topic, msg_class, queue_size=queue_size, latch=latch),
                                queue, latch=latch)
     return advertise

@@ -18,7 +18,7 @@ import traceback
 import rospy
 
 from modrob_sim.errors import ModelError, ModrobError, SimulationError
-from modrob_sim.gazebo_ros import plugins
+from modrob_sim.gazebo_ros import native_pub, plugins
 from modrob_sim.gazebo_ros.conversions import ros_time
 from modrob_sim.gazebo_ros.force_jobs import ForceJobs
 from modrob_sim.gazebo_ros import memory_debug
@@ -98,6 +98,10 @@ class GazeboRosNode(object):
         plugins.import_plugin_modules(plugins.PLUGIN_MODULES + list(params.plugin_modules),
                                       on_error=self._plugin_module_failed)
 
+        if params.native_publishing and native_pub.start(self.node_name):
+            rospy.loginfo("%s: publishing through roscpp (node %s_roscpp)" % (self.node_name, self.node_name))
+        elif params.native_publishing and native_pub.enabled():
+            rospy.logwarn("%s: publishing through rospy (slower): %s" % (self.node_name, native_pub.reason()))
         self.outputs = StatePublishers(self.world, params)   # before any model: first states go out
         self.forces = ForceJobs(self.world)
         self.loop = SimulationLoop(self.world, real_time_factor=settings.real_time_factor,

@@ -12,6 +12,7 @@ from visualization_msgs.msg import MarkerArray
 
 from modrob_sim.camera.scene import ScenePublisher
 from modrob_sim.gazebo_ros import markers
+from modrob_sim.gazebo_ros.native_pub import publisher
 from modrob_sim.gazebo_ros.conversions import pose_to_msg, ros_time, twist_to_msg
 from modrob_sim.physics.world import FROZEN_REASON
 
@@ -21,10 +22,10 @@ class StatePublishers(object):
         self.world = world
         self.params = params
         # latched: a node that starts while the simulation is paused still learns the time
-        self._clock_pub = rospy.Publisher("/clock", Clock, queue_size=10, latch=True)
+        self._clock_pub = publisher("/clock", Clock, queue_size=10, latch=True)
         self._clock_msg = Clock()
-        self._model_states_pub = rospy.Publisher("~model_states", gzm.ModelStates, queue_size=1)
-        self._link_states_pub = rospy.Publisher("~link_states", gzm.LinkStates, queue_size=1)
+        self._model_states_pub = publisher("~model_states", gzm.ModelStates, queue_size=1)
+        self._link_states_pub = publisher("~link_states", gzm.LinkStates, queue_size=1)
         self._perf_pub = rospy.Publisher("~performance_metrics", gzm.PerformanceMetrics, queue_size=1)
         self._guard_pub = rospy.Publisher("~guard_events", String, queue_size=20)
         self._marker_pub = rospy.Publisher("~world_markers", MarkerArray, queue_size=1, latch=True)
