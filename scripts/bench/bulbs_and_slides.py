@@ -4,10 +4,13 @@ jittered by up to --jitter metres (seed = run number), each through bulbs_and_sl
 Prints every run, the success rate and the real-time factor, and writes them into
 docs/benchmarks.md under "## Bulbs and Slides" (only that section is replaced).
 
-    python3 scripts/bench/bulbs_and_slides.py [--runs 20] [--jitter 0.004] [--scenario one_robot]
-Passes when at least --need runs succeed (default 19 of 20).
+    python3 scripts/bench/bulbs_and_slides.py [--runs 20] [--jitter 0.004] [--scenario one_robot] [-j N]
+Passes when at least --need runs succeed (default 19 of 20). -j N runs N demos side by side (each
+starts its own ROS master on a free port); the outcome of a run does not depend on its neighbours
+(everything runs on simulated time), only its wall time does.
 """
 import argparse
+import concurrent.futures
 import os
 import re
 import subprocess
@@ -52,12 +55,22 @@ def main():
     p.add_argument("--need", type=int, default=None)
     p.add_argument("--out", default=os.path.join(ROOT, "out", "bench_bulbs_and_slides"))
     p.add_argument("--no-doc", action="store_true")
+    p.add_argument("-j", "--jobs", type=int, default=1,
+                   help="runs side by side, each with its own ROS master")
     p.add_argument("--note", default="", help="a sentence added to the docs section (conditions of the run)")
     args = p.parse_args()
     need = args.need if args.need is not None else int(round(0.95 * args.runs))
     rows, ok, sim, wall_sim = [], 0, 0.0, 0.0
+    done = {}
+    with concurrent.futures.ThreadPoolExecutor(max(1, args.jobs)) as pool:
+        futures = {pool.submit(run_once, args.scenario, args.jitter, k,
+                               os.path.join(args.out, "run%02d" % k)): k for k in range(args.runs)}
+        for fut in concurrent.futures.as_completed(futures):
+            k = futures[fut]
+            done[k] = fut.result()
+            print("run %2d (%d/%d done): %s" % (k, len(done), args.runs, done[k][3]), flush=True)
     for k in range(args.runs):
-        rc, res, wall, line = run_once(args.scenario, args.jitter, k, os.path.join(args.out, "run%02d" % k))
+        rc, res, wall, line = done[k]
         good = rc == 0 and res.get("success")
         ok += bool(good)
         if res:
@@ -67,7 +80,6 @@ def main():
             k, "yes" if good else "no", res.get("sim_time", float("nan")), wall,
             res.get("grasp_force", float("nan")), 1000 * res.get("placement_error", float("nan")),
             (res.get("message") or "").replace("|", "/")[:80]))
-        print("run %2d/%d: %s" % (k + 1, args.runs, line), flush=True)
     rtf = sim / wall_sim if wall_sim > 0 else 0.0
     summary = ("%s: %d/%d succeeded (need %d), real-time factor %.2f (simulated %.0f s in %.0f s of scenario "
                "wall time)" % (args.scenario, ok, args.runs, need, rtf, sim, wall_sim))

@@ -40,6 +40,36 @@ def cpu_seconds(pid):
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
+def descendants(pid):
+    """Every process below ``pid`` (roslaunch starts its nodes in sessions of their own)."""
+    children = {}
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                with open("/proc/%s/stat" % d) as f:
+                    ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, ValueError, IndexError):
+                continue
+            children.setdefault(ppid, []).append(int(d))
+    out, todo = [], [pid]
+    while todo:
+        for c in children.get(todo.pop(), []):
+            out.append(c)
+            todo.append(c)
+    return out
+
+
+def find_node(root_pid, needle="modrob_sim/gazebo"):
+    for pid in descendants(root_pid):
+        try:
+            with open("/proc/%d/cmdline" % pid, "rb") as f:
+                if needle.encode() in f.read():
+                    return pid
+        except OSError:
+            pass
+    return None
+
+
 def rss_mb(pid):
     with open("/proc/%d/status" % pid) as f:
         for ln in f:
@@ -263,9 +293,10 @@ def unit_node(args):
         rospy.set_param("/use_sim_time", True)
         rospy.init_node("bench_node", disable_signals=True)
         seconds = args.seconds or 5.0
-        # the node as it runs (roscpp publishing when built), then with rospy's (MODROB_SIM_ROSCPP=0)
-        rospy_env = dict(os.environ, MODROB_SIM_ROSCPP="0")
-        out = {"throttled": run_node_once(seconds, 1000.0), "every_step": run_node_once(seconds, 0.0),
+        # publishing through roscpp (MODROB_SIM_ROSCPP=1), then with rospy's (the node's default)
+        cpp_env, rospy_env = dict(os.environ, MODROB_SIM_ROSCPP="1"), dict(os.environ, MODROB_SIM_ROSCPP="0")
+        out = {"throttled": run_node_once(seconds, 1000.0, env=cpp_env),
+               "every_step": run_node_once(seconds, 0.0, env=cpp_env),
                "throttled_rospy": run_node_once(seconds, 1000.0, env=rospy_env),
                "every_step_rospy": run_node_once(seconds, 0.0, env=rospy_env)}
         out["pybullet"] = scene.run_pybullet(int(seconds * 2000), scene_files())
@@ -275,13 +306,38 @@ def unit_node(args):
 
 
 # ---- Bulbs and Slides: simulated seconds per wall second ----------------------------------------------
-def unit_bulbs(scenario, args):
+def unit_bulbs(scenario, args, roscpp="1"):
+    """One ``bulbs_and_slides_demo`` run; the simulator node's CPU seconds are sampled while it
+    runs, so that simulated s per node CPU s can be given beside simulated s per wall s."""
+    import threading
     out = tempfile.mkdtemp(prefix="modrob_bench_bas_")
     t0 = time.perf_counter()
     demo = os.path.join(ROOT, "src/modrob_motion/scripts/bulbs_and_slides_demo")
-    proc = subprocess.run([demo, "--scenario", scenario, "--out", out, "--seed", str(args.rep)],
-                          capture_output=True, text=True, timeout=900)
+    proc = subprocess.Popen([demo, "--scenario", scenario, "--out", out, "--seed", str(args.rep)],
+                            env=dict(os.environ, MODROB_SIM_ROSCPP=roscpp), stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    cpu = {}
+
+    def sample():
+        while proc.poll() is None:
+            pid = find_node(proc.pid)
+            if pid:
+                try:
+                    cpu[pid] = cpu_seconds(pid)
+                except OSError:
+                    pass
+            time.sleep(0.3)
+    sampler = threading.Thread(target=sample, daemon=True)
+    sampler.start()
+    try:
+        stdout, stderr = proc.communicate(timeout=900)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    sampler.join(2)
+    proc = subprocess.CompletedProcess(proc.args, proc.returncode, stdout, stderr)
     wall = time.perf_counter() - t0
+    node_cpu = sum(cpu.values())
     path = os.path.join(out, "bulbs_and_slides_%s_result.yaml" % scenario)
     res = {}
     if os.path.exists(path):
@@ -293,7 +349,8 @@ def unit_bulbs(scenario, args):
     return {"success": bool(proc.returncode == 0 and res.get("success")), "sim_time": sim,
             "scenario_wall": scen_wall, "wall_incl_startup": wall,
             "sim_per_wall": sim / scen_wall if scen_wall > 0 else 0.0,
-            "sim_per_wall_incl_startup": sim / wall if wall > 0 else 0.0,
+            "sim_per_wall_incl_startup": sim / wall if wall > 0 else 0.0, "node_cpu_s": node_cpu,
+            "sim_per_node_cpu_incl_startup": sim / node_cpu if node_cpu > 0 else 0.0,
             "result": line[-1] if line else (proc.stdout[-300:] + proc.stderr[-300:])}
 
 
@@ -437,6 +494,7 @@ def unit_kdl_fk(_args):
 UNITS = {"physics_core": unit_physics_core, "node": unit_node,
          "bulbs_one": lambda a: unit_bulbs("one_robot", a),
          "bulbs_two": lambda a: unit_bulbs("two_robots", a),
+         "bulbs_one_rospy": lambda a: unit_bulbs("one_robot", a, roscpp="0"),
          "startup": unit_startup, "rss": unit_rss, "kdl_fk": unit_kdl_fk}
 
 
