@@ -37,7 +37,8 @@ SCRIPTS = [("sensors", ["bash", "scripts/bench/sensors.sh"]),
            ("render", ["bash", "scripts/bench/render.sh", "--write", "docs/benchmarks.md"]),
            ("katana_stack", ["bash", "scripts/bench/katana_stack.sh", "10"]),
            ("polaris_lap", ["bash", "scripts/bench/polaris_lap.sh", "10"]),
-           ("bulbs_20_runs", ["bash", "scripts/bench/bulbs_and_slides.sh"])]
+           ("bulbs_20_runs", ["bash", "scripts/bench/bulbs_and_slides.sh"]),
+           ("spawn_delete_memory", ["bash", "scripts/bench/spawn_delete_memory.sh"])]
 
 
 def run_unit(unit, rep, seconds):

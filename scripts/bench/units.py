@@ -313,7 +313,9 @@ def unit_bulbs(scenario, args, roscpp="1"):
     out = tempfile.mkdtemp(prefix="modrob_bench_bas_")
     t0 = time.perf_counter()
     demo = os.path.join(ROOT, "src/modrob_motion/scripts/bulbs_and_slides_demo")
-    proc = subprocess.Popen([demo, "--scenario", scenario, "--out", out, "--seed", str(args.rep)],
+    # the scenario's pace: without the camera streams that make demo adds (their own processes)
+    proc = subprocess.Popen([demo, "--scenario", scenario, "--out", out, "--seed", str(args.rep),
+                             "--no-streams"],
                             env=dict(os.environ, MODROB_SIM_ROSCPP=roscpp), stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     cpu = {}
