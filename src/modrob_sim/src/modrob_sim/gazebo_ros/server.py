@@ -39,6 +39,16 @@ from modrob_sim.gazebo_ros.state_publishers import StatePublishers
 from modrob_sim.gazebo_ros.world_file import find_world, world_physics
 
 
+def set_rostime(stamp, _rt=rospy.rostime):
+    """rospy.rostime._set_rostime(stamp) for a rospy.Time, at every step: the same assignment and
+    wake-up of rospy.sleep's waiters, without its type checks and its Condition.notifyAll, which
+    Python 3.10+ deprecates and so runs warnings.warn at every call (~5 us of a ~130 us step)."""
+    _rt._rostime_current = stamp
+    cond = _rt._rostime_cond
+    with cond:
+        cond.notify_all()
+
+
 def default_world_factory(time_step, gravity, seed, resolver):
     from modrob_sim.physics import World
     return World(time_step=time_step, gravity=gravity, seed=seed, resource_resolver=resolver)
@@ -160,7 +170,7 @@ class GazeboRosNode(object):
     # ---- the World's step hooks (loop thread) ----------------------------------------------------
     def _before_step(self, t, dt):
         if self._own_sim_time:
-            rospy.rostime._set_rostime(ros_time(t))
+            set_rostime(ros_time(t))
         self.forces.activate_wrenches(t)
         self.plugins.before_step(t, dt)
         self.forces.apply_efforts(t)
