@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """Camera renderer benchmark: frames per second per stream (640x480 and 1280x720, 1 and 5 streams)
-and the simulator's real-time factor with and without the streams, in one run.
+and the simulator's real-time factor with and without the streams, in one run; then one 640x480
+stream with the renderer's two savings undone (RViz's 4x multisampling back on, pixels grabbed from
+the X server instead of read from OpenGL), as ratios to the default in the same run.
 
 The simulator runs modrob_sim's camera_box world as fast as it can (real_time_factor 0); the
 renderer (a separate process, its own Xvfb) renders N cameras asking for `--rate` fps each.
-  python3 scripts/bench/render.py [--seconds 15] [--rate 30] [--write docs/benchmarks.md]
+  python3 scripts/bench/render.py [--seconds 10] [--rate 30] [--write docs/benchmarks.md]
+--write replaces the "Camera renderer" section of that file (appends it when there is none).
 """
 import argparse
 import os
@@ -16,6 +19,11 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CONFIGS = [(640, 480, 1), (640, 480, 5), (1280, 720, 1), (1280, 720, 5)]
+# (label, renderer parameters) at 640x480, one stream
+VARIANTS = [("RViz's 4x multisampling on", ["_antialiasing:=true"]),
+            ("pixels grabbed from the X server", ["_pixels:=x11"]),
+            ("both (the renderer before)", ["_antialiasing:=true", "_pixels:=x11"])]
+HEADING = "## Camera renderer (RViz/OGRE off-screen)"
 FRAME = "gazebo/camera_post/camera_link/camera1"
 
 
@@ -74,7 +82,7 @@ class Meter(object):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--seconds", type=float, default=15.0)
+    ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--rate", type=float, default=30.0)
     ap.add_argument("--write", default="", help="append the table to this markdown file")
     args = ap.parse_args()
@@ -84,7 +92,7 @@ def main():
     os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
     core = start(["roscore", "-p", str(port)], env)
     sim = renderer = None
-    rows = []
+    rows, variants = [], []
     try:
         import rospy
         import rosgraph
@@ -105,26 +113,36 @@ def main():
             time.sleep(0.5)
         base_rtf, _ = meter.measure(args.seconds)
         print("[bench] simulator alone: real-time factor %.2f" % base_rtf, flush=True)
-        for w, h, n in CONFIGS:
+
+        def run(w, h, n, extra=()):
             cam = "{name: b%d, frame: '%s', image: /bench/b%d/image, width: %d, height: %d, fx: %.1f}"
             cams = ",".join(cam % (i, FRAME, i, w, h, w / 2.0) for i in range(n))
             renderer = start(["rosrun", "modrob_viz", "camera_renderer", "__name:=bench_renderer",
                               "_rate:=%g" % args.rate, "_sensors_param:=", "_screen:=4096x2304",
-                              "_cameras:=[%s]" % cams], env)
+                              "_cameras:=[%s]" % cams] + list(extra), env)
             topics = ["/bench/b%d/image" % i for i in range(n)]
             subs = meter.watch(topics)
-            end = time.monotonic() + 90
-            while time.monotonic() < end and min(meter.counts[t] for t in topics) < 3:
-                time.sleep(0.5)
-            rtf, fps = meter.measure(args.seconds, topics)
-            for s in subs:
-                s.unregister()
-            stop(renderer)
-            renderer = None
+            try:
+                end = time.monotonic() + 90
+                while time.monotonic() < end and min(meter.counts[t] for t in topics) < 3:
+                    time.sleep(0.5)
+                rtf, fps = meter.measure(args.seconds, topics)
+            finally:
+                for sub in subs:
+                    sub.unregister()
+                stop(renderer)
+            time.sleep(3.0)
+            return rtf, fps
+
+        for w, h, n in CONFIGS:
+            rtf, fps = run(w, h, n)
             rows.append((w, h, n, sum(fps) / len(fps), min(fps), rtf))
             print("[bench] %dx%d x%d: %.1f fps per stream (min %.1f), simulator RTF %.2f (alone %.2f)"
                   % (w, h, n, rows[-1][3], rows[-1][4], rtf, base_rtf), flush=True)
-            time.sleep(3.0)
+        for label, extra in VARIANTS:
+            rtf, fps = run(640, 480, 1, extra)
+            variants.append((label, fps[0], rtf))
+            print("[bench] 640x480 x1, %s: %.1f fps, simulator RTF %.2f" % (label, fps[0], rtf), flush=True)
         after_rtf, _ = meter.measure(args.seconds)
     finally:
         stop(renderer)
@@ -143,12 +161,41 @@ def main():
     for w, h, n, mean, low, rtf in rows:
         lines.append("| %dx%d | %d | %.1f | %.1f | %.2f (%+.0f %%) | %.2f / %.2f |"
                      % (w, h, n, mean, low, rtf, 100.0 * (rtf / base_rtf - 1.0), base_rtf, after_rtf))
+    default = rows[0][3] if rows else float("nan")
+    lines += ["", "One 640x480 stream with a saving undone, same run (fps relative to the default row "
+              "above, %.1f fps):" % default, "",
+              "| renderer | fps | vs default | simulator RTF |", "|---|---|---|---|",
+              "| default (no multisampling, pixels read from OpenGL by the ClipCamera plugin) "
+              "| %.1f | 1.00 | %s |" % (default, "%.2f" % rows[0][5] if rows else "-")]
+    for label, fps, rtf in variants:
+        ratio = fps / default if default else float("nan")
+        lines.append("| %s | %.1f | %.2f | %.2f |" % (label, fps, ratio, rtf))
     text = "\n".join(lines) + "\n"
     print(text)
     if args.write:
-        with open(args.write, "a") as f:
-            f.write(text)
+        write_section(args.write, text)
     return 0
+
+
+def write_section(path, text):
+    """Replace the camera renderer section of ``path`` (its heading up to the next '## ' heading)
+    with ``text``, or append ``text`` when the file has no such section. Prose written under the
+    table by hand is kept after the new table when it follows a line '<!-- render:notes -->'."""
+    with open(path) as f:
+        old = f.read()
+    start = old.find(HEADING)
+    if start < 0:
+        new = old.rstrip("\n") + "\n" + text
+    else:
+        nxt = old.find("\n## ", start + len(HEADING))
+        end = len(old) if nxt < 0 else nxt + 1
+        section = old[start:end]
+        notes = section.find("<!-- render:notes -->")
+        keep = section[notes:] if notes >= 0 else ""
+        body = text.lstrip("\n")
+        new = old[:start] + body + ("\n" + keep if keep else "") + old[end:]
+    with open(path, "w") as f:
+        f.write(new)
 
 
 if __name__ == "__main__":

@@ -1,15 +1,26 @@
-// modrob_viz/ClipCamera: RViz's Camera display with near and far clip distances.
+// modrob_viz/ClipCamera: RViz's Camera display with near and far clip distances, whose rendered
+// pixels the renderer can read without a round trip through the X server.
 //
 // rviz::CameraDisplay builds its projection matrix from the CameraInfo with fixed clip planes
 // (0.01 m and 100 m). A camera sensor's SDF <clip><near>/<far> must cut the scene where Gazebo
 // would, so this display rewrites the depth rows of that matrix, just before each render of its
 // panel, from the properties "Near Clip" and "Far Clip" (metres). Ogre derives its frustum
 // (culling) from the same matrix, so nothing nearer than near or beyond far is drawn.
+//
+// Pixels: with "Capture Pixels" on, each render of the panel is copied (glReadPixels through OGRE,
+// RGB, top row first) into a buffer right after it is drawn, before the buffers are swapped; the C
+// functions at the end hand it to camera_renderer (ctypes) with a serial number per render.
+#include <cstring>
+#include <vector>
+
+#include <OgrePixelFormat.h>
+#include <OgreRenderTarget.h>
 #include <OgreCamera.h>
 #include <OgreMatrix4.h>
 #include <OgreRenderTargetListener.h>
 
 #include <rviz/default_plugin/camera_display.h>
+#include <rviz/properties/bool_property.h>
 #include <rviz/properties/float_property.h>
 #include <rviz/render_panel.h>
 
@@ -26,6 +37,39 @@ public:
     far_property_ = new rviz::FloatProperty("Far Clip", 100.0f,
                                             "Nothing farther than this (m) from the camera is drawn.", this);
     far_property_->setMin(1e-3f);
+    capture_property_ = new rviz::BoolProperty("Capture Pixels", false,
+                                               "Copy every render into memory for camera_renderer.", this);
+  }
+
+  void postRenderTargetUpdate(const Ogre::RenderTargetEvent& evt) override
+  {
+    if (capture_property_->getBool() && evt.source)
+    {
+      unsigned int w = evt.source->getWidth(), h = evt.source->getHeight();
+      pixels_.resize(static_cast<size_t>(w) * h * 3);
+      Ogre::PixelBox box(w, h, 1, Ogre::PF_BYTE_RGB, pixels_.data());
+      evt.source->copyContentsToMemory(Ogre::Box(0, 0, w, h), box, Ogre::RenderTarget::FB_AUTO);
+      width_ = w;
+      height_ = h;
+      ++serial_;
+    }
+    rviz::CameraDisplay::postRenderTargetUpdate(evt);
+  }
+
+  // the last captured render: its serial (0 = none yet), or -1 when it is not width x height
+  long copyPixels(unsigned char* out, int width, int height) const
+  {
+    if (serial_ == 0)
+      return 0;
+    if (static_cast<int>(width_) != width || static_cast<int>(height_) != height)
+      return -1;
+    std::memcpy(out, pixels_.data(), pixels_.size());
+    return static_cast<long>(serial_);
+  }
+
+  long serial() const
+  {
+    return static_cast<long>(serial_);
   }
 
   void preRenderTargetUpdate(const Ogre::RenderTargetEvent& evt) override
@@ -49,9 +93,31 @@ public:
 private:
   rviz::FloatProperty* near_property_;
   rviz::FloatProperty* far_property_;
+  rviz::BoolProperty* capture_property_;
+  std::vector<unsigned char> pixels_;
+  unsigned int width_ = 0, height_ = 0;
+  unsigned long serial_ = 0;
 };
 
 }  // namespace modrob_viz
+
+// For camera_renderer (ctypes): `display` is the address of an rviz::Display (sip.unwrapinstance).
+extern "C" {
+// serial of the last captured render (0 = none yet), -1 if the display is not a ClipCamera
+long modrob_viz_clip_camera_serial(void* display)
+{
+  auto* d = dynamic_cast<modrob_viz::ClipCameraDisplay*>(static_cast<rviz::Display*>(display));
+  return d ? d->serial() : -1;
+}
+
+// copy the last captured render (RGB, width * height * 3 bytes, top row first) into out; returns
+// its serial, 0 if there is none yet, -1 if the display is not a ClipCamera or the size differs
+long modrob_viz_clip_camera_copy(void* display, unsigned char* out, int width, int height)
+{
+  auto* d = dynamic_cast<modrob_viz::ClipCameraDisplay*>(static_cast<rviz::Display*>(display));
+  return d ? d->copyPixels(out, width, height) : -1;
+}
+}
 
 #include <pluginlib/class_list_macros.hpp>
 PLUGINLIB_EXPORT_CLASS(modrob_viz::ClipCameraDisplay, rviz::Display)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """rostest: test/fixtures/camera_clip.world seen by camera_renderer. Both cameras at (0, 0, 1) look
 along +x (hfov 1.0 rad, 320x240); green box 0.3 m ahead (left of centre), red box 2 m ahead (centre),
-blue box 4 m ahead (right). clip_cam (near 0.5, far 3) must show only the red box, wide_cam (near
+blue box 4 m ahead (right, lower). clip_cam (near 0.5, far 3) must show only the red box, wide_cam (near
 0.02, far 300) all three, each where the pinhole model puts it."""
 import math
 import time
@@ -12,28 +12,30 @@ import rospy
 import rostest
 from sensor_msgs.msg import Image
 
-W, HFOV = 320, 1.0
+W, H, HFOV = 320, 240, 1.0
 F = W / (2.0 * math.tan(HFOV / 2.0))
-# box: (colour channel, centre ahead x, sideways y, half edge): the pinhole column of its centre
-BOXES = {"green": (1, 0.3, 0.06, 0.03), "red": (0, 2.0, 0.0, 0.1), "blue": (2, 4.0, -0.8, 0.15)}
+# box: (colour channel, centre ahead x, sideways y, height above the camera z, half edge)
+BOXES = {"green": (1, 0.3, 0.06, 0.04, 0.03), "red": (0, 2.0, 0.0, 0.0, 0.1),
+         "blue": (2, 4.0, -0.8, -0.2, 0.15)}
 
 
 def pixels(msg, colour):
-    """Columns of the pixels of a saturated colour (the others dark)."""
+    """(rows, columns) of the pixels of a saturated colour (the others dark)."""
     a = np.frombuffer(msg.data, np.uint8).reshape(msg.height, msg.width, 3).astype(int)
     ch = BOXES[colour][0]
     others = [c for c in range(3) if c != ch]
     mask = (a[..., ch] > 100) & (a[..., others[0]] < 60) & (a[..., others[1]] < 60)
-    return np.nonzero(mask)[1]
+    return np.nonzero(mask)
 
 
-def predicted_u(colour):
-    _, x, y, half = BOXES[colour]
-    return (W + 1) / 2.0 - F * y / (x - half)
+def predicted_uv(colour):
+    """Pixel of the centre of the box's face towards the camera (pinhole, Gazebo's cx, cy)."""
+    _, x, y, z, half = BOXES[colour]
+    return (W + 1) / 2.0 - F * y / (x - half), (H + 1) / 2.0 - F * z / (x - half)
 
 
 def seen(msg):
-    return {c: len(pixels(msg, c)) for c in BOXES}
+    return {c: len(pixels(msg, c)[1]) for c in BOXES}
 
 
 def wait_image(topic, predicate, timeout=60.0):
@@ -57,10 +59,11 @@ class CameraClip(unittest.TestCase):
         rospy.loginfo("wide_cam: pixels per box %s", counts)
         for colour in BOXES:
             self.assertGreaterEqual(counts[colour], 20, "wide_cam does not show the %s box" % colour)
-            cols = pixels(msg, colour)
-            u = (cols.min() + cols.max() + 1) / 2.0
-            self.assertLess(abs(u - predicted_u(colour)), 6.0,
-                            "%s box at column %.1f, pinhole model %.1f" % (colour, u, predicted_u(colour)))
+            rows, cols = pixels(msg, colour)
+            u, v = (cols.min() + cols.max() + 1) / 2.0, (rows.min() + rows.max() + 1) / 2.0
+            pu, pv = predicted_uv(colour)
+            self.assertLess(abs(u - pu), 6.0, "%s box at column %.1f, pinhole model %.1f" % (colour, u, pu))
+            self.assertLess(abs(v - pv), 6.0, "%s box at row %.1f, pinhole model %.1f" % (colour, v, pv))
 
     def test_2_clip_camera_drops_boxes_outside_near_far(self):
         def only_red(m):

@@ -90,7 +90,7 @@ class CameraRendererNode(object):
             self._start_recording(None if record == ["all"] else record)
         self.timer = QTimer()
         self.timer.timeout.connect(self._tick)
-        self.timer.start(5)
+        self.timer.start(2)
         rospy.on_shutdown(self._on_shutdown)
 
     # ---- cameras --------------------------------------------------------------------------------
@@ -112,7 +112,7 @@ class CameraRendererNode(object):
         with self.lock:
             self.cams[spec["id"]] = cam
             rates = [c.spec["rate"] for c in self.cams.values()]
-        self.scene.set_frame_rate(min(60.0, 1.5 * max(rates + [self.rate])))
+        self.scene.set_frame_rate(min(120.0, 2.0 * max(rates + [self.rate])))
         rospy.loginfo("camera '%s': %s -> %s at %.1f Hz", spec["name"],
                       spec["camera_info"] or "fixed intrinsics",
                       spec["image"], spec["rate"])
@@ -256,8 +256,9 @@ class CameraRendererNode(object):
         for cam in cams:
             if cam.pending is not None:
                 self._collect(cam, now)
-                continue
-            if now < cam.next_t:
+                if cam.pending is not None:
+                    continue
+            if now < cam.next_t:            # else the next frame starts in this same pass
                 continue
             cam.next_t = max(cam.next_t + 1.0 / cam.spec["rate"], now - 0.5 / cam.spec["rate"])
             ready = self._ready(cam)

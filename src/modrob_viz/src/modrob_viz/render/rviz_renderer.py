@@ -6,6 +6,8 @@ panel (a native window on the X server) is grabbed into a numpy image.
 Everything here must run in the Qt (main) thread. Each camera's panel is a floating dock placed
 so that no two overlap (an X server without compositing only keeps visible pixels).
 """
+import ctypes
+
 import numpy as np
 
 from python_qt_binding.QtCore import QPoint
@@ -16,6 +18,51 @@ from modrob_viz.errors import ConfigError
 
 TITLE_SPACE = 40     # px left above each panel for the dock's title bar
 MARGIN = 8
+
+
+def disable_antialiasing():
+    """rviz --disable-anti-aliasing (before the first render window): RViz asks OGRE for 4x
+    multisampling, which Mesa's software rasterizer pays per sample (most of a frame's CPU).
+    False when librviz does not have the switch."""
+    try:
+        lib = ctypes.CDLL("librviz.so")
+        fn = getattr(lib, "_ZN4rviz12RenderSystem19disableAntiAliasingEv")
+    except (OSError, AttributeError):
+        return False
+    fn.restype = None
+    fn()
+    return True
+
+
+def _pixel_reader():
+    """ctypes handle on the ClipCamera plugin's pixel functions (the library pluginlib loaded), or
+    None: then panels are grabbed from the X server."""
+    path = "libmodrob_viz_rviz_plugins.so"
+    try:
+        with open("/proc/self/maps") as f:
+            for line in f:
+                if line.rstrip().endswith("/libmodrob_viz_rviz_plugins.so"):
+                    path = line.split()[-1]
+                    break
+        lib = ctypes.CDLL(path)
+        copy = lib.modrob_viz_clip_camera_copy
+    except (OSError, AttributeError):
+        return None
+    copy.restype = ctypes.c_long
+    copy.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int, ctypes.c_int]
+    return copy
+
+
+def _address(obj):
+    """Address of the C++ object behind a sip wrapper (None if sip is not importable)."""
+    try:
+        from PyQt5 import sip
+    except ImportError:
+        try:
+            import sip
+        except ImportError:
+            return None
+    return int(sip.unwrapinstance(obj))
 
 
 def _has_prop(disp, name):
@@ -29,8 +76,16 @@ def _has_prop(disp, name):
 class RvizScene(object):
     """``config`` is an .rviz file with the scene displays (no cameras)."""
 
-    def __init__(self, config, frame_rate=30.0, max_cameras=8):
+    def __init__(self, config, frame_rate=30.0, max_cameras=8, antialiasing=False, pixels="gl"):
+        """``antialiasing``: RViz's 4x multisampling (off: a frame costs Mesa a quarter of the CPU);
+        ``pixels``: "gl" reads each render from OpenGL through the ClipCamera plugin, "x11" grabs
+        the panel from the X server (the fallback without the plugin)."""
+        if pixels not in ("gl", "x11"):
+            raise ConfigError("pixels must be 'gl' or 'x11', got %r" % (pixels,))
+        self.pixels = pixels
         self.app = QApplication.instance() or QApplication(["camera_renderer"])
+        if not antialiasing:
+            disable_antialiasing()
         self.frame = rviz.VisualizationFrame()
         self.frame.setSplashPath("")
         self.frame.initialize()
@@ -57,6 +112,7 @@ class RvizScene(object):
         self.cameras = {}           # name -> dict(display, dock, panel, size)
         self.max_cameras = max_cameras
         self.clip_supported = None  # the ClipCamera plugin loaded (set by _make_display)
+        self._copy = None           # the plugin's pixel copy function (set by _make_display)
         self._pool = [self._make_display(i) for i in range(max_cameras)]
         self._origin = (0, 130)
 
@@ -84,6 +140,7 @@ class RvizScene(object):
             disp = self.manager.createDisplay("rviz/Camera", "cam%d" % slot, False)
         else:
             self.clip_supported = True
+            disp.subProp("Capture Pixels").setValue(self.pixels == "gl")
         if disp is None:
             raise ConfigError("RViz could not create an rviz/Camera display (is the rviz package complete?)")
         disp.subProp("Image Rendering").setValue("background")   # a 1x1 image of the background colour
@@ -97,7 +154,10 @@ class RvizScene(object):
             raise ConfigError("the Camera display cam%d has no render panel" % slot)
         dock.setFloating(True)
         dock.hide()
-        return dict(display=disp, dock=dock, panel=dock.widget(), size=None)
+        ptr = _address(disp) if self.pixels == "gl" and _has_prop(disp, "Capture Pixels") else None
+        if ptr is not None and self._copy is None:
+            self._copy = _pixel_reader()
+        return dict(display=disp, dock=dock, panel=dock.widget(), size=None, ptr=ptr)
 
     def add_camera(self, name, topic_prefix):
         """Give a Camera display of the pool to ``name``: it reads ``<prefix>/image`` (a 1x1 image
@@ -212,6 +272,11 @@ class RvizScene(object):
         if cam is None or cam["size"] is None:
             return None
         w, h = cam["size"]
+        if cam["ptr"] is not None and self._copy is not None:
+            # the render's pixels as the plugin copied them from OpenGL: one copy, already RGB
+            rgb = np.empty((h, w, 3), np.uint8)
+            serial = self._copy(cam["ptr"], rgb.ctypes.data, w, h)
+            return rgb if serial > 0 else None
         panel = cam["panel"]
         pos = panel.mapToGlobal(QPoint(0, 0))
         pix = self.app.primaryScreen().grabWindow(0, pos.x(), pos.y(), w, h)
