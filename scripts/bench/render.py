@@ -24,11 +24,13 @@ VARIANTS = [("RViz's 4x multisampling on", ["_antialiasing:=true"]),
             ("pixels grabbed from the X server", ["_pixels:=x11"]),
             ("both (the renderer before)", ["_antialiasing:=true", "_pixels:=x11"])]
 HEADING = "## Camera renderer (RViz/OGRE off-screen)"
+LOGS = os.path.join(ROOT, "out", "bench", "render")
 FRAME = "gazebo/camera_post/camera_link/camera1"
 
 
-def start(cmd, env):
-    return subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+def start(cmd, env, log=None):
+    out = open(log, "w") if log else subprocess.DEVNULL
+    return subprocess.Popen(cmd, env=env, stdout=out, stderr=subprocess.STDOUT if log else subprocess.DEVNULL,
                             start_new_session=True)
 
 
@@ -86,6 +88,7 @@ def main():
     ap.add_argument("--rate", type=float, default=30.0)
     ap.add_argument("--write", default="", help="append the table to this markdown file")
     args = ap.parse_args()
+    os.makedirs(LOGS, exist_ok=True)
     port = random.randint(20000, 29999)
     env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % port)
     env.pop("DISPLAY", None)
@@ -114,13 +117,20 @@ def main():
         base_rtf, _ = meter.measure(args.seconds)
         print("[bench] simulator alone: real-time factor %.2f" % base_rtf, flush=True)
 
+        runs = [0]
+
         def run(w, h, n, extra=()):
-            cam = "{name: b%d, frame: '%s', image: /bench/b%d/image, width: %d, height: %d, fx: %.1f}"
+            # topics new for every run: rospy may not deliver on a topic re-subscribed right after
+            # its last subscriber was unregistered
+            runs[0] += 1
+            prefix = "/bench/r%d" % runs[0]
+            log = os.path.join(LOGS, "renderer_%d.log" % runs[0])
+            cam = "{name: b%d, frame: '%s', image: " + prefix + "/b%d/image, width: %d, height: %d, fx: %.1f}"
             cams = ",".join(cam % (i, FRAME, i, w, h, w / 2.0) for i in range(n))
             renderer = start(["rosrun", "modrob_viz", "camera_renderer", "__name:=bench_renderer",
                               "_rate:=%g" % args.rate, "_sensors_param:=", "_screen:=4096x2304",
-                              "_cameras:=[%s]" % cams] + list(extra), env)
-            topics = ["/bench/b%d/image" % i for i in range(n)]
+                              "_cameras:=[%s]" % cams] + list(extra), env, log)
+            topics = [prefix + "/b%d/image" % i for i in range(n)]
             subs = meter.watch(topics)
             try:
                 end = time.monotonic() + 90
@@ -132,6 +142,8 @@ def main():
                     sub.unregister()
                 stop(renderer)
             time.sleep(3.0)
+            if min(fps) == 0:
+                print("[bench] no frames from a stream: see %s" % log, flush=True)
             return rtf, fps
 
         for w, h, n in CONFIGS:

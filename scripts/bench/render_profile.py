@@ -91,7 +91,8 @@ def profile(args):
         spec = camera_spec.parse({"name": "p", "frame": FRAME, "image": "/profile/image", "width": w,
                                   "height": h, "fx": w / 2.0, "rate": args.rate}, args.rate)
         config = os.path.join(ROOT, "src/modrob_viz/config/camera_scene.rviz")
-        scene = RvizScene(config, frame_rate=1.5 * args.rate, max_cameras=1)
+        scene = RvizScene(config, frame_rate=2.0 * args.rate, max_cameras=1, antialiasing=args.antialiasing,
+                          pixels=args.pixels)
         node = CameraRendererNode(scene, [spec], args.rate, sensors_param="")
         timer = Timer()
         received = [0]
@@ -168,6 +169,8 @@ def main():
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--warmup", type=float, default=8.0)
     ap.add_argument("--rtf", default="0", help="simulator real_time_factor (0 = as fast as possible)")
+    ap.add_argument("--antialiasing", action="store_true", help="RViz's 4x multisampling on")
+    ap.add_argument("--pixels", default="gl", choices=("gl", "x11"), help="where the pixels are read")
     args = ap.parse_args()
     port = random.randint(20000, 29999)
     os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % port
@@ -198,8 +201,10 @@ def main():
         stop(sim)
         stop(core)
     fps = frames / wall
-    print("render_profile: %s, asking %g fps, simulator real_time_factor %s, load average %s"
-          % (args.size, args.rate, args.rtf, open("/proc/loadavg").read().split()[0]))
+    print("render_profile: %s, asking %g fps, simulator real_time_factor %s, multisampling %s, "
+          "pixels from %s, load average %s"
+          % (args.size, args.rate, args.rtf, "on" if args.antialiasing else "off", args.pixels,
+             open("/proc/loadavg").read().split()[0]))
     print("  %d frames in %.1f s: %.1f fps (red box pixels in the last frame: %.1f %%)"
           % (frames, wall, fps, 100 * (seen or 0)))
     per = max(frames, 1)
