@@ -53,7 +53,7 @@ def test_renderer_services_and_reply_format_match():
         node = f.read()
     for srv in ("save_frame", "stop_recording"):
         assert 'rospy.Service("~%s"' % srv in node
-    assert '"%s (%d frames)" % (cam.recorder.path, n)' in node
+    assert '"%s (%d frames)" % (rec.path, n)' in node
     text = "/o/topView.avi (12 frames) /o/orthoView.avi (3 frames)"
     assert camera_streams.parse_recordings(text) == [("/o/topView.avi", 12), ("/o/orthoView.avi", 3)]
     assert camera_streams.parse_recordings("nothing was recording") == []
@@ -98,6 +98,67 @@ def test_mosaic_tiles_the_views_2x2_as_long_as_the_shortest(tmp_path):
     for (r, c), colour in zip(((40, 50), (40, 114), (88, 50), (88, 114)), colours):
         assert np.abs(first[r, c].astype(int) - colour).max() < 60      # each view in its tile
     assert [camera_streams.view_index(p) for p in reversed(paths)] == [3, 2, 1, 0]
+
+
+def _finish(tmp_path, monkeypatch, answers):
+    """CameraStreams.finish on videos already in its directory, the services answering ``answers``
+    (name -> Trigger-like reply, or an exception to raise)."""
+    streams = camera_streams.CameraStreams(str(tmp_path / "cam"), str(tmp_path / "demo"))
+    os.makedirs(streams.dir)
+    for i, view in enumerate(camera_streams.VIEWS):
+        _video(os.path.join(streams.dir, view + ".avi"), 5 + i)
+    calls = []
+
+    def call(name, timeout=20.0):
+        calls.append(name)
+        answer = answers[name]
+        if isinstance(answer, Exception):
+            raise answer
+        return answer
+    monkeypatch.setattr(streams, "_call", call)
+    monkeypatch.setattr(streams, "stop", lambda: calls.append("stop"))
+    return streams, calls
+
+
+class _Reply(object):
+    def __init__(self, success, message):
+        self.success, self.message = success, message
+
+
+def test_finish_with_answering_renderer(tmp_path, monkeypatch):
+    png = str(tmp_path / "cam" / "orthoView_12.000.png")
+    answers = {"save_frame": _Reply(True, png),
+               "stop_recording": _Reply(True, "%s/topView.avi (5 frames)" % (tmp_path / "cam"))}
+    streams, calls = _finish(tmp_path, monkeypatch, answers)
+    cv2.imwrite(png, np.zeros((48, 64, 3), np.uint8))
+    paths = streams.finish()
+    assert calls == ["save_frame", "stop_recording", "stop"]
+    assert paths[:2] == [str(tmp_path / "demo_views.avi"), str(tmp_path / "demo_frame.png")]
+    assert camera_streams.check_video(paths[0])[0] == 5     # the shortest view
+    assert camera_streams.check_image(paths[1]).shape == (48, 64, 3)
+
+
+def test_finish_when_the_renderer_does_not_answer(tmp_path, monkeypatch, capsys):
+    """A loaded machine: the services fail (transport error); the renderer is stopped anyway and
+    the files it wrote are used, the frame taken from the orthographic video."""
+    err = ScenarioError("camera renderer service /camera_stream_renderer/stop_recording failed: "
+                        "transport error")
+    streams, calls = _finish(tmp_path, monkeypatch, {"save_frame": err, "stop_recording": err})
+    paths = streams.finish()
+    assert calls == ["save_frame", "stop_recording", "stop"]
+    assert camera_streams.check_image(str(tmp_path / "demo_frame.png")).shape == (48, 64, 3)
+    assert camera_streams.check_video(paths[0])[0] == 5
+    assert "taking the frame from the video" in capsys.readouterr().out
+
+
+def test_finish_fails_without_videos(tmp_path, monkeypatch):
+    streams, _ = _finish(tmp_path, monkeypatch, {"save_frame": _Reply(False, "no frame yet"),
+                                                 "stop_recording": _Reply(False, "nothing was recording")})
+    for view in camera_streams.VIEWS:
+        os.remove(os.path.join(streams.dir, view + ".avi"))
+    streams.log_path = "x.log"
+    with pytest.raises(ScenarioError, match="wrote no video"):
+        streams.finish()
 
 
 class _Streams(object):

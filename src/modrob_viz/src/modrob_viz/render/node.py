@@ -73,6 +73,7 @@ class CameraRendererNode(object):
         self.video_fps = video_fps
         self.rng = np.random.default_rng(seed)
         self.lock = threading.Lock()
+        self.rec_lock = threading.Lock()    # cameras' recorders: Qt thread writes, services start/stop
         self.cams = {}
         self.static_ids = set()
         self.tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(10.0))
@@ -313,12 +314,13 @@ class CameraRendererNode(object):
         cam.pub_image.publish(msg)
         if cam.pub_info is not None:
             cam.pub_info.publish(self._out_info(cam, intr, stamp, header_frame))
-        if cam.recorder is not None:
-            try:
-                cam.recorder.write(rgb)
-            except ConfigError as err:
-                rospy.logerr("camera '%s': recording stopped: %s", spec["name"], err)
-                cam.recorder = None
+        with self.rec_lock:     # the recording services run in rospy's threads
+            if cam.recorder is not None:
+                try:
+                    cam.recorder.write(rgb)
+                except ConfigError as err:
+                    rospy.logerr("camera '%s': recording stopped: %s", spec["name"], err)
+                    cam.recorder = None
 
     # ---- services --------------------------------------------------------------------------------
     def _srv_save_frame(self, _req):
@@ -347,10 +349,11 @@ class CameraRendererNode(object):
         for cam in cams:
             if names is not None and cam.spec["name"] not in names and cam.spec["id"] not in names:
                 continue
-            if cam.recorder is None:
-                path = os.path.join(self.output_dir, "%s.avi" % cam.spec["id"])
-                cam.recorder = VideoRecorder(path, self.video_fps or cam.spec["rate"])
-            started.append(cam.recorder.path)
+            with self.rec_lock:
+                if cam.recorder is None:
+                    path = os.path.join(self.output_dir, "%s.avi" % cam.spec["id"])
+                    cam.recorder = VideoRecorder(path, self.video_fps or cam.spec["rate"])
+                started.append(cam.recorder.path)
         return started
 
     def _srv_start_recording(self, _req):
@@ -365,10 +368,11 @@ class CameraRendererNode(object):
         with self.lock:
             cams = list(self.cams.values())
         for cam in cams:
-            if cam.recorder is not None:
-                n = cam.recorder.close()
-                done.append("%s (%d frames)" % (cam.recorder.path, n))
-                cam.recorder = None
+            with self.rec_lock:         # not while the Qt thread writes a frame into it
+                rec, cam.recorder = cam.recorder, None
+                if rec is not None:
+                    n = rec.close()
+                    done.append("%s (%d frames)" % (rec.path, n))
         return TriggerResponse(bool(done), " ".join(done) or "nothing was recording")
 
     def close(self):
@@ -378,6 +382,7 @@ class CameraRendererNode(object):
         with self.lock:
             cams = list(self.cams.values())
         for cam in cams:
-            if cam.recorder is not None:
-                cam.recorder.close()
-                cam.recorder = None
+            with self.rec_lock:
+                rec, cam.recorder = cam.recorder, None
+                if rec is not None:
+                    rec.close()
