@@ -28,9 +28,12 @@ def simulate(net, chains, ball_at, t_end, dt=0.1):
     while t < t_end:
         ball = ball_at(t)
         for ns, chain in chains.items():
-            net.on_joints(ns, t, q[ns], {"pan": 0.0, "tilt": 0.0})
+            net.on_joints(ns, t, q[ns])
             centre = (ball[0], ball[1], R) if ball is not None else (100.0, 100.0, R)
-            net.on_image(ns, t, synthetic.render(chain.pose(q[ns]), intr, centre, R), intr)
+            pose = chain.pose(q[ns])
+            # the pose given (as the node takes it from tf) or from the joints (ptrz1)
+            net.on_image(ns, t, synthetic.render(pose, intr, centre, R), intr,
+                         None if ns == "ptrz1" else pose)
         fused = net.fuse(t)
         if fused is not None and ball is not None:
             out.append((t, ball, fused[1].xy))

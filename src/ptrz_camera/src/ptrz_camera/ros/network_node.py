@@ -1,6 +1,7 @@
 """ptrz_network: the camera network at work (ptrz_camera.tracking.network behind ROS topics).
 
-Per camera <ns>: in <ns>/camera1/image_raw, <ns>/camera1/camera_info, <ns>/joint_states and the
+Per camera <ns>: in <ns>/camera1/image_raw, <ns>/camera1/camera_info, <ns>/joint_states, tf (the
+camera pose at each image's stamp: world -> the image's frame_id, the camera link) and the
 camera's robot_description; out <ns>/pan_position_controller/command and tilt, <ns>/ball_point
 (PointStamped, world: this camera's floor estimate) and <ns>/ball_pixel (PointStamped, frame
 'image': x = u, y = v, z = area in px). For the network: /ptrz_network/ball (PointStamped, world:
@@ -12,6 +13,7 @@ import time
 
 import numpy as np
 import rospy
+import tf2_ros
 from geometry_msgs.msg import PointStamped
 from nav_msgs.msg import OccupancyGrid
 from sensor_msgs.msg import CameraInfo, Image, JointState
@@ -45,7 +47,7 @@ class CameraIO(object):
 
     def _on_image(self, msg):
         with self.lock:
-            self.image = msg
+            self.image = (msg, time.monotonic())
 
     def _on_info(self, msg):
         if msg.width > 0 and msg.K[0] > 0:
@@ -53,9 +55,16 @@ class CameraIO(object):
                 self.intr = pinhole.intrinsics_from_camera_info(msg)
 
     def take(self):
+        """((image, wall time of arrival) or None, intrinsics)."""
         with self.lock:
             img, self.image = self.image, None
             return img, self.intr
+
+    def put_back(self, item):
+        """An image whose pose is not in tf yet is tried again, unless a newer one came in."""
+        with self.lock:
+            if self.image is None:
+                self.image = item
 
 
 class NetworkNode(object):
@@ -72,6 +81,8 @@ class NetworkNode(object):
         self.core_lock = threading.Lock()
         self.rate = rate
         self.io = {ns: CameraIO(ns, self) for ns in names}
+        self.tf = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
+        self.tf_listener = tf2_ros.TransformListener(self.tf)
         self.ball_pub = rospy.Publisher("/ptrz_network/ball", PointStamped, queue_size=10)
         self.grid_pub = rospy.Publisher("/ptrz_network/coverage", OccupancyGrid, queue_size=1, latch=True)
         self.mode_pub = rospy.Publisher("/ptrz_network/mode", String, queue_size=1, latch=True)
@@ -79,20 +90,46 @@ class NetworkNode(object):
 
     def on_joints(self, msg, ns):
         q = {n: p for n, p in zip(msg.name, msg.position)}
-        qd = {n: v for n, v in zip(msg.name, msg.velocity)} if len(msg.velocity) == len(msg.name) else None
         with self.core_lock:
-            self.core.on_joints(ns, msg.header.stamp.to_sec(), q, qd)
+            self.core.on_joints(ns, msg.header.stamp.to_sec(), q)
+
+    def pose_at(self, img):
+        """(R, t) of the image's frame (the camera link) in the world at the image's stamp, from
+        tf; None while tf has not reached that time yet, False when it never will."""
+        try:
+            tr = self.tf.lookup_transform("world", img.header.frame_id, img.header.stamp)
+        except tf2_ros.ExtrapolationException as exc:
+            return None if "future" in str(exc) else False
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException):
+            return False
+        q = tr.transform.rotation
+        p = tr.transform.translation
+        x, y, z, w = q.x, q.y, q.z, q.w
+        rot = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+        return rot, np.array([p.x, p.y, p.z])
 
     def step(self):
         t = rospy.get_time()
         for ns, io in self.io.items():
-            img, intr = io.take()
-            if img is None or intr is None or img.encoding != "rgb8":
+            item, intr = io.take()
+            if item is None or intr is None or item[0].encoding != "rgb8":
+                continue
+            img = item[0]
+            pose = self.pose_at(img)
+            if pose is None and time.monotonic() - item[1] < 1.0:
+                io.put_back(item)
+                continue
+            if not pose:
+                rospy.logwarn_throttle(10.0, "ptrz_network: %s: no camera pose for %s at the image's time "
+                                       "%.3f in tf; image skipped"
+                                       % (ns, img.header.frame_id, img.header.stamp.to_sec()))
                 continue
             rgb = np.frombuffer(img.data, np.uint8).reshape(img.height, img.width, 3)
             stamp = img.header.stamp.to_sec()
             with self.core_lock:
-                obs = self.core.on_image(ns, stamp, rgb, intr)
+                obs = self.core.on_image(ns, stamp, rgb, intr, pose)
             if obs is not None and obs.detection is not None:
                 px = PointStamped()
                 px.header.stamp, px.header.frame_id = img.header.stamp, "image"

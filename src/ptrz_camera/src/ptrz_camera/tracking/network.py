@@ -1,8 +1,8 @@
-"""The camera network's logic, without ROS: per camera, images (with the joint angles at the image's
-time) become ball detections and floor estimates; the estimates are fused; every camera is aimed at
-the fused position (ahead by the estimated velocity); when nothing has been seen for ``lost_time``
-the cameras scan their share of the floor (ScanPlan); every image's footprint marks the coverage
-grid."""
+"""The camera network's logic, without ROS: per camera, images (with the camera pose at the image's
+time: given, or from the joint angles at that time) become ball detections and floor estimates;
+the estimates are fused; every camera is aimed at the fused position (ahead by the estimated
+velocity); when nothing has been seen for ``lost_time`` the cameras scan their share of the floor
+(ScanPlan); every image's footprint marks the coverage grid."""
 import bisect
 from collections import deque, namedtuple
 
@@ -19,25 +19,17 @@ class Camera(object):
         self.chain = chain
         self.joint_times = deque(maxlen=400)
         self.joint_values = deque(maxlen=400)
-        self.joint_rates = deque(maxlen=400)
         self.last = None              # last Observation with a detection
         self.command = None           # (pan, tilt)
         self.q = {}
 
-    def add_joints(self, t, q, qd=None):
+    def add_joints(self, t, q):
         if self.joint_times and t < self.joint_times[-1]:
             self.joint_times.clear()          # time went back (simulation reset)
             self.joint_values.clear()
         self.joint_times.append(t)
         self.joint_values.append(dict(q))
         self.q = dict(q)
-        if qd is not None:
-            self.joint_rates.append((t, max(abs(qd.get("pan", 0.0)), abs(qd.get("tilt", 0.0)))))
-
-    def slewing(self, t, limit):
-        """True if pan or tilt turned faster than ``limit`` rad/s within 0.1 s of time t: the
-        rendered image and the joint angles of its time stamp may then disagree."""
-        return any(abs(tr - t) <= 0.1 and rate > limit for tr, rate in self.joint_rates)
 
     def joints_at(self, t):
         """Joint angles at time t, linearly interpolated; None before any are known."""
@@ -57,7 +49,7 @@ class Camera(object):
 
 class Network(object):
     def __init__(self, chains, floor, ball_radius=0.11, finder=None, lead=0.25, lost_time=2.0,
-                 fuse_window=0.06, sigma_px=1.0, resolution=0.1, stale_time=20.0, max_slew=0.15):
+                 fuse_window=0.06, sigma_px=1.0, resolution=0.1, stale_time=20.0):
         self.cameras = {name: Camera(name, chain) for name, chain in chains.items()}
         self.order = list(chains)
         self.floor = floor
@@ -67,7 +59,6 @@ class Network(object):
         self.lost_time = lost_time
         self.window = fuse_window
         self.sigma_px = sigma_px
-        self.max_slew = max_slew
         self.grid = coverage.CoverageGrid(floor[0], floor[1], floor[2], floor[3], resolution, stale_time)
         xy = [tuple(chain.pose({})[1][:2]) for chain in chains.values()]
         self.plan = scan_plan.ScanPlan(xy, floor)
@@ -75,22 +66,25 @@ class Network(object):
         self.velocity = np.zeros(2)
         self.mode = "scanning"
 
-    def on_joints(self, name, t, q, qd=None):
-        self.cameras[name].add_joints(t, q, qd)
+    def on_joints(self, name, t, q):
+        self.cameras[name].add_joints(t, q)
 
-    def on_image(self, name, t, rgb, intr):
-        """Process one image taken at time t; returns the Observation (detection may be None)."""
+    def on_image(self, name, t, rgb, intr, pose=None):
+        """Process one image taken at time t from ``pose`` ((R, t) of the camera link in the
+        world; default: forward kinematics of the joint angles interpolated to t); returns the
+        Observation (detection may be None), or None when the pose is not known."""
         cam = self.cameras[name]
-        q = cam.joints_at(t)
-        if q is None:
-            return None
-        pose = cam.chain.pose(q)
+        if pose is None:
+            q = cam.joints_at(t)
+            if q is None:
+                return None
+            pose = cam.chain.pose(q)
         poly = coverage.footprint(pose, intr)
         if poly is not None:
             self.grid.mark(poly, t)
         det = self.finder.find(rgb)
         est = None
-        if det is not None and not cam.slewing(t, self.max_slew):
+        if det is not None:
             est = localize.floor_estimate(pose, intr, det.u, det.v, self.radius, self.sigma_px)
             if est is not None and not self.plausible_size(pose, intr, est, det.area):
                 est = None
