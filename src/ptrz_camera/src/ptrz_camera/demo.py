@@ -107,6 +107,8 @@ def run(args, launch):
         w = csv.writer(f)
         w.writerow(["kind", "t", "x", "y"])
         w.writerows([("true",) + tuple(p) for p in truth] + [("estimate",) + tuple(p) for p in est])
+        w.writerows([(name,) + tuple(p) for name, pts in sorted(per_cam.items())
+                     for p in pts if p[0] >= t0_sim])
     ok = s.n > 0 and s.max <= args.tolerance and sim >= 0.95 * args.duration
     frames = ", ".join("ptrz_%s.png" % n for n in sorted(images))
     print("[ptrz demo] wrote %s, %s" % (plot, frames), flush=True)

@@ -1,0 +1,61 @@
+#!/usr/bin/env python3
+"""rostest node of tracking.test: tracking.launch (indoor world, rendered images, the ball on its
+figure eight): the network's /ptrz_network/ball (PointStamped) against the ball's true position
+(/gazebo/model_states at the estimate's time) over ~duration s of simulated time: at least a share
+~within of the estimates within ~tolerance (the issue's 5 cm), the mean error at most ~mean_error,
+none farther than ~max_error, the ball in the central third of the tracking camera's image in at
+least a share ~centred of the detections, and estimates all along the run."""
+import os
+import sys
+import time
+import unittest
+
+import rospy
+import rostest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ptrz_test_common import wait_until  # noqa: E402
+
+from ptrz_camera.ros.recorder import TrackingRecorder  # noqa: E402
+from ptrz_camera.tracking import evaluate  # noqa: E402
+
+
+class Tracking(unittest.TestCase):
+    def test_the_network_locates_the_ball(self):
+        cams = rospy.get_param("~cameras", "ptrz").split()
+        duration = float(rospy.get_param("~duration", 12.0))
+        tolerance = float(rospy.get_param("~tolerance", 0.05))
+        rec = TrackingRecorder(cams)
+        wait_until(lambda: rec.snapshot()[1], 120.0, "a first estimate on /ptrz_network/ball")
+        t0 = rospy.get_time()
+        end = time.monotonic() + 150.0
+        while rospy.get_time() - t0 < duration and time.monotonic() < end and not rospy.is_shutdown():
+            rospy.rostime.wallsleep(0.2)
+        truth, est, _per_cam, pixels, images = rec.snapshot()
+        truth = [p for p in truth if p[0] >= t0 - 1.0]
+        est = [p for p in est if p[0] >= t0]
+        pix = [p for ps in pixels.values() for p in ps]
+        img = images[cams[0]]
+        centred = evaluate.centred_fraction(pix, img.shape[1], img.shape[0])
+        s = evaluate.summarize(truth, est, tolerance, centred)
+        rospy.loginfo("tracking over %.1f s simulated: %d estimates, error mean %.1f cm, max %.1f cm, "
+                      "%.0f %% within %.0f cm; ball in the central third in %.0f %% of %d detections",
+                      rospy.get_time() - t0, s.n, 100 * s.mean, 100 * s.max, 100 * s.within,
+                      100 * tolerance, 100 * s.centred, len(pix))
+        self.assertGreaterEqual(rospy.get_time() - t0, 0.95 * duration, "the simulation did not run")
+        self.assertGreaterEqual(s.n, 2 * duration, "too few estimates: %d in %.0f s" % (s.n, duration))
+        self.assertGreaterEqual(s.duration, 0.8 * duration, "estimates stopped before the end")
+        self.assertGreaterEqual(s.within, float(rospy.get_param("~within", 0.9)),
+                                "only %.0f %% of the estimates within %.0f cm of the ball (mean %.1f cm)"
+                                % (100 * s.within, 100 * tolerance, 100 * s.mean))
+        self.assertLessEqual(s.mean, float(rospy.get_param("~mean_error", 0.04)),
+                             "mean error %.1f cm" % (100 * s.mean))
+        self.assertLessEqual(s.max, float(rospy.get_param("~max_error", 0.25)),
+                             "an estimate %.1f cm from the ball" % (100 * s.max))
+        self.assertGreaterEqual(s.centred, float(rospy.get_param("~centred", 0.9)),
+                                "the ball left the central third of the image")
+
+
+if __name__ == "__main__":
+    rospy.init_node("tracking_check")
+    rostest.rosrun("ptrz_camera", "tracking", Tracking)
