@@ -13,6 +13,8 @@
 #include <cstring>
 #include <vector>
 
+#include <GL/gl.h>
+
 #include <OgrePixelFormat.h>
 #include <OgreRenderTarget.h>
 #include <OgreCamera.h>
@@ -46,7 +48,12 @@ public:
     if (capture_property_->getBool() && evt.source)
     {
       unsigned int w = evt.source->getWidth(), h = evt.source->getHeight();
-      pixels_.resize(static_cast<size_t>(w) * h * 3);
+      if (w == 0 || h == 0)
+        return rviz::CameraDisplay::postRenderTargetUpdate(evt);
+      // rows tightly packed (a width whose 3 bytes per pixel are not a multiple of 4 would
+      // otherwise be padded by OpenGL past the end of the buffer); slack against any padding
+      glPixelStorei(GL_PACK_ALIGNMENT, 1);
+      pixels_.resize(static_cast<size_t>(w) * h * 3 + 4 * static_cast<size_t>(h));
       Ogre::PixelBox box(w, h, 1, Ogre::PF_BYTE_RGB, pixels_.data());
       evt.source->copyContentsToMemory(Ogre::Box(0, 0, w, h), box, Ogre::RenderTarget::FB_AUTO);
       width_ = w;
@@ -63,7 +70,7 @@ public:
       return 0;
     if (static_cast<int>(width_) != width || static_cast<int>(height_) != height)
       return -1;
-    std::memcpy(out, pixels_.data(), pixels_.size());
+    std::memcpy(out, pixels_.data(), static_cast<size_t>(width_) * height_ * 3);
     return static_cast<long>(serial_);
   }
 
