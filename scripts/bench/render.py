@@ -17,6 +17,8 @@ import sys
 import threading
 import time
 
+from procs import start, stop
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CONFIGS = [(640, 480, 1), (640, 480, 5), (1280, 720, 1), (1280, 720, 5)]
 # (label, renderer parameters) at 640x480, one stream
@@ -26,23 +28,6 @@ VARIANTS = [("RViz's 4x multisampling on", ["_antialiasing:=true"]),
 HEADING = "## Camera renderer (RViz/OGRE off-screen)"
 LOGS = os.path.join(ROOT, "out", "bench", "render")
 FRAME = "gazebo/camera_post/camera_link/camera1"
-
-
-def start(cmd, env, log=None):
-    out = open(log, "w") if log else subprocess.DEVNULL
-    return subprocess.Popen(cmd, env=env, stdout=out, stderr=subprocess.STDOUT if log else subprocess.DEVNULL,
-                            start_new_session=True)
-
-
-def stop(proc):
-    if proc is None or proc.poll() is not None:
-        return
-    os.killpg(proc.pid, 2)
-    try:
-        proc.wait(20)
-    except subprocess.TimeoutExpired:
-        os.killpg(proc.pid, 9)
-        proc.wait()
 
 
 class Meter(object):

@@ -13,9 +13,10 @@ import argparse
 import collections
 import os
 import random
-import subprocess
 import sys
 import time
+
+from procs import start, stop
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FRAME = "gazebo/camera_post/camera_link/camera1"
@@ -57,21 +58,6 @@ class Timer(object):
                 self.total[label] += time.perf_counter() - t0
                 self.count[label] += 1
         setattr(obj, attr, timed)
-
-
-def start(cmd, env):
-    return subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            start_new_session=True)
-
-
-def stop(proc):
-    if proc is not None and proc.poll() is None:
-        os.killpg(proc.pid, 2)
-        try:
-            proc.wait(20)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, 9)
-            proc.wait()
 
 
 def profile(args):

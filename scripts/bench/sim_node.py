@@ -16,7 +16,6 @@ Writes the "Simulator node" section of docs/benchmarks.md (only that section) un
 import argparse
 import os
 import re
-import socket
 import subprocess
 import sys
 import tempfile
@@ -26,6 +25,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import physics_core as scene  # noqa: E402  (the same scene and PD gains)
+from procs import cpu_seconds, free_port  # noqa: E402
 
 SECTION = "Simulator node"
 PLUGIN = "libmodrob_bench_pd.so"
@@ -53,18 +53,6 @@ _register()
 
 
 # ---- the benchmark ---------------------------------------------------------------------------
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def cpu_seconds(pid):
-    with open("/proc/%d/stat" % pid) as f:
-        fields = f.read().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-
 def arm_with_plugin():
     return scene.arm_urdf().replace("</robot>", '<gazebo><plugin name="pd" filename="%s"/></gazebo></robot>'
                                     % PLUGIN)

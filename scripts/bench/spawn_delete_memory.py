@@ -22,10 +22,11 @@ import argparse
 import os
 import re
 import signal
-import socket
 import subprocess
 import sys
 import time
+
+from procs import free_port
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -42,12 +43,6 @@ IMU = """
       </plugin><pose>0 0 0 0 0 0</pose></sensor>
   </gazebo>
 </robot>"""
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def rss_kib(pid):

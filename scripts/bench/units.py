@@ -12,7 +12,6 @@ import argparse
 import json
 import math
 import os
-import socket
 import subprocess
 import sys
 import tempfile
@@ -22,24 +21,13 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import physics_core as scene  # noqa: E402  (the scene, the PD gains, our engine and PyBullet's runs)
+from procs import cpu_seconds, free_port  # noqa: E402
 
 N = scene.N_JOINTS
 JOINTS = ["joint%d" % (i + 1) for i in range(N)]
 
 
 # ---- helpers ------------------------------------------------------------------------------------
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def cpu_seconds(pid):
-    with open("/proc/%d/stat" % pid) as f:
-        fields = f.read().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
-
-
 def descendants(pid):
     """Every process below ``pid`` (roslaunch starts its nodes in sessions of their own)."""
     children = {}

@@ -1,0 +1,38 @@
+"""Process helpers the benchmark scripts share: a free port for a ROS master, a process's CPU
+time, and starting/stopping a command in a session of its own (roslaunch and its nodes end
+together)."""
+import os
+import socket
+import subprocess
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def cpu_seconds(pid):
+    """User + system CPU seconds of ``pid`` (all its threads) from /proc."""
+    with open("/proc/%d/stat" % pid) as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def start(cmd, env, log=None):
+    """``cmd`` in a new session; its output to ``log`` (a path) or nowhere."""
+    out = open(log, "w") if log else subprocess.DEVNULL
+    return subprocess.Popen(cmd, env=env, stdout=out, stderr=subprocess.STDOUT if log else subprocess.DEVNULL,
+                            start_new_session=True)
+
+
+def stop(proc):
+    """SIGINT to the process group (as Ctrl-C), SIGKILL after 20 s."""
+    if proc is None or proc.poll() is not None:
+        return
+    os.killpg(proc.pid, 2)
+    try:
+        proc.wait(20)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, 9)
+        proc.wait()
