@@ -780,13 +780,6 @@ class Model(object):
         teleport notification: for the World while it builds the model."""
         self._apply_configuration(targets, rigid_velocity=False)
 
-    def capture_state(self):
-        """An opaque snapshot of every body and joint turn count (restore_state takes it)."""
-        return self._capture()
-
-    def restore_state(self, state, zero_velocity):
-        self._restore(state, zero_velocity)
-
     def close_grippers(self):
         for g in self._grippers:
             g.close()
@@ -809,14 +802,15 @@ class Model(object):
         self._world.model_teleported(self)
 
     # ---- state snapshots (spawn state, guard) ------------------------------------------------
-    def _capture(self):
+    def capture_state(self):
+        """An opaque snapshot of every body and joint turn count (restore_state takes it)."""
         bodies = [(b.getPosition(), b.getQuaternion(), b.getLinearVel(), b.getAngularVel())
                   for b in self._bodies]
         joints = [(j._turns, j._last_raw) for j in self._joint_order]
         statics = [(ln, ln._static_pose) for g in self._groups if g.body is None for ln in g.links]
         return (bodies, joints, statics, self._world_pose)
 
-    def _restore(self, state, zero_velocity):
+    def restore_state(self, state, zero_velocity):
         bodies, joints, statics, world_pose = state
         if world_pose != self._world_pose or any(ln._static_pose != p for ln, p in statics):
             # the base was moved since: put it back and re-anchor joints to the world
