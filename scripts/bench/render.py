@@ -23,7 +23,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 CONFIGS = [(640, 480, 1), (640, 480, 5), (1280, 720, 1), (1280, 720, 5)]
 # (label, renderer parameters) at 640x480, one stream
 VARIANTS = [("RViz's 4x multisampling on", ["_antialiasing:=true"]),
-            ("pixels grabbed from the X server", ["_pixels:=x11"]),
+            ("pixels read from OpenGL by the ClipCamera plugin", ["_pixels:=gl"]),
             ("both (the renderer before)", ["_antialiasing:=true", "_pixels:=x11"])]
 HEADING = "## Camera renderer (RViz/OGRE off-screen)"
 LOGS = os.path.join(ROOT, "out", "bench", "render")
@@ -171,7 +171,7 @@ def main():
     lines += ["", "One 640x480 stream with a saving undone, same run (fps relative to the default row "
               "above, %.1f fps):" % default, "",
               "| renderer | fps | vs default | simulator RTF |", "|---|---|---|---|",
-              "| default (no multisampling, pixels read from OpenGL by the ClipCamera plugin) "
+              "| default (no multisampling, pixels grabbed from the X server) "
               "| %.1f | 1.00 | %s |" % (default, "%.2f" % rows[0][5] if rows else "-")]
     for label, fps, rtf in variants:
         ratio = fps / default if default else float("nan")
