@@ -2,17 +2,20 @@
 camera sensors (``~sensors_param``), rendered by :class:`RvizScene`, published as
 ``sensor_msgs/Image`` (+ ``CameraInfo`` when asked).
 
-An image is consistent with its stamp: each frame is rendered from the camera frame's pose at one
-tf time T (the newest transform of the frame when the frame is started: RViz's Camera display
-looks the pose up at the stamp of its 1x1 placeholder image, which carries T), the frame is
-grabbed only once RViz has drawn that placeholder, and the image is stamped T. A user can look
-the camera pose up in tf at the image's stamp and cast rays from it, also while the camera moves.
-The scene's objects are drawn where RViz's newest tf has them, which is T or at most one scene tf
-message later. Cameras on static frames are stamped with the time of the grab.
+An image is the view of the scene at its stamp. Frames are started in batches: the cameras due
+together are drawn at one tf time T, the newest time at which tf has every camera frame of the
+batch and every frame the scene's frame-locked markers hang on (``scene_sync``). RViz's frame
+manager is set to T (exact sync), so the scene's objects are drawn where they were at T; each
+camera's 1x1 placeholder image carries T, so RViz's Camera display takes the camera's pose at T;
+the frames are grabbed once RViz has drawn the placeholders, and the images are stamped T. A user
+can look the camera pose up in tf at the image's stamp and cast rays from it, also while the
+camera and the objects move. The next batch starts only when the last one is grabbed (RViz has
+one frame manager time). When nothing moves (only static frames), images are stamped with the
+time of the grab.
 
-Callbacks only store the latest CameraInfo; a Qt timer in the main thread does all the work
-(RViz is not thread-safe). Problems with one camera (no intrinsics, zero-size CameraInfo, frame
-missing from tf) are logged once with what to do, and only that camera waits.
+Callbacks only store the latest CameraInfo and the scene's frames; a Qt timer in the main thread
+does all the work (RViz is not thread-safe). Problems with one camera (no intrinsics, zero-size
+CameraInfo, frame missing from tf) are logged once with what to do, and only that camera waits.
 """
 import os
 import threading
@@ -24,10 +27,11 @@ import tf2_ros
 from python_qt_binding.QtCore import QTimer
 from sensor_msgs.msg import CameraInfo, Image
 from std_srvs.srv import Trigger, TriggerResponse
+from visualization_msgs.msg import Marker, MarkerArray
 
 from modrob_msgs.errors import ModrobError
 from modrob_viz.errors import ConfigError
-from modrob_viz.render import camera_spec, pinhole
+from modrob_viz.render import camera_spec, pinhole, scene_sync
 from modrob_viz.render.video import VideoRecorder, save_png
 
 
@@ -50,7 +54,7 @@ class _Camera(object):
         self.last_rgb = None
         self.frames = 0
         self.recorder = None
-        self.pending = None         # (stamp, RViz image count, wall time, intrinsics, frame): frame in flight
+        self.pending = None         # (RViz image count, intrinsics, frame): frame in flight
 
     def close(self):
         for p in (self.pub_image, self.pub_info, self.pub_blank, self.pub_rviz_info, self.sub):
@@ -63,7 +67,9 @@ class _Camera(object):
 class CameraRendererNode(object):
     def __init__(self, scene, cameras, rate, fixed_frame="world", sensors_param="/gazebo/camera_sensors",
                  output_dir="/tmp/modrob_viz/cameras", record=(), video_fps=None, seed=0,
-                 background=(178, 178, 178)):
+                 background=(178, 178, 178), scene_max_lag=1.0):
+        """``scene_max_lag`` (s): a scene frame whose tf is that much older than the newest is
+        left out of the batch time (its publisher stopped; see scene_sync.common_stamp)."""
         self.scene = scene
         self.rate = rate
         self.background = bytes(bytearray(int(c) & 255 for c in background))
@@ -78,6 +84,14 @@ class CameraRendererNode(object):
         self.static_ids = set()
         self.tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(10.0))
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        self.scene_frames = scene_sync.SceneFrames()     # frames of the frame-locked scene markers
+        self.scene_lock = threading.Lock()
+        self.scene_max_lag_ns = int(scene_max_lag * 1e9)
+        self.left_out = []          # scene frames left out of the batch time (logged on change)
+        self.batch = None           # (T, wall time started) of the frames in flight
+        self.batches = 0
+        self.resyncs = 0            # batches RViz drew at another time than T (drawn again)
+        self._scene_subs = [self._subscribe_scene(topic, kind) for topic, kind in scene.scene_topics()]
         for spec in cameras:
             self._add(spec)
             self.static_ids.add(spec["id"])
@@ -93,6 +107,45 @@ class CameraRendererNode(object):
         self.timer.timeout.connect(self._tick)
         self.timer.start(2)
         rospy.on_shutdown(self._on_shutdown)
+
+    # ---- the scene's frames ----------------------------------------------------------------------
+    def _subscribe_scene(self, topic, kind):
+        if kind == "MarkerArray":
+            return rospy.Subscriber(topic, MarkerArray, self._on_scene, (topic, True), queue_size=10)
+        return rospy.Subscriber(topic, Marker, self._on_scene, (topic, False), queue_size=100)
+
+    def _on_scene(self, msg, args):
+        topic, is_array = args
+        with self.scene_lock:
+            self.scene_frames.update(topic, msg.markers if is_array else [msg])
+
+    def _newest(self, frame):
+        """Newest tf stamp of ``frame`` in the fixed frame (ns; 0 static; None not in tf)."""
+        try:
+            return self.tf_buffer.lookup_transform(self.fixed_frame, frame,
+                                                   rospy.Time(0)).header.stamp.to_nsec()
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
+                tf2_ros.ExtrapolationException, tf2_ros.InvalidArgumentException):
+            return None
+
+    def _batch_stamp(self, frames):
+        """The time T to draw the cameras on ``frames`` at (scene_sync.common_stamp), or None
+        when a camera frame is not in tf."""
+        cams = [self._newest(f) for f in frames]
+        if any(c is None for c in cams):
+            return None
+        with self.scene_lock:
+            scene = self.scene_frames.frames()
+        stamps = {f: self._newest(f) for f in scene}
+        t, left_out = scene_sync.common_stamp(cams, stamps, self.scene_max_lag_ns)
+        if left_out != self.left_out:
+            self.left_out = left_out
+            if left_out:
+                rospy.logwarn("scene frame(s) %s: no tf for more than %.1f s; the images no longer wait "
+                              "for them and RViz cannot draw their objects at the images' time",
+                              ", ".join(left_out[:5]) + (" ..." if len(left_out) > 5 else ""),
+                              self.scene_max_lag_ns / 1e9)
+        return rospy.Time(nsecs=t)
 
     # ---- cameras --------------------------------------------------------------------------------
     def _add(self, spec):
@@ -122,6 +175,7 @@ class CameraRendererNode(object):
         with self.lock:
             cam = self.cams.pop(cid, None)
         if cam is not None:
+            cam.pending = None
             cam.close()
             self.scene.remove_camera(cid)
             rospy.loginfo("camera '%s' removed", cam.spec["name"])
@@ -254,12 +308,13 @@ class CameraRendererNode(object):
             self._poll_sensors()
         with self.lock:
             cams = list(self.cams.values())
+        if self.batch is not None:
+            self._collect(cams, now)
+            if self.batch is not None:
+                return                  # RViz draws at the batch's time until it is grabbed
+        due = []
         for cam in cams:
-            if cam.pending is not None:
-                self._collect(cam, now)
-                if cam.pending is not None:
-                    continue
-            if now < cam.next_t:            # else the next frame starts in this same pass
+            if now < cam.next_t:
                 continue
             cam.next_t = max(cam.next_t + 1.0 / cam.spec["rate"], now - 0.5 / cam.spec["rate"])
             ready = self._ready(cam)
@@ -270,33 +325,63 @@ class CameraRendererNode(object):
             self._show(cam, frame, intr)
             if not shown_before or not self.scene.ready(cam.spec["id"]):
                 continue            # RViz renders the new pinhole on its next frame
-            self._start_frame(cam, frame, intr, now)
+            due.append((cam, frame, intr))
+        if due:
+            self._start_batch(due, now)
 
-    def _start_frame(self, cam, frame, intr, now):
-        """Send the placeholder stamped with the time T of the frame's newest transform: RViz's
-        Camera display moves its camera to the frame's pose at that stamp when the image arrives
-        (and only then: a new placeholder per frame keeps a moving camera up to date)."""
-        try:
-            stamp = self.tf_buffer.lookup_transform(self.fixed_frame, frame, rospy.Time(0)).header.stamp
-        except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
-                tf2_ros.ExtrapolationException):
+    def _start_batch(self, due, now):
+        """Set RViz's scene time to T and send each camera's placeholder stamped T: RViz's Camera
+        display moves its camera to the frame's pose at that stamp when the image arrives (and
+        only then: a new placeholder per frame keeps a moving camera up to date)."""
+        stamp = self._batch_stamp(sorted(set(frame for _cam, frame, _intr in due)))
+        if stamp is None:
             return
-        cam.blank.header.stamp = stamp          # zero for a static frame: RViz takes the latest
-        cam.pending = (stamp, self.scene.images_received(cam.spec["id"]), now, intr, frame)
-        cam.pub_blank.publish(cam.blank)
+        self.scene.sync_time(stamp.secs, stamp.nsecs)
+        for cam, frame, intr in due:
+            cam.blank.header.stamp = stamp      # zero when nothing moves: RViz takes the latest
+            cam.pending = (self.scene.images_received(cam.spec["id"]), intr, frame)
+            cam.pub_blank.publish(cam.blank)
+        self.batch = (stamp, now)
+        self.batches += 1
 
-    def _collect(self, cam, now):
-        """Grab the frame once RViz has drawn the placeholder (its image count went up; RViz
-        takes messages, updates its displays and renders in one pass of this thread's loop)."""
-        stamp, count, since, intr, frame = cam.pending
-        if self.scene.images_received(cam.spec["id"]) <= count:
-            if now - since > 1.0:       # dropped (e.g. tf at T never reached RViz): start again
-                cam.pending = None
-            return
-        cam.pending = None
-        rgb = self.scene.grab(cam.spec["id"])
-        if rgb is not None:
-            self._publish(cam, rgb, intr, frame, stamp if not stamp.is_zero() else rospy.Time.now())
+    def _collect(self, cams, now):
+        """Grab each camera of the batch once RViz has drawn its placeholder (its image count went
+        up; RViz takes messages, updates its displays and renders in one pass of this thread's
+        loop); the batch ends when all are grabbed.
+
+        RViz's tf listener runs in its own thread and can be behind this node's: a scene frame it
+        does not have at T yet makes RViz move its time back to that frame's newest, and then its
+        Camera displays keep their previous pose. The time is checked at each grab: if it moved,
+        it is set to T again and the placeholders re-sent, so an image is published only when
+        everything in it was drawn at T."""
+        stamp, since = self.batch
+        synced = stamp.is_zero() or self.scene.synced_time() in (None, (stamp.secs, stamp.nsecs))
+        if not synced:
+            self.scene.sync_time(stamp.secs, stamp.nsecs)
+            self.resyncs += 1
+        waiting = False
+        for cam in cams:
+            if cam.pending is None:
+                continue
+            count, intr, frame = cam.pending
+            received = self.scene.images_received(cam.spec["id"])
+            if received > count and not synced:     # drawn at another time: draw it again
+                cam.pending = (received, intr, frame)
+                cam.pub_blank.publish(cam.blank)
+                waiting = True
+                continue
+            if received <= count:
+                if now - since > 1.0:       # dropped (e.g. tf at T never reached RViz): start again
+                    cam.pending = None
+                else:
+                    waiting = True
+                continue
+            cam.pending = None
+            rgb = self.scene.grab(cam.spec["id"])
+            if rgb is not None:
+                self._publish(cam, rgb, intr, frame, stamp if not stamp.is_zero() else rospy.Time.now())
+        if not waiting:
+            self.batch = None
 
     def _publish(self, cam, rgb, intr, frame, stamp):
         spec = cam.spec
@@ -376,6 +461,8 @@ class CameraRendererNode(object):
         return TriggerResponse(bool(done), " ".join(done) or "nothing was recording")
 
     def close(self):
+        print("camera_renderer: %d batches of frames, %d drawn again because RViz's tf was behind"
+              % (self.batches, self.resyncs), flush=True)
         self._on_shutdown()
 
     def _on_shutdown(self):

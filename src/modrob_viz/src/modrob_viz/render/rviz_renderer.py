@@ -53,6 +53,43 @@ def _pixel_reader():
     return copy
 
 
+class _FrameSync(object):
+    """RViz's FrameManager in exact time sync, driven through librviz's C++ symbols (the Python
+    bindings do not wrap the FrameManager). Every tf lookup RViz makes for "the latest" (frame-
+    locked markers, robot links, a camera image with stamp 0) then uses the time given to
+    :meth:`sync` instead of the newest tf it has."""
+
+    EXACT = 1       # rviz::FrameManager::SyncExact
+
+    def __init__(self, manager):
+        lib = ctypes.CDLL("librviz.so")
+        get = lib._ZNK4rviz20VisualizationManager15getFrameManagerEv
+        get.restype, get.argtypes = ctypes.c_void_p, [ctypes.c_void_p]
+        mode = lib._ZN4rviz12FrameManager11setSyncModeENS0_8SyncModeE
+        mode.restype, mode.argtypes = None, [ctypes.c_void_p, ctypes.c_int]
+        # ros::Time {uint32 sec, nsec} is trivially copyable: passed by value in one register
+        self._sync = lib._ZN4rviz12FrameManager8syncTimeEN3ros4TimeE
+        self._sync.restype, self._sync.argtypes = None, [ctypes.c_void_p, ctypes.c_uint64]
+        # adjustTime(ros::Time&) replaces a zero time by the sync time: reads the time back
+        self._adjust = lib._ZN4rviz12FrameManager10adjustTimeERN3ros4TimeE
+        self._adjust.restype, self._adjust.argtypes = None, [ctypes.c_void_p, ctypes.c_void_p]
+        address = _address(manager)
+        self._fm = get(address) if address else None
+        if not self._fm:
+            raise OSError("no FrameManager behind the VisualizationManager")
+        mode(self._fm, self.EXACT)
+
+    def sync(self, secs, nsecs):
+        """Draw the scene at (secs, nsecs) from RViz's next update on; (0, 0): its newest tf."""
+        self._sync(self._fm, (int(nsecs) << 32) | int(secs))
+
+    def time(self):
+        """(secs, nsecs) RViz draws the scene at."""
+        t = (ctypes.c_uint32 * 2)(0, 0)
+        self._adjust(self._fm, ctypes.addressof(t))
+        return int(t[0]), int(t[1])
+
+
 def _address(obj):
     """Address of the C++ object behind a sip wrapper (None if sip is not importable)."""
     try:
@@ -100,6 +137,12 @@ class RvizScene(object):
         self.frame.setStatusBar(None)
         self.frame.setHideButtonVisibility(False)
         self.manager = self.frame.getManager()
+        try:
+            self._frame_sync = _FrameSync(self.manager)
+        except (OSError, AttributeError) as err:    # another librviz: the scene at RViz's newest tf
+            print("camera_renderer: cannot put RViz's tf in exact time sync (%s): the scene is drawn "
+                  "at RViz's newest tf, which can be later than an image's stamp" % err, flush=True)
+            self._frame_sync = None
         self.set_frame_rate(frame_rate)
         self.frame.resize(160, 120)
         self.frame.move(0, 0)
@@ -121,6 +164,39 @@ class RvizScene(object):
         prop = opts.subProp("Frame Rate") if opts is not None else None
         if prop is not None:
             prop.setValue(int(max(1, min(120, round(rate)))))
+
+    @property
+    def time_sync(self):
+        """True when the scene is drawn at the time given to :meth:`sync_time`."""
+        return self._frame_sync is not None
+
+    def sync_time(self, secs, nsecs):
+        """RViz looks every "latest" transform up at (secs, nsecs) from its next update on: the
+        frame-locked scene is drawn as it was then. (0, 0): at its newest tf."""
+        if self._frame_sync is not None:
+            self._frame_sync.sync(secs, nsecs)
+
+    def synced_time(self):
+        """(secs, nsecs) the scene is drawn at ((0, 0): the newest tf; None without time sync)."""
+        return self._frame_sync.time() if self._frame_sync is not None else None
+
+    def scene_topics(self):
+        """[(topic, "MarkerArray" | "Marker")] of the scene config's enabled marker displays."""
+        out = []
+
+        def walk(group):
+            for i in range(group.numDisplays()):
+                disp = group.getDisplayAt(i)
+                if disp is None or not disp.isEnabled():
+                    continue
+                cls = disp.getClassId()
+                if cls in ("rviz/MarkerArray", "rviz/Marker") and _has_prop(disp, "Marker Topic"):
+                    out.append((str(disp.subProp("Marker Topic").getValue()), cls.split("/")[1]))
+                elif hasattr(disp, "numDisplays"):
+                    walk(disp)
+
+        walk(self.manager.getRootDisplayGroup())
+        return out
 
     def screen_size(self):
         g = self.app.primaryScreen().geometry()
