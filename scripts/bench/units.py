@@ -153,7 +153,9 @@ def unit_physics_core(args):
     steps = int(args.seconds * 1000) if args.seconds else 20000
     out = {"sleeping": scene.run_ours(steps, None),
            "awake": scene.run_ours(steps, None, auto_disable=False),
-           "pybullet": scene.run_pybullet(steps, files)}
+           "pybullet": scene.run_pybullet(steps, files),
+           # the same with PyBullet's early exit off: all 50 solver iterations, as ODE's quickStep
+           "pybullet_all_iters": scene.run_pybullet(steps, files, residual_threshold=0.0)}
     try:
         out["mujoco"] = run_mujoco(steps)
     except ImportError as exc:

@@ -326,3 +326,43 @@ def test_sleeping_bodies_wake_when_their_support_goes():
     world.remove_model("table")
     world.step(800)
     assert can.pose[0][2] == pytest.approx(0.06, abs=0.003)  # on the ground slab now
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_solver_type_world_steps_with_odes_exact_stepper(native):
+    """<solver><type>world</type>: dWorldStep instead of quickStep; a resting box rests the same,
+    but the trajectory is another stepper's (the digests differ)."""
+    digests, heights = {}, {}
+    for kind in ("quick", "world"):
+        world = World(native=native)
+        world.set_physics_params(solver_type=kind, auto_disable=False)
+        assert world.physics_params["solver_type"] == kind
+        world.add_urdf("ground", H.fixture("ground_box.urdf"))
+        box = world.add_urdf("box", H.fixture("box.urdf"), pose=((0, 0, 0.06), (0, 0, 0, 1)))
+        world.step(600)
+        assert world.pop_events() == []
+        heights[kind] = box.pose[0][2]
+        digests[kind] = world.state_digest()
+    assert heights["world"] == pytest.approx(heights["quick"], abs=1e-3)
+    assert digests["world"] != digests["quick"]
+    with pytest.raises(ValueError, match="solver_type='fast': must be 'quick'"):
+        World(native=native).set_physics_params(solver_type="fast")
+
+
+def test_sdf_physics_solver_type_and_max_contacts_apply_to_the_world():
+    world = World()
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    sdf = ("<sdf version='1.6'><world name='w'><physics type='ode'><max_contacts>2</max_contacts>"
+           "<ode><solver><type>world</type><iters>30</iters></solver></ode></physics>"
+           "<model name='b'><pose>0 0 0.06 0 0 0</pose><link name='l'><inertial><mass>1</mass>"
+           "</inertial><collision name='c'><geometry><box><size>0.1 0.1 0.1</size></box></geometry>"
+           "</collision></link></model></world></sdf>")
+    world.add_sdf(sdf)
+    p = world.physics_params
+    assert (p["solver_type"], p["max_contacts"], p["iters"]) == ("world", 2, 30)
+    world.step(200)
+    assert 0 < len(world.contacts()) <= 2  # a box face on a box makes 4 without the cap
+    before = world.physics_params
+    with pytest.raises(ModelError, match="<type> 'dantzig' is not 'quick' or 'world'"):
+        world.add_sdf(sdf.replace(">world</type>", ">dantzig</type>").replace("'b'", "'b2'"))
+    assert world.physics_params == before

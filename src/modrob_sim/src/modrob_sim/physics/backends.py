@@ -18,7 +18,8 @@ only the physics-side interface of Model, Link and Joint (model.py):
     rebuild(world)                  the set of models, joints or the time step changed
     make_mesh_geom(world, mesh, dynamic, what) -> (geom, pose of the geom in the mesh frame)
     apply_damping(world)            explicit joint damping for this step
-    step(world, dt) -> contacts     collide + contact joints + quickStep
+    step(world, dt) -> contacts     collide + contact joints + quickStep (or dWorldStep); the
+                                    native one also runs the guard's velocity scan here
     find_blowups(world) -> [(model, group, reason)]   the guard's scan after a step
     contacts(world) -> [ContactPoint]                 the last step's contact points
     overlaps(world, model) -> {(m1, l1, m2, l2): depth}   spawn-overlap check
@@ -110,7 +111,10 @@ class PureBackend(object):
         self.contact_log = []
         self._collide(world)
         odelib.set_seed(self.seed)
-        world._ode_world.quickStep(dt)
+        if world._world_step:
+            world._ode_world.step(dt)
+        else:
+            world._ode_world.quickStep(dt)
         self.seed = odelib.get_seed()
         return self.ncontacts
 
@@ -346,6 +350,8 @@ class NativeBackend(object):
         self._body_array = None
         self._damp_arrays = None
         self.ncontacts = 0
+        self._first_bad = ctypes.c_int(-1)   # the guard scan of the last step (mr_step_checked)
+        self._first_bad_ref = ctypes.byref(self._first_bad)
 
     def set_seed(self, seed):
         self.nat.mr_set_seed(self.ctx, seed)
@@ -426,17 +432,23 @@ class NativeBackend(object):
             self.nat.mr_apply_damping(jp, kinds, coef, n)
 
     def step(self, world, dt):
-        g = world.gravity
-        self.ncontacts = self.nat.mr_step(self.ctx, dt, g[0], g[1], g[2], world._layer, world._max_contacts)
+        # one crossing into C per step: collide, quickStep (or dWorldStep), the guard's scan
+        g = world._gravity
+        self.ncontacts = self.nat.mr_step_checked(
+            self.ctx, dt, g[0], g[1], g[2], world._layer, world._max_contacts, world._world_step,
+            self._body_array, len(self._body_owner), world._vmax2, world._wmax2, self._first_bad_ref)
         return self.ncontacts
 
     def find_blowups(self, world):
+        """The guard's scan after a step: the velocity scan already ran in C within step()."""
         nat = self.nat
         owners = self._body_owner
         nb = len(owners)
         vmax2, wmax2 = world._vmax2, world._wmax2
         flagged = []
-        i = nat.mr_check_bodies(self._body_array, 0, nb, vmax2, wmax2) if nb else -1
+        i = self._first_bad.value
+        if i >= nb:
+            i = -1
         while i >= 0:
             m, g = owners[i]
             flagged.append((m, g, velocity_reason(g.body, vmax2, wmax2)))

@@ -41,6 +41,9 @@ GRAVITY_LIMIT = 1e3
 #: physics time step bounds (s)
 MIN_TIME_STEP = 1e-6
 MAX_TIME_STEP = 0.1
+#: ODE steppers by Gazebo's <ode><solver><type>: quickStep (iterative, `iters` and `sor`) or the
+#: exact dWorldStep (a Dantzig LCP per island, its cost grows with the cube of the island's rows)
+SOLVER_TYPES = ("quick", "world")
 #: physics parameters (World.set_physics_params, set_physics_properties' ode_config, SDF <ode>):
 #: the largest value each may take (every one is also finite and >= 0)
 PHYSICS_PARAM_MAX = {"iters": 10000, "sor": 2.0, "cfm": 1e6, "erp": 1.0,

@@ -353,17 +353,26 @@ def _world(rd, we, warn, resolver, xml_text):
             settings["gravity"] = _checked(rd, limits.check_gravity,
                                            rd.floats(_text(ph, "gravity"), 3, "<physics>", "gravity"),
                                            "<physics><gravity>")
+        params = {}
+        if _text(ph, "max_contacts") is not None:
+            # Gazebo's per-pair cap (its default 20; ours 4 when the world does not say)
+            params["max_contacts"] = rd.float(_text(ph, "max_contacts"), "<physics>", "<max_contacts>")
         ode_e = _child(ph, "ode")
         if ode_e is not None:
             solver = _child(ode_e, "solver")
             cons = _child(ode_e, "constraints")
-            params = {}
+            kind = _text(solver, "type") if solver is not None else None
+            if kind is not None:
+                if kind not in limits.SOLVER_TYPES:
+                    rd.fail("<physics><ode><solver>", "<type> '%s' is not 'quick' or 'world'" % kind)
+                params["solver_type"] = kind
             for parent, tag, key in ((solver, "iters", "iters"), (solver, "sor", "sor"),
                                      (cons, "cfm", "cfm"), (cons, "erp", "erp"),
                                      (cons, "contact_max_correcting_vel", "contact_max_correcting_vel"),
                                      (cons, "contact_surface_layer", "contact_surface_layer")):
                 if parent is not None and _text(parent, tag) is not None:
                     params[key] = rd.float(_text(parent, tag), "<physics><ode>", "<%s>" % tag)
+        if params:
             settings["params"] = params
     descs = []
     for c in we:

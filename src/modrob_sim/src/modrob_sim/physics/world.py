@@ -33,6 +33,7 @@ ContactPoint = namedtuple("ContactPoint", "model1 link1 model2 link2 position no
 #: Gazebo's ODE defaults, except max_contacts (Gazebo 20 per pair; ODE makes up to 8 for a
 #: cylinder on a box, 4 spread points hold any resting face) and the guard settings (ours).
 DEFAULT_PARAMS = OrderedDict([
+    ("solver_type", "quick"),
     ("iters", 50),
     ("sor", 1.3),
     ("cfm", 0.0),
@@ -203,6 +204,12 @@ class World(object):
             if k == "auto_disable":
                 new[k] = bool(v)
                 continue
+            if k == "solver_type":
+                if v not in limits.SOLVER_TYPES:
+                    raise InputError("physics parameter solver_type=%r: must be 'quick' (ODE quickStep, "
+                                     "Gazebo's default) or 'world' (ODE's exact dWorldStep)" % (v,))
+                new[k] = v
+                continue
             try:
                 v = float(v)
             except (TypeError, ValueError):
@@ -231,6 +238,7 @@ class World(object):
         w.setContactSurfaceLayer(p["contact_surface_layer"])
         if odelib.AVAILABLE:
             odelib.LIB.dWorldSetQuickStepW(odelib.raw_pointer(w), p["sor"])
+        self._world_step = 1 if p["solver_type"] == "world" else 0
         self._max_contacts = int(p["max_contacts"])
         self._layer = float(p["contact_surface_layer"])
         self._vmax2 = p["guard_max_linear_velocity"] ** 2

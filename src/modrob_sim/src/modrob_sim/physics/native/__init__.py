@@ -64,6 +64,7 @@ def _declare(lib):
         "mr_collide": (i, [vp, d, d, d, d, d, i]),
         "mr_quickstep": (ul, [vp, d, ul]),
         "mr_step": (i, [vp, d, d, d, d, d, i]),
+        "mr_step_checked": (i, [vp, d, d, d, d, d, i, i, vp, i, d, d, ctypes.POINTER(ctypes.c_int)]),
         "mr_set_seed": (None, [vp, ul]),
         "mr_get_seed": (ul, [vp]),
         "mr_max_model_contacts": (i, [vp, ctypes.POINTER(ctypes.c_int)]),

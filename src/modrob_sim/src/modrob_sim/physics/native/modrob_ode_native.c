@@ -491,6 +491,8 @@ int mr_collide(MrCtx *c, double dt, double gx, double gy, double gz, double laye
     return c->ncontacts;
 }
 
+int mr_check_bodies(dBodyID *bodies, int start, int n, double vmax2, double wmax2);
+
 /* quickStep with this world's own random seed (quickStep reorders constraints randomly) */
 unsigned long mr_quickstep(dWorldID w, double dt, unsigned long seed)
 {
@@ -507,6 +509,25 @@ int mr_step(MrCtx *c, double dt, double gx, double gy, double gz, double layer, 
 {
     int n = mr_collide(c, dt, gx, gy, gz, layer, max_contacts);
     c->seed = mr_quickstep(c->world, dt, c->seed);
+    return n;
+}
+
+/* one step with nothing but plain numbers crossing from Python: collide, then ODE's quickStep
+ * (world_step 0, Gazebo's "quick") or its exact dWorldStep (1, Gazebo's "world") with this
+ * world's seed, then the velocity part of the blow-up guard over `bodies`: *first_bad is the
+ * index of the first runaway body (as mr_check_bodies from 0) or -1. Returns the contact count. */
+int mr_step_checked(MrCtx *c, double dt, double gx, double gy, double gz, double layer, int max_contacts,
+                    int world_step, dBodyID *bodies, int nbodies, double vmax2, double wmax2, int *first_bad)
+{
+    int n = mr_collide(c, dt, gx, gy, gz, layer, max_contacts);
+    if (world_step) {
+        dRandSetSeed(c->seed);
+        dWorldStep(c->world, dt);
+        c->seed = dRandGetSeed();
+    } else {
+        c->seed = mr_quickstep(c->world, dt, c->seed);
+    }
+    *first_bad = nbodies > 0 ? mr_check_bodies(bodies, 0, nbodies, vmax2, wmax2) : -1;
     return n;
 }
 
