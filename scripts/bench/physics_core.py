@@ -83,10 +83,12 @@ def object_urdf():
             % (_inertial(OBJ_M, ixx, ixx, OBJ_M * OBJ_R ** 2 / 2), OBJ_R, OBJ_H))
 
 
-def run_ours(steps, native, settle=500, auto_disable=True):
+def run_ours(steps, native, settle=500, auto_disable=True, iters=None):
     from modrob_sim.physics import World
     world = World(time_step=0.001, native=native)
     world.set_physics_params(auto_disable=auto_disable)
+    if iters is not None:
+        world.set_physics_params(iters=iters)
     world.add_urdf("table", table_urdf())
     arm = world.add_urdf("arm", arm_urdf(),
                          joint_positions={"joint%d" % (i + 1): q for i, q in enumerate(Q_HOLD)})
@@ -121,13 +123,13 @@ def run_ours(steps, native, settle=500, auto_disable=True):
 PYBULLET_RESIDUAL_THRESHOLD = 1e-7
 
 
-def run_pybullet(steps, files, settle=500, residual_threshold=PYBULLET_RESIDUAL_THRESHOLD):
+def run_pybullet(steps, files, settle=500, residual_threshold=PYBULLET_RESIDUAL_THRESHOLD, iters=50):
     import pybullet as p
     cid = p.connect(p.DIRECT)
     try:
         p.setGravity(0, 0, -9.81)
         p.setTimeStep(0.001)
-        p.setPhysicsEngineParameter(numSolverIterations=50, solverResidualThreshold=residual_threshold)
+        p.setPhysicsEngineParameter(numSolverIterations=iters, solverResidualThreshold=residual_threshold)
         p.loadURDF(files["table"], useFixedBase=True)
         arm = p.loadURDF(files["arm"], useFixedBase=True)
         jidx = [i for i in range(p.getNumJoints(arm)) if p.getJointInfo(arm, i)[2] == p.JOINT_REVOLUTE]
@@ -154,7 +156,7 @@ def run_pybullet(steps, files, settle=500, residual_threshold=PYBULLET_RESIDUAL_
         err = max(abs(s[0] - q) for s, q in zip(p.getJointStates(arm, jidx), Q_HOLD))
         return {"steps_per_s": steps / cpu, "wall_steps_per_s": steps / dt,
                 "contacts": len(p.getContactPoints()), "can_drift_m": drift, "arm_err_rad": err,
-                "guard_events": 0, "solver_iterations": 50, "residual_threshold": residual_threshold}
+                "guard_events": 0, "solver_iterations": iters, "residual_threshold": residual_threshold}
     finally:
         p.disconnect(cid)
 
