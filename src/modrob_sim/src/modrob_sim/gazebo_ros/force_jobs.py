@@ -60,6 +60,11 @@ class ForceJobs(object):
     def reset(self):
         self._efforts, self._wrenches = [], []
 
+    @property
+    def idle(self):
+        """True when no job is pending (the steps need nothing from here)."""
+        return not self._efforts and not self._wrenches
+
     # ---- the before-step hook -------------------------------------------------------------------
     def activate_wrenches(self, t):
         if self._wrenches:

@@ -147,6 +147,14 @@ class NativePublisher(object):
             data = b.getvalue()
         _lib.mrp_publish(h, data[4:], len(data) - 4)
 
+    def native_handle(self):
+        """(address of mrp_publish, this publisher's handle) for C code that publishes serialised
+        messages itself (the C loop's /clock), or False when it cannot."""
+        h = self._h
+        if not h or not _state["ok"]:
+            return False
+        return ctypes.cast(_lib.mrp_publish, ctypes.c_void_p).value, h
+
     def unregister(self):
         h, self._h = self._h, None
         if h and _state["ok"]:

@@ -36,6 +36,7 @@ class PluginHost(object):
         self._warned = set()
         self._before = ()
         self._after = ()
+        self._native = ()
 
     # ---- loading -----------------------------------------------------------------------------
     def load(self, model, spawn_namespace=""):
@@ -92,6 +93,20 @@ class PluginHost(object):
                 if _overrides(item.plugin, "after_step"):
                     after.append((item, item.plugin.after_step))
         self._before, self._after = tuple(before), tuple(after)
+        controls = []
+        for item, _hook in before + after:
+            nc = getattr(item.plugin, "native_control", None)
+            if nc is None:
+                controls = None     # a plugin whose hooks need Python at every step
+                break
+            if nc not in controls:
+                controls.append(nc)
+        self._native = tuple(controls) if controls is not None else None
+
+    def native_controls(self):
+        """The ``native_control`` of every plugin with step hooks (gazebo_ros.fast_steps), or None
+        when a plugin's hooks have no native counterpart (then every step runs in Python)."""
+        return self._native
 
     def plugins_of(self, model_name):
         return [item.plugin for item in self._loaded.get(model_name, [])]

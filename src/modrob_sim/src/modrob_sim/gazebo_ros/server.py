@@ -9,6 +9,7 @@ and the node's publishers. The parts:
 node_params.Params         ~parameters and gzserver's command line
 force_jobs.ForceJobs       timed wrenches and efforts
 plugin_host.PluginHost     loads plugins and calls their hooks (contract: plugin_base)
+fast_steps.FastSteps       the steps at which no hook is due, in batches of the C loop
 state_publishers           /clock, model/link states, guard events, markers, performance
 services.*                 the service groups (models, properties, forces, physics)
 """
@@ -20,6 +21,7 @@ import rospy
 from modrob_sim.errors import ModelError, ModrobError, SimulationError
 from modrob_sim.gazebo_ros import native_pub, plugins
 from modrob_sim.gazebo_ros.conversions import ros_time
+from modrob_sim.gazebo_ros.fast_steps import FastSteps
 from modrob_sim.gazebo_ros.force_jobs import ForceJobs
 from modrob_sim.gazebo_ros import memory_debug
 from modrob_sim.gazebo_ros.lookup import Lookup
@@ -115,11 +117,14 @@ class GazeboRosNode(object):
         self.outputs = StatePublishers(self.world, params)   # before any model: first states go out
         self.forces = ForceJobs(self.world)
         self.loop = SimulationLoop(self.world, real_time_factor=settings.real_time_factor,
-                                   paused=params.paused, on_rtf=self._on_rtf, on_error=self._on_step_error)
+                                   paused=params.paused, on_rtf=self._on_rtf, on_error=self._on_step_error,
+                                   step=self._step)
         self._publish_queue = PublishQueue()
         self.plugins = PluginHost(self.world, self.node_name, self.resolve, call=self.loop.call,
                                   advertise=ros_advertiser(self._publish_queue))
         self._hook = self.world.add_step_hook(before=self._before_step, after=self._after_step)
+        self.fast = FastSteps(self.world, self.plugins, self.forces, self.outputs,
+                              set_time=set_rostime if self._own_sim_time else None)
         if settings.text is not None:
             self._load_world_file(settings)
         self.outputs.publish_markers(force=True)
@@ -168,6 +173,9 @@ class GazeboRosNode(object):
         self._publish_queue.stop()
 
     # ---- the World's step hooks (loop thread) ----------------------------------------------------
+    def _step(self, n):
+        self.fast.step(n)
+
     def _before_step(self, t, dt):
         if self._own_sim_time:
             set_rostime(ros_time(t))

@@ -17,6 +17,11 @@ from modrob_sim.gazebo_ros.conversions import pose_to_msg, ros_time, twist_to_ms
 from modrob_sim.physics.world import FROZEN_REASON
 
 
+class _BatchClock(object):
+    """/clock for the C loop's batches (physics.native_batch.Batcher.run)."""
+    __slots__ = ("publish", "handle", "period", "last")
+
+
 class StatePublishers(object):
     def __init__(self, world, params):
         self.world = world
@@ -36,6 +41,7 @@ class StatePublishers(object):
 
         self._clock_period = 1.0 / params.pub_clock_frequency if params.pub_clock_frequency > 0 else 0.0
         self._last_clock_wall = -1e9
+        self._batch_clock = None
         self._state_period = 1.0 / params.publish_rate if params.publish_rate > 0 else 0.0
         self._next_state_t = 0.0
         self._marker_period = 1.0 / params.marker_rate if params.marker_rate > 0 else 0.0
@@ -59,6 +65,41 @@ class StatePublishers(object):
             self._next_marker_t = now_t + self._marker_period
             self.publish_markers()
         self._scene.after_step(now_t)
+
+    # ---- batches of native steps (gazebo_ros.fast_steps) ----------------------------------------
+    def batch_after_due(self):
+        """The simulated time from which after_step has work at simulated-time schedules."""
+        due = self._next_state_t
+        if self._marker_period > 0.0 and self._next_marker_t < due:
+            due = self._next_marker_t
+        return due
+
+    def batch_clock(self):
+        """/clock for a batch: a _BatchClock when the C loop publishes it through roscpp (at every
+        step, or throttled to the same wall-clock period as after_step), None when it is
+        throttled and only rospy can publish it (after_batch does), False when it is due at
+        every step and only rospy can publish it (no batch)."""
+        native = getattr(self._clock_pub, "native_handle", None)
+        native = native() if native is not None else False
+        if not native:
+            self._batch_clock = None
+            return None if self._clock_period > 0.0 else False
+        c = self._batch_clock or _BatchClock()
+        c.publish, c.handle = native
+        c.period, c.last = self._clock_period, self._last_clock_wall
+        self._batch_clock = c
+        return c
+
+    def after_batch(self):
+        """After a batch of native steps: the wall-clock schedules (/clock throttled, scene)."""
+        if self._batch_clock is not None:
+            self._last_clock_wall = self._batch_clock.last
+        elif self._clock_period > 0.0:
+            wall = time.monotonic()
+            if wall - self._last_clock_wall >= self._clock_period:
+                self._last_clock_wall = wall
+                self.publish_clock()
+        self._scene.after_step(self.world.time)
 
     def after_reset(self):
         """The simulated time jumped: publish everything now and restart the decimation."""

@@ -426,6 +426,12 @@ class NativeBackend(object):
         verts, tris = mesh
         return NativeMesh(self.nat, self.ctx, verts, tris, dynamic), IDENTITY_POSE
 
+    def batch_arrays(self):
+        """(damped joint count, their ODE joints, kinds, coefficients, body array, body count) for
+        the C loop's batches (native_batch)."""
+        n, jp, kinds, coef = self._damp_arrays
+        return n, jp, kinds, coef, self._body_array, len(self._body_owner)
+
     def apply_damping(self, world):
         n, jp, kinds, coef = self._damp_arrays
         if n:

@@ -416,6 +416,16 @@ class Joint(object):
         return self._unwrap
 
     @property
+    def turn_state(self):
+        """(whole turns counted, last raw ODE angle) of a turn-tracking joint; settable (the C
+        loop's batches count turns too: native_batch)."""
+        return self._turns, self._last_raw
+
+    @turn_state.setter
+    def turn_state(self, state):
+        self._turns, self._last_raw = state
+
+    @property
     def has_soft_limits(self):
         """True for revolute limits beyond +-pi (ODE's stops are moved with the turn count)."""
         return self._soft_limits

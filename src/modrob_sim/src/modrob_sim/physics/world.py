@@ -282,6 +282,11 @@ class World(object):
         self._update_hooks()
         return handle
 
+    @property
+    def step_hook_count(self):
+        """How many step hooks are registered (addition)."""
+        return len(self._hooks)
+
     def remove_step_hook(self, handle):
         if handle not in self._hooks:
             raise InputError("no step hook with handle %r" % (handle,))

@@ -25,6 +25,8 @@ class ControllerManager(object):
         self.time = 0.0
         #: the physics step (s); when set, loading a controller warns about gains that cannot run
         self.time_step = None
+        #: changes whenever the set of controllers or their states change (native_control's cue)
+        self.generation = 0
 
     # -- queries ---------------------------------------------------------------------------
     def list_types(self):
@@ -62,6 +64,7 @@ class ControllerManager(object):
                                   % (name, type_, ns, ", ".join(self.list_types())))
         controller = cls(name, self.hw, Params(params_values, ns))
         self.controllers[name] = controller
+        self.generation += 1
         if self.time_step:
             for joint, gain, k, limit, inertia in gain_check.unstable_gains(controller, self.time_step):
                 self.log("warn", gain_check.message(name, joint, gain, k, limit, inertia, self.time_step))
@@ -77,6 +80,7 @@ class ControllerManager(object):
             raise ControllerError("Could not unload controller with name '%s' because it is still running; "
                                   "stop it first (switch_controller)" % name)
         del self.controllers[name]
+        self.generation += 1
         return c
 
     # -- switch ----------------------------------------------------------------------------
@@ -126,6 +130,7 @@ class ControllerManager(object):
                                        "and '%s': "
                                        "stop one of them in the same switch" % (j, claims[j], n))
                     claims[j] = n
+        self.generation += 1
         t = self.time
         for n in to_stop:
             c = self.controllers[n]

@@ -24,6 +24,7 @@ from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
 from modrob_sim.ros_control.hardware import RobotHWSim
 from modrob_sim.ros_control.manager import BEST_EFFORT, ControllerManager
+from modrob_sim.ros_control.native_control import NativeControl
 from modrob_sim.ros_control.params import Params, join
 from modrob_sim.ros_control.plugin_config import DEFAULT_SIM_TYPE, PluginConfig
 from modrob_sim.ros_control.ros_adapters import adapter_for
@@ -74,6 +75,8 @@ class GazeboRosControlPlugin(ModelPlugin):
             rospy.loginfo("model '%s': joint %s driven by the PID at %s (%s)"
                           % (model.name, name, res.pid_source, res.pid.gains))
         self._last_update = None
+        #: the update in the C loop's batches when nothing of it needs Python (native_control)
+        self.native_control = NativeControl(self)
         cm = join(self.namespace, "controller_manager")
         self.services = [
             rospy.Service(cm + "/list_controllers", ListControllers, self._list),
@@ -110,6 +113,7 @@ class GazeboRosControlPlugin(ModelPlugin):
             c.starting(0.0)
 
     def shutdown(self):
+        self.native_control.detach()
         self.manager.stop_all()
         adapters, self.adapters = list(self.adapters.values()), {}
         for a in adapters:

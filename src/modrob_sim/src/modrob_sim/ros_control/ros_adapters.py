@@ -41,6 +41,10 @@ class _Throttle(object):
 
 
 class Adapter(object):
+    #: True when before_update/after_update have nothing to do unless the controller left data in
+    #: ``pending`` (then the update runs in Python): ros_control.native_control may batch steps
+    NATIVE = False
+
     def __init__(self, plugin, controller):
         self.plugin = plugin
         self.c = controller
@@ -63,6 +67,8 @@ class Adapter(object):
 
 
 class JointStateAdapter(Adapter):
+    NATIVE = True
+
     def __init__(self, plugin, controller):
         super(JointStateAdapter, self).__init__(plugin, controller)
         self.pub = publisher(join(plugin.namespace, "joint_states"), JointState, queue_size=10)
@@ -81,6 +87,8 @@ class JointStateAdapter(Adapter):
 class SingleJointAdapter(Adapter):
     """``command`` (std_msgs/Float64); with a PID also ``state`` (JointControllerState) and the
     reconfigure server at ``<controller>/pid``."""
+
+    NATIVE = True
 
     def __init__(self, plugin, controller):
         super(SingleJointAdapter, self).__init__(plugin, controller)

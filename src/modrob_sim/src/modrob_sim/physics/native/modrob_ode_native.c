@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <ode/ode.h>
 
 #define MR_MAX_GEN 64          /* contacts generated per pair before selection */
@@ -647,4 +648,224 @@ double mr_max_depth(dGeomID a, dGeomID b)
     double d = 0;
     for (i = 0; i < n; ++i) if (gen[i].depth > d) d = gen[i].depth;
     return d;
+}
+
+/* ---- batched steps with native effort controllers ------------------------------------------
+ * Several whole steps in one call, for the stretches in which no Python hook is due (the /gazebo
+ * node decides that: modrob_sim.physics.native_batch). Each step does what World._step_once
+ * does for a world without mimics, soft limits, wrenches, anti-gravity groups or frozen models,
+ * with the ros_control effort joints of MrBatchJoint and the turn counts of MrBatchTurn:
+ *   before: per joint, hw read (position, velocity, the effort applied in the previous step),
+ *           the controller (PID on the position error, or a constant effort command),
+ *           RobotHWSim.write's clamp, Joint.set_effort's clamp, the torque or force applied;
+ *   explicit damping, collide + quickStep (mr_step), time and iteration count;
+ *   /clock (8 bytes: secs, nsecs, as rospy serialises rosgraph_msgs/Clock) through `publish`, at
+ *   every step or throttled to a wall-clock period as StatePublishers.after_step does;
+ *   the blow-up guard's checks: a step the guard would flag, or a snapshot step, ends the batch
+ *   (`guard` = 1) so that the World's Python guard runs for it.
+ * Semantics are those of ros_control/pid.py, hardware.py, effort_joint_position.py and
+ * physics/model.py (Joint._limit), which stay the reference. */
+typedef struct {
+    dJointID joint;
+    int slider;          /* 0 hinge, 1 slider */
+    int mode;            /* 0 constant effort command, 1 PID on the position error */
+    int err_kind;        /* 0 target - position, 1 target clamped to [lower, upper], 2 shortest angle */
+    int has_hw_limit;    /* RobotHWSim.clamp_effort applies hw_limit */
+    int antiwindup;
+    int turn;            /* index of the joint's MrBatchTurn (its position counts turns), or -1 */
+    double lower, upper, hw_limit, joint_limit, force_cap;
+    double command;      /* the target (PID) or effort (constant); Python may write it any time */
+    double p, i, d, i_max, i_min;
+    double p_error_last, p_error, i_error, d_error, cmd, p_term, i_term, d_term;
+    double position, velocity, effort;   /* what the last update read */
+    double out;          /* the controller's command of the last update (joint.command) */
+    double applied;      /* the effort applied in the last step (Joint.effort) */
+} MrBatchJoint;
+
+typedef struct {
+    dJointID joint;      /* a hinge whose position counts whole turns (Joint.track_turns) */
+    double last_raw;
+    long long turns;
+} MrBatchTurn;
+
+typedef int (*mr_publish_fn)(void *handle, const uint8_t *data, uint32_t size);
+
+typedef struct {
+    MrBatchJoint *joints;
+    int njoints;
+    int ndamp;
+    dJointID *damp_joints;
+    int *damp_kinds;
+    double *damp_coef;
+    dBodyID *bodies;
+    int nbodies;
+    int nturns;
+    MrBatchTurn *turns;
+    int guard_max_contacts;
+    int max_contacts;
+    int snapshot_interval;
+    double vmax2, wmax2;
+    double dt, gx, gy, gz, layer;
+    double time;         /* in: before the first step; out: after the last */
+    double last_start;   /* out: the time at which the last step started */
+    long long iterations;
+    double before_due;   /* no step starts at t >= before_due (a before-hook is due) */
+    double after_due;    /* no step ends at t with t + 1e-12 >= after_due (an after-hook is due) */
+    void *publish;       /* mr_publish_fn for /clock, or NULL */
+    void *clock_handle;
+    double clock_period; /* > 0: /clock at most once per clock_period s of CLOCK_MONOTONIC */
+    double last_clock;   /* in/out: CLOCK_MONOTONIC of the last /clock (Python's time.monotonic) */
+    int ncontacts;       /* out: contacts of the last step */
+    int guard;           /* out: 1 when the World's guard must look at the last step */
+} MrBatch;
+
+#define MR_TWO_PI 6.283185307179586
+
+/* angles.normalize_angle(to - from) (Python: fmod twice, then > pi -> -2 pi) */
+static double mr_shortest_angle(double from, double to)
+{
+    double a = fmod(fmod(to - from, MR_TWO_PI) + MR_TWO_PI, MR_TWO_PI);
+    return a > 3.141592653589793 ? a - MR_TWO_PI : a;
+}
+
+/* Python's max(x, lo) then min(., hi) */
+static inline double mr_clamp(double x, double lo, double hi)
+{
+    double v = lo > x ? lo : x;
+    return hi < v ? hi : v;
+}
+
+/* Pid.compute(error, dt) */
+static double mr_pid(MrBatchJoint *j, double error, double dt)
+{
+    double error_dot, i_term;
+    if (dt <= 0.0 || !isfinite(error)) return 0.0;
+    error_dot = (error - j->p_error_last) / dt;
+    j->p_error_last = error;
+    if (!isfinite(error_dot)) return 0.0;
+    j->p_error = error;
+    j->d_error = error_dot;
+    j->p_term = j->p * error;
+    j->i_error += dt * error;
+    if (j->antiwindup && j->i != 0.0) {
+        double a = j->i_min / j->i, b = j->i_max / j->i;
+        double lo = b < a ? b : a, hi = b < a ? a : b;
+        j->i_error = mr_clamp(j->i_error, lo, hi);
+    }
+    i_term = j->i * j->i_error;
+    if (!j->antiwindup) i_term = mr_clamp(i_term, j->i_min, j->i_max);
+    j->i_term = i_term;
+    j->d_term = j->d * error_dot;
+    j->cmd = j->p_term + i_term + j->d_term;
+    return j->cmd;
+}
+
+static void mr_batch_controllers(MrBatch *b)
+{
+    int k;
+    for (k = 0; k < b->njoints; ++k) {
+        MrBatchJoint *j = &b->joints[k];
+        double f, lim;
+        volatile double *command = &j->command;
+        if (j->slider) {
+            j->position = dJointGetSliderPosition(j->joint);
+            j->velocity = dJointGetSliderPositionRate(j->joint);
+        } else {
+            j->position = dJointGetHingeAngle(j->joint);
+            if (j->turn >= 0) j->position += MR_TWO_PI * (double)b->turns[j->turn].turns;
+            j->velocity = dJointGetHingeAngleRate(j->joint);
+        }
+        j->effort = j->applied;
+        if (j->mode == 1) {
+            double target = *command, error;
+            if (j->err_kind == 2) error = mr_shortest_angle(j->position, target);
+            else if (j->err_kind == 1) error = mr_clamp(target, j->lower, j->upper) - j->position;
+            else error = target - j->position;
+            f = mr_pid(j, error, b->dt);
+        } else {
+            f = *command;
+        }
+        j->out = f;
+        if (!isfinite(f)) f = 0.0;                               /* RobotHWSim.write */
+        if (j->has_hw_limit) f = mr_clamp(f, -j->hw_limit, j->hw_limit);
+        lim = j->joint_limit;                                     /* Joint._limit */
+        if (lim > 0.0) {
+            if (f > lim) f = lim;
+            else if (f < -lim) f = -lim;
+        }
+        if (f > j->force_cap) f = j->force_cap;
+        else if (f < -j->force_cap) f = -j->force_cap;
+        if (j->slider) dJointAddSliderForce(j->joint, f);
+        else dJointAddHingeTorque(j->joint, f);
+        j->applied = f;
+    }
+}
+
+static void mr_batch_clock(MrBatch *b)
+{
+    double t = b->time;
+    uint32_t buf[2];
+    double secs = (double)(long long)t;
+    long long nsecs = (long long)nearbyint((t - secs) * 1e9);
+    long long s = (long long)secs;
+    if (nsecs >= 1000000000LL) {
+        s += 1;
+        nsecs -= 1000000000LL;
+    }
+    buf[0] = (uint32_t)s;          /* little-endian hosts, as rospy's struct '<2I' */
+    buf[1] = (uint32_t)nsecs;
+    ((mr_publish_fn)b->publish)(b->clock_handle, (const uint8_t *)buf, 8);
+}
+
+/* Joint.track_turns */
+static void mr_batch_track_turns(MrBatch *b)
+{
+    int k;
+    for (k = 0; k < b->nturns; ++k) {
+        MrBatchTurn *u = &b->turns[k];
+        double raw = dJointGetHingeAngle(u->joint);
+        double d = raw - u->last_raw;
+        if (d > 3.141592653589793) u->turns -= 1;
+        else if (d < -3.141592653589793) u->turns += 1;
+        u->last_raw = raw;
+    }
+}
+
+/* Up to n steps; returns the number done (0 when the first step is due for Python). */
+int mr_run_batch(MrCtx *c, MrBatch *b, int n)
+{
+    int k;
+    b->guard = 0;
+    for (k = 0; k < n; ++k) {
+        double t = b->time, tn = t + b->dt;
+        if (t >= b->before_due || tn + 1e-12 >= b->after_due) break;
+        b->last_start = t;
+        mr_batch_controllers(b);
+        if (b->ndamp) mr_apply_damping(b->damp_joints, b->damp_kinds, b->damp_coef, b->ndamp);
+        b->ncontacts = mr_step(c, b->dt, b->gx, b->gy, b->gz, b->layer, b->max_contacts);
+        b->iterations += 1;
+        b->time = tn;
+        mr_batch_track_turns(b);
+        if (b->publish) {
+            if (b->clock_period > 0.0) {
+                struct timespec ts;
+                double now;
+                clock_gettime(CLOCK_MONOTONIC, &ts);
+                now = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+                if (now - b->last_clock >= b->clock_period) {
+                    b->last_clock = now;
+                    mr_batch_clock(b);
+                }
+            } else {
+                mr_batch_clock(b);
+            }
+        }
+        if ((b->nbodies && mr_check_bodies(b->bodies, 0, b->nbodies, b->vmax2, b->wmax2) >= 0) ||
+            b->ncontacts > b->guard_max_contacts ||
+            (b->snapshot_interval > 0 && b->iterations % b->snapshot_interval == 0)) {
+            b->guard = 1;
+            return k + 1;
+        }
+    }
+    return k;
 }

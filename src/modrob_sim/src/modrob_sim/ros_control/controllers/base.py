@@ -12,10 +12,22 @@ class CommandBuffer(object):
     def __init__(self, value=0.0):
         self._lock = threading.Lock()
         self._value = value
+        self._mirror = None
 
     def write(self, value):
         with self._lock:
             self._value = value
+            if self._mirror is not None:
+                self._mirror.command = value
+
+    def mirror(self, target):
+        """Write every value also to ``target.command`` (a batch joint of the C loop, which reads
+        it at every step; ros_control.native_control), starting with the current one; None
+        stops it."""
+        with self._lock:
+            self._mirror = target
+            if target is not None:
+                target.command = self._value
 
     def read(self):
         with self._lock:

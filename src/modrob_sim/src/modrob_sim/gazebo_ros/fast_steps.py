@@ -1,0 +1,112 @@
+"""The /gazebo node's steps in batches of the C loop (modrob_sim.physics.native_batch) while none
+of its step hooks has anything to do.
+
+Per step the node's hooks set rospy's time, run force jobs, the plugins (ros_control's read ->
+controllers -> write) and the publishers' schedules; each costs little, together they cost more
+than the physics. Most steps need none of it in Python: the controllers' effort PIDs run in C
+(ros_control.native_control), /clock on every step goes out from C through roscpp, and everything
+else is due only at known times (states and markers at simulated times, the joint_state_controller
+at its rate, a subscribed controller state every 10th update, the guard's snapshots). A step at
+which anything is due runs in Python as before (World.step), so what is published, when and
+with which contents does not change. Between two batches the loop runs its jobs (services) as
+between any two steps. Wall-clock schedules (a throttled /clock, the scene) are looked at after
+each batch (a batch is at most the loop's batch of steps, 10 by default).
+"""
+import os
+
+from modrob_sim.physics import native_batch
+from modrob_sim.gazebo_ros.conversions import ros_time
+
+INF = float("inf")
+
+
+def enabled():
+    """MODROB_SIM_NATIVE_STEPS=0 keeps every step in Python (comparisons, debugging)."""
+    return os.environ.get("MODROB_SIM_NATIVE_STEPS", "") not in ("0", "false", "no")
+
+
+class FastSteps(object):
+    def __init__(self, world, plugins, forces, outputs, set_time=None):
+        self.world = world
+        self.plugins = plugins
+        self.forces = forces
+        self.outputs = outputs
+        self.set_time = set_time
+        self.batcher = native_batch.Batcher(world) if enabled() and native_batch.available(world) else None
+        self._key = None
+        self._controls = ()
+        self._arr = None
+        self._n = 0
+        self._sim_joints = []
+        self.steps = 0          # steps run in batches (statistics, tests)
+
+    def step(self, n):
+        """``n`` steps of the World: batches where possible, World.step where not."""
+        world = self.world
+        while n > 0:
+            k = self._batch(n)
+            if k <= 0:
+                world.step(1)
+                n -= 1
+            else:
+                n -= k
+
+    def _batch(self, n):
+        b = self.batcher
+        if b is None or self.world.step_hook_count != 1 or not b.eligible() or not self.forces.idle:
+            return 0
+        after_due = self.outputs.batch_after_due()
+        clock = self.outputs.batch_clock()
+        if clock is False:
+            return 0
+        controls = self.plugins.native_controls()
+        if controls is None:
+            return 0
+        key = tuple(c.key() for c in controls)
+        if key != self._key:
+            if not self._layout(controls, key):
+                return 0
+        elif self._arr is None:
+            return 0
+        before_due = INF
+        for c in controls:
+            p = c.plan()
+            if p is None:
+                return 0
+            before_due = min(before_due, p[0])
+            n = min(n, p[1])
+        k = b.run(n, self._arr, self._n, self._sim_joints, before_due, after_due, clock)
+        if k > 0:
+            t = b.last_start
+            for c in controls:
+                c.finish(k, t)
+            if self.set_time is not None:
+                self.set_time(ros_time(t))
+            self.outputs.after_batch()
+            self.steps += k
+        return k
+
+    def _layout(self, controls, key):
+        for c in self._controls:
+            c.detach()
+        self._key, self._controls, self._arr = key, tuple(controls), None
+        if None in key:
+            return False
+        layouts = [c.layout() for c in controls]
+        if any(lay is None for lay in layouts):
+            return False
+        n = sum(lay[0] for lay in layouts)
+        arr = native_batch.new_joints(n)
+        off = 0
+        sim = []
+        for c, lay in zip(controls, layouts):
+            c.attach(arr, off)
+            off += lay[0]
+            sim.extend(lay[1])
+        self._arr, self._n, self._sim_joints = arr, n, sim
+        return True
+
+    def shutdown(self):
+        for c in self._controls:
+            c.detach()
+        self._controls, self._key, self._arr = (), None, None

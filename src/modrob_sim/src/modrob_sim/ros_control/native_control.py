@@ -1,0 +1,167 @@
+"""One gazebo_ros_control plugin's update (read -> controllers -> write) in the C loop's batches
+(modrob_sim.physics.native_batch), for the steps at which nothing of it needs Python.
+
+Natively updated: effort joints driven by effort_controllers/JointPositionController (the PID of
+pid.py, the error of JointResource.position_error) or by effort_controllers/JointEffortController,
+and effort joints without a running controller (their last command). The joint_state_controller
+needs Python only at its publish times, a JointPositionController only at the updates whose
+``state`` message is due and subscribed. Anything else (position or velocity joints, other
+controller types, a ``controlPeriod``) keeps every step in Python.
+
+Python stays the reference: before a batch the controllers' state (PID gains and errors, commands,
+the applied efforts) goes into the batch's joints; after it, what the updates did comes back
+(controller update counts, PID state, joint commands, the hardware's last read), so the next
+Python update carries on exactly. Commands arriving from ROS during a batch reach the C loop at
+once: the controllers' command buffers write through to the batch joint.
+"""
+import math
+
+from modrob_sim.physics import native_batch
+from modrob_sim.ros_control.controllers.effort_joint_position import EffortJointPositionController
+from modrob_sim.ros_control.controllers.effort_joint_position import STATE_DECIMATION
+from modrob_sim.ros_control.controllers.forward_command import EffortJointEffortController
+from modrob_sim.ros_control.controllers.joint_state import JointStateController
+from modrob_sim.ros_control.transmissions import EFFORT
+
+INF = float("inf")
+
+
+class NativeControl(object):
+    def __init__(self, plugin):
+        self.plugin = plugin
+        self.count = 0
+        self.sim_joints = []
+        self._arr = None
+        self._off = 0
+        self._pid = []          # (index, controller, state adapter or None)
+        self._forward = []      # (index, controller)
+        self._idle = []         # (index, JointResource): no running controller
+        self._res = []          # (index, JointResource), every joint
+        self._jsc = []
+        self._mirrored = []
+
+    def key(self):
+        """What the batch layout depends on; None when this plugin needs Python at every step."""
+        p = self.plugin
+        if p.config.control_period is not None:
+            return None
+        mgr = p.manager
+        return (id(self), mgr.generation, len(p.adapters))
+
+    def layout(self):
+        """(number of joints, physics Joints) for the batch, or None when not possible."""
+        p = self.plugin
+        hw, mgr = p.hw, p.manager
+        for res in hw.joints.values():
+            if res.method != EFFORT:
+                return None
+        for a in p.adapters.values():
+            if not getattr(a, "NATIVE", False):
+                return None
+        for c in mgr.controllers.values():
+            if c.state == "running" and type(c) not in (JointStateController, EffortJointPositionController,
+                                                        EffortJointEffortController):
+                return None
+        return len(hw.order), [hw.joints[n].sim for n in hw.order]
+
+    def attach(self, arr, offset):
+        """Fill entries offset.. of the batch joint array ``arr`` (after layout())."""
+        self.detach()
+        p = self.plugin
+        hw, mgr = p.hw, p.manager
+        owner = {}
+        jsc = []
+        for c in mgr.controllers.values():
+            if c.state != "running":
+                continue
+            if isinstance(c, JointStateController):
+                jsc.append(c)
+            else:
+                owner[c.joint.name] = c
+        self._arr, self._off, self._jsc = arr, offset, jsc
+        self._pid, self._forward, self._idle, self._res = [], [], [], []
+        for k, name in enumerate(hw.order):
+            idx = offset + k
+            res = hw.joints[name]
+            e = arr[idx]
+            e.joint, e.slider, e.joint_limit = native_batch.joint_fields(res.sim)
+            e.has_hw_limit = 0 if res.effort_limit is None else 1
+            e.hw_limit = res.effort_limit if res.effort_limit is not None else 0.0
+            if res.type == "continuous":
+                e.err_kind = 2
+            elif res.type == "revolute" and res.has_position_limits:
+                e.err_kind, e.lower, e.upper = 1, res.lower, res.upper
+            else:
+                e.err_kind = 0
+            self._res.append((idx, res))
+            c = owner.get(name)
+            if isinstance(c, EffortJointPositionController):
+                e.mode = 1
+                adapter = p.adapters.get(c.name)
+                self._pid.append((idx, c, getattr(adapter, "state_pub", None)))
+            else:
+                e.mode = 0
+                if c is None:
+                    self._idle.append((idx, res))
+                else:
+                    self._forward.append((idx, c))
+            if c is not None:
+                c.command.mirror(e)
+                self._mirrored.append(c)
+        self.count = len(hw.order)
+
+    def detach(self):
+        for c in self._mirrored:
+            c.command.mirror(None)
+        self._mirrored = []
+
+    def plan(self):
+        """Before a batch: the controllers' state into the batch joints. Returns (time before
+        which the batch must stop, most steps), or None when the next update needs Python."""
+        arr = self._arr
+        steps = 1 << 30
+        due = INF
+        for c in self._jsc:
+            if c._last_publish is None:
+                return None
+            due = min(due, c._last_publish + 1.0 / c.publish_rate - 1e-9)
+        for idx, c, pub in self._pid:
+            if pub is not None and pub.get_num_connections() > 0:
+                k = (STATE_DECIMATION - c._count % STATE_DECIMATION) % STATE_DECIMATION
+                if k == 0:
+                    return None
+                steps = min(steps, k)
+            e = arr[idx]
+            pid = c.pid
+            g = pid.gains
+            e.p, e.i, e.d, e.i_max, e.i_min = g.p, g.i, g.d, g.i_max, g.i_min
+            e.antiwindup = int(g.antiwindup)
+            e.p_error_last, e.p_error, e.i_error = pid.p_error_last, pid.p_error, pid.i_error
+            e.d_error, e.cmd = pid.d_error, pid.cmd
+            e.p_term, e.i_term, e.d_term = pid.terms
+        for idx, res in self._idle:
+            cmd = res.command
+            arr[idx].command = cmd if math.isfinite(cmd) else 0.0
+        for idx, res in self._res:
+            arr[idx].applied = res.sim.effort
+        return due, steps
+
+    def finish(self, steps, t_last):
+        """After a batch of ``steps`` steps whose last started at ``t_last``."""
+        arr = self._arr
+        p = self.plugin
+        p.manager.time = t_last
+        p._last_update = t_last
+        for idx, c, _pub in self._pid:
+            e = arr[idx]
+            pid = c.pid
+            pid.p_error_last, pid.p_error, pid.i_error, pid.d_error, pid.cmd = (e.p_error_last, e.p_error,
+                                                                                e.i_error, e.d_error, e.cmd)
+            pid.terms = (e.p_term, e.i_term, e.d_term)
+            c._count += steps
+            c.last_effort = c.joint.command = e.out
+        for idx, c in self._forward:
+            c.joint.command = arr[idx].out
+        for idx, res in self._res:
+            e = arr[idx]
+            res.position, res.velocity, res.effort = e.position, e.velocity, e.effort

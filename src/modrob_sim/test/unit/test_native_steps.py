@@ -1,0 +1,117 @@
+"""The /gazebo node's batches of native steps (gazebo_ros.fast_steps, physics.native_batch,
+ros_control.native_control) give exactly the steps of the Python path: the same states, efforts,
+PID internals and published samples, bit for bit, with commands changing mid-run, an effort PID
+with antiwindup, a forward effort controller, a joint without controller, a joint_state_controller
+and a schedule of after-step work; and the batches do run most of the steps."""
+import os
+import types
+
+import pytest
+
+from modrob_sim.gazebo_ros.fast_steps import FastSteps
+from modrob_sim.physics import native_batch
+from modrob_sim.ros_control.hardware import RobotHWSim
+from modrob_sim.ros_control.manager import STRICT, ControllerManager
+from modrob_sim.ros_control.native_control import NativeControl
+from modrob_sim.ros_control.transmissions import parse_transmissions
+
+physics = pytest.importorskip("modrob_sim.physics")
+FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
+PERIOD = 0.01           # the "state publisher": every 10 ms of simulated time
+
+
+class Rig(object):
+    """A 3-joint effort arm with ros_control, the node's hooks reduced to what matters here."""
+
+    def __init__(self, fast):
+        with open(os.path.join(FIX, "arm_3dof.urdf")) as f:
+            xml = f.read().replace("PositionJointInterface", "EffortJointInterface")
+        self.world = physics.World(time_step=0.001)
+        self.model = self.world.add_urdf("arm", xml)
+        self.hw = RobotHWSim(self.model.joints, parse_transmissions(self.model.source_xml))
+        self.mgr = ControllerManager(self.hw, "/arm")
+        self.plugin = types.SimpleNamespace(config=types.SimpleNamespace(control_period=None), hw=self.hw,
+                                            manager=self.mgr, adapters={}, _last_update=None)
+        self.log = []
+        self.next_t = 0.0
+        self.ctl = {}
+        for name, params in (
+                ("jsc", {"type": "joint_state_controller/JointStateController", "publish_rate": 50}),
+                ("yaw", {"type": "effort_controllers/JointPositionController", "joint": "yaw",
+                         "pid": {"p": 80.0, "i": 30.0, "d": 4.0, "i_clamp": 5.0, "antiwindup": True}}),
+                ("shoulder", {"type": "effort_controllers/JointPositionController", "joint": "shoulder",
+                              "pid": {"p": 200.0, "i": 50.0, "d": 10.0, "i_clamp": 8.0}})):
+            self.ctl[name] = self.mgr.load(name, params)
+            self.plugin.adapters[name] = types.SimpleNamespace(NATIVE=True)
+        assert self.mgr.switch(list(self.ctl), [], STRICT)[0]
+        self.world.add_step_hook(before=self.before, after=self.after)
+        self.fast = None
+        if fast:
+            self.nc = NativeControl(self.plugin)
+            host = types.SimpleNamespace(native_controls=lambda: (self.nc,))
+            outputs = types.SimpleNamespace(batch_after_due=lambda: self.next_t, batch_clock=lambda: None,
+                                            after_batch=lambda: None)
+            self.fast = FastSteps(self.world, host, types.SimpleNamespace(idle=True), outputs)
+
+    def before(self, t, dt):
+        self.plugin._last_update = t
+        self.mgr.update(t, dt)
+        data, self.ctl["jsc"].pending = self.ctl["jsc"].pending, None
+        if data is not None:
+            self.log.append(("joint_states", data))
+
+    def after(self, t, dt):
+        if t + 1e-12 >= self.next_t:
+            self.next_t = t + PERIOD
+            joints = [j for j in self.model.joints_in_order if j.ode_joint is not None]
+            self.log.append(("states", t, [(j.position, j.velocity, j.effort) for j in joints]))
+
+    def step(self, n):
+        (self.fast.step if self.fast else self.world.step)(n)
+
+    def snapshot(self):
+        pids = [(c.pid.p_error_last, c.pid.i_error, c.pid.d_error, c.pid.cmd, c.pid.terms, c._count,
+                 c.last_effort) for c in (self.ctl["yaw"], self.ctl["shoulder"])]
+        hw = [(r.position, r.velocity, r.effort, r.command) for r in self.hw.joints.values()]
+        return (self.world.time, self.world.iterations, self.world.state_digest(), pids, hw, self.mgr.time)
+
+
+def run(fast):
+    rig = Rig(fast)
+    for chunk in range(120):
+        if chunk == 20:
+            rig.ctl["yaw"].set_command(1.2)
+            rig.ctl["shoulder"].set_command(-0.7)
+        if chunk == 60:
+            rig.ctl["yaw"].set_command(-2.0)
+            rig.hw.joints["elbow"].command = 3.0       # the joint without a controller
+        if chunk == 90:
+            gains = type(rig.ctl["shoulder"].pid.gains)(150.0, 20.0, 8.0, 4.0, -4.0)
+            rig.ctl["shoulder"].pid.set_gains(gains)
+        rig.step(10)
+    return rig
+
+
+@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+def test_batched_steps_equal_python_steps_bit_for_bit():
+    ref, fast = run(False), run(True)
+    assert fast.fast.batcher is not None
+    assert fast.fast.steps > 0.7 * fast.world.iterations, "the batches ran %d of %d steps" % (
+        fast.fast.steps, fast.world.iterations)
+    assert len(ref.log) == len(fast.log) > 100
+    for a, b in zip(ref.log, fast.log):
+        assert a == b
+    assert ref.snapshot() == fast.snapshot()
+    q = ref.model.joints["yaw"].position
+    assert abs(q + 2.0) < 0.3, "the yaw joint did not follow its command (%g)" % q
+
+
+@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+def test_a_step_that_needs_python_is_not_batched():
+    rig = Rig(True)
+    rig.next_t = 0.0                          # an after-step hook is due at the first step
+    rig.fast.step(1)
+    assert rig.fast.steps == 0 and rig.world.iterations == 1
+    rig.world.add_step_hook(after=lambda t, dt: None)   # a hook the node does not know
+    rig.fast.step(20)
+    assert rig.fast.steps == 0 and rig.world.iterations == 21
