@@ -15,7 +15,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import Latest, RosoutCollector, sim_sleep, wait_running, wait_until  # noqa: E402
+from control_common import (Latest, RosoutCollector, command_publisher, sim_sleep, wait_running,  # noqa: E402
+                            wait_until)
 
 NS = "/arm1"
 CTRL = NS + "/shoulder_controller"
@@ -29,7 +30,7 @@ class ArmPositionControl(unittest.TestCase):
         wait_running(NS, ["joint_state_controller", "shoulder_controller"])
         cls.state = Latest(CTRL + "/state", JointControllerState)
         cls.joints = Latest(NS + "/joint_states", JointState)
-        cls.pub = rospy.Publisher(CTRL + "/command", Float64, queue_size=1, latch=True)
+        cls.pub = command_publisher(CTRL + "/command", Float64)
         wait_until(lambda: cls.state.msg is not None and cls.joints.msg is not None, 30, "state and "
                                                                                          "joint_states")
 
@@ -37,18 +38,20 @@ class ArmPositionControl(unittest.TestCase):
         return self.joints.msg.position[self.joints.msg.name.index("shoulder")]
 
     def step(self, target, settle_time=4.0):
-        """Command ``target`` and return (rise time to 90 % of the step, final position)."""
+        """Command ``target`` and return (rise time to 90 % of the step, final position). The rise
+        time is read from the controller's state messages (stamped in simulated time, every 10 ms
+        of it): from the first one with the new set point to the first at 90 % of the step, so it
+        does not depend on how fast the simulation runs against the wall clock."""
         start_pos = self.position()
+        n0 = len(self.state.history)
         self.pub.publish(Float64(target))
-        t0 = rospy.get_time()
         wait_until(lambda: self.state.msg.set_point == target, 20, "the command to arrive")
-        rise = None
-        end = t0 + settle_time
-        while rospy.get_time() < end:
-            q = self.position()
-            if rise is None and abs(q - start_pos) >= 0.9 * abs(target - start_pos):
-                rise = rospy.get_time() - t0
-            rospy.rostime.wallsleep(0.002)
+        sim_sleep(settle_time)
+        states = [m for m in self.state.history[n0:] if m.set_point == target]
+        t0 = states[0].header.stamp.to_sec()
+        rise = next((m.header.stamp.to_sec() - t0 for m in states
+                     if abs(m.process_value - start_pos) >= 0.9 * abs(target - start_pos)), None)
+        self.assertIsNotNone(rise, "the step to %g did not reach 90 %%" % target)
         return rise, self.position()
 
     def test_1_step_settles_then_higher_p_rises_faster(self):

@@ -115,3 +115,42 @@ def test_a_step_that_needs_python_is_not_batched():
     rig.world.add_step_hook(after=lambda t, dt: None)   # a hook the node does not know
     rig.fast.step(20)
     assert rig.fast.steps == 0 and rig.world.iterations == 21
+
+
+@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+def test_the_c_loops_clock_bytes_are_rospys():
+    """/clock from the C loop at every step: the bytes rospy serialises for the Clock that
+    StatePublishers.publish_clock builds from the World's time after that step."""
+    import ctypes
+    io = pytest.importorskip("io")
+    Clock = pytest.importorskip("rosgraph_msgs.msg").Clock
+    got = []
+    proto = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.POINTER(ctypes.c_ubyte), ctypes.c_uint32)
+    fn = proto(lambda _h, data, size: got.append(bytes(data[:size])) or 0)
+    rig = Rig(True)
+    rig.world.time = 7.0 - 0.0105           # whole seconds and nanosecond rounding on the way
+    rig.next_t = 1e9
+    clock = types.SimpleNamespace(publish=ctypes.cast(fn, ctypes.c_void_p).value, handle=None, period=0.0,
+                                  last=0.0)
+    rig.fast.outputs.batch_clock = lambda: clock
+    t0 = rig.world.time
+    rig.fast.step(30)
+    assert rig.fast.steps >= 25 and len(got) == rig.fast.steps
+
+    def rospy_bytes(t):
+        msg = Clock()
+        c = msg.clock
+        c.secs = int(t)
+        c.nsecs = int(round((t - c.secs) * 1e9))
+        if c.nsecs >= 1000000000:
+            c.secs, c.nsecs = c.secs + 1, c.nsecs - 1000000000
+        buf = io.BytesIO()
+        msg.serialize(buf)
+        return buf.getvalue()
+    expected, t = [], t0
+    for _ in range(30):
+        t = t + rig.world.time_step
+        expected.append(rospy_bytes(t))
+    assert expected[-1] == rospy_bytes(rig.world.time)
+    assert len(set(got)) == len(got) and set(got) <= set(expected)
+    assert got[0][:4] == (6).to_bytes(4, "little") and got[-1][:4] == (7).to_bytes(4, "little")
