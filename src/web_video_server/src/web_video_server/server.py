@@ -117,20 +117,33 @@ class VideoServer(object):
             return None
 
     @staticmethod
-    def _error(req, code, text):
-        body = ("<html><body><h1>%d</h1><p>%s</p></body></html>" % (code, html.escape(text))).encode()
+    def _send(req, code, body, content_type="text/html; charset=utf-8", no_cache=False):
         req.send_response(code)
-        req.send_header("Content-Type", "text/html; charset=utf-8")
+        req.send_header("Content-Type", content_type)
         req.send_header("Content-Length", str(len(body)))
+        if no_cache:
+            req.send_header("Cache-Control", "no-cache")
         req.end_headers()
         req.wfile.write(body)
 
-    def _params(self, q):
+    @classmethod
+    def _error(cls, req, code, text):
+        cls._send(req, code, ("<html><body><h1>%d</h1><p>%s</p></body></html>"
+                              % (code, html.escape(text))).encode())
+
+    def _request(self, req, q, page):
+        """(topic, (quality, width, height)) of a /stream or /snapshot request, or None once a 400
+        naming what is wrong was sent."""
+        topic = q.get("topic", "")
+        if not topic:
+            self._error(req, 400, "give the image topic: /%s?topic=/camera/image" % page)
+            return None
         try:
-            return (int(q.get("quality", self.default_quality)), int(q.get("width", 0)),
-                    int(q.get("height", 0)))
+            return topic, (int(q.get("quality", self.default_quality)), int(q.get("width", 0)),
+                           int(q.get("height", 0)))
         except ValueError:
-            raise ValueError("quality, width and height must be integers")
+            self._error(req, 400, "quality, width and height must be integers")
+            return None
 
     def image_topics(self):
         try:
@@ -150,11 +163,7 @@ class VideoServer(object):
         body = ("<html><head><title>ROS Image Topic List</title></head><body>"
                 "<h1>Available ROS Image Topics:</h1><ul>%s</ul></body></html>"
                 % ("".join(items) or "<li>none yet</li>")).encode()
-        req.send_response(200)
-        req.send_header("Content-Type", "text/html; charset=utf-8")
-        req.send_header("Content-Length", str(len(body)))
-        req.end_headers()
-        req.wfile.write(body)
+        self._send(req, 200, body)
 
     def _viewer(self, req, q):
         topic = q.get("topic", "")
@@ -165,24 +174,17 @@ class VideoServer(object):
         body = ('<html><head><title>%s</title></head><body><h1>%s</h1>'
                 '<img id="stream" src="/stream?topic=%s%s"></body></html>'
                 % (html.escape(topic), html.escape(topic), qt, extra)).encode()
-        req.send_response(200)
-        req.send_header("Content-Type", "text/html; charset=utf-8")
-        req.send_header("Content-Length", str(len(body)))
-        req.end_headers()
-        req.wfile.write(body)
+        self._send(req, 200, body)
 
     def _frame(self, msg, params):
         bgr = to_bgr(msg.width, msg.height, msg.encoding, msg.step, msg.data)
         return jpeg(bgr, *params)
 
     def _snapshot(self, req, q):
-        topic = q.get("topic", "")
-        if not topic:
-            return self._error(req, 400, "give the image topic: /snapshot?topic=/camera/image")
-        try:
-            params = self._params(q)
-        except ValueError as err:
-            return self._error(req, 400, str(err))
+        r = self._request(req, q, "snapshot")
+        if r is None:
+            return
+        topic, params = r
         src = self._acquire(topic)
         try:
             msg, _ = src.next(0, self.image_timeout)
@@ -193,23 +195,15 @@ class VideoServer(object):
                 data = self._frame(msg, params)
             except EncodingError as err:
                 return self._error(req, 415, "%s: %s" % (topic, err))
-            req.send_response(200)
-            req.send_header("Content-Type", "image/jpeg")
-            req.send_header("Content-Length", str(len(data)))
-            req.send_header("Cache-Control", "no-cache")
-            req.end_headers()
-            req.wfile.write(data)
+            self._send(req, 200, data, "image/jpeg", no_cache=True)
         finally:
             self._release(src)
 
     def _stream(self, req, q):
-        topic = q.get("topic", "")
-        if not topic:
-            return self._error(req, 400, "give the image topic: /stream?topic=/camera/image")
-        try:
-            params = self._params(q)
-        except ValueError as err:
-            return self._error(req, 400, str(err))
+        r = self._request(req, q, "stream")
+        if r is None:
+            return
+        topic, params = r
         src = self._acquire(topic)
         try:
             req.send_response(200)

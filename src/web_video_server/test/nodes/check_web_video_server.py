@@ -64,6 +64,14 @@ class WebVideoServer(unittest.TestCase):
             self.get("/snapshot?topic=/no_such_image", timeout=30)
         self.assertEqual(ctx.exception.code, 404)
         self.assertIn("/no_such_image", ctx.exception.read().decode())
+        for path, words in (("/stream", "give the image topic: /stream?topic="),
+                            ("/snapshot?topic=%s&quality=high" % TOPIC, "must be integers"),
+                            ("/stream?topic=%s&type=vp8" % TOPIC, "use type=mjpeg"),
+                            ("/nowhere", "try / for the list")):
+            with self.assertRaises(urllib.error.HTTPError) as ctx:
+                self.get(path, timeout=30)
+            self.assertEqual(ctx.exception.code, 404 if path == "/nowhere" else 400, path)
+            self.assertIn(words, ctx.exception.read().decode(), path)
 
     def test_5_headless_chromium_shows_the_stream(self):
         browser = shutil.which("chromium") or shutil.which("chromium-browser")
