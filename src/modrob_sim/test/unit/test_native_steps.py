@@ -76,8 +76,10 @@ class Rig(object):
         return (self.world.time, self.world.iterations, self.world.state_digest(), pids, hw, self.mgr.time)
 
 
-def run(fast):
+def run(fast, guard_speed=None):
     rig = Rig(fast)
+    if guard_speed is not None:             # the guard restores the arm again and again
+        rig.world.set_physics_params(guard_max_angular_velocity=guard_speed)
     for chunk in range(120):
         if chunk == 20:
             rig.ctl["yaw"].set_command(1.2)
@@ -104,6 +106,16 @@ def test_batched_steps_equal_python_steps_bit_for_bit():
     assert ref.snapshot() == fast.snapshot()
     q = ref.model.joints["yaw"].position
     assert abs(q + 2.0) < 0.3, "the yaw joint did not follow its command (%g)" % q
+
+
+@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+def test_guard_restorations_in_batches_equal_the_python_path():
+    ref, fast = run(False, guard_speed=1.0), run(True, guard_speed=1.0)
+    events = ref.world.pop_events()
+    assert len(events) > 3, "the guard never fired"
+    assert events == fast.world.pop_events()
+    assert ref.log == fast.log and ref.snapshot() == fast.snapshot()
+    assert fast.fast.steps > 0.5 * fast.world.iterations
 
 
 @pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")

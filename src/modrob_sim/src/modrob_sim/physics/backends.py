@@ -432,6 +432,12 @@ class NativeBackend(object):
         n, jp, kinds, coef = self._damp_arrays
         return n, jp, kinds, coef, self._body_array, len(self._body_owner)
 
+    def batch_done(self, ncontacts, first_bad):
+        """After a batch of steps in C (native_batch): its last step's contact count and guard
+        scan, as step() leaves them, for find_blowups and contacts."""
+        self.ncontacts = ncontacts
+        self._first_bad.value = first_bad
+
     def apply_damping(self, world):
         n, jp, kinds, coef = self._damp_arrays
         if n:

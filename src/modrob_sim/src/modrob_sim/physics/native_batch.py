@@ -52,7 +52,7 @@ class _Batch(ctypes.Structure):
         [("iterations", ctypes.c_longlong), ("before_due", ctypes.c_double), ("after_due", ctypes.c_double),
          ("publish", ctypes.c_void_p), ("clock_handle", ctypes.c_void_p), ("clock_period", ctypes.c_double),
          ("last_clock", ctypes.c_double), ("ncontacts", ctypes.c_int),
-         ("guard", ctypes.c_int)]
+         ("guard", ctypes.c_int), ("world_step", ctypes.c_int), ("first_bad", ctypes.c_int)]
 
 
 def _declare(lib):
@@ -130,6 +130,7 @@ class Batcher(object):
         b.dt = dt
         b.gx, b.gy, b.gz = w.gravity
         b.layer = w._layer
+        b.world_step = 1 if w._world_step else 0
         b.time = w.time
         b.iterations = w.iterations
         b.before_due = before_due
@@ -167,7 +168,8 @@ class Batcher(object):
             j.effort = 0.0
         if clock is not None:
             clock.last = b.last_clock
-        w._ncontacts = be.ncontacts = b.ncontacts
+        w._ncontacts = b.ncontacts
+        be.batch_done(b.ncontacts, b.first_bad)
         for idx, j in enumerate(physics_joints):
             j.effort = joints[idx].applied
         w._last_effort_joints = list(physics_joints)

@@ -658,7 +658,8 @@ double mr_max_depth(dGeomID a, dGeomID b)
  *   before: per joint, hw read (position, velocity, the effort applied in the previous step),
  *           the controller (PID on the position error, or a constant effort command),
  *           RobotHWSim.write's clamp, Joint.set_effort's clamp, the torque or force applied;
- *   explicit damping, collide + quickStep (mr_step), time and iteration count;
+ *   explicit damping, collide + quickStep or dWorldStep with the guard's velocity scan
+ *   (mr_step_checked), time and iteration count;
  *   /clock (8 bytes: secs, nsecs, as rospy serialises rosgraph_msgs/Clock) through `publish`, at
  *   every step or throttled to a wall-clock period as StatePublishers.after_step does;
  *   the blow-up guard's checks: a step the guard would flag, or a snapshot step, ends the batch
@@ -717,6 +718,8 @@ typedef struct {
     double last_clock;   /* in/out: CLOCK_MONOTONIC of the last /clock (Python's time.monotonic) */
     int ncontacts;       /* out: contacts of the last step */
     int guard;           /* out: 1 when the World's guard must look at the last step */
+    int world_step;      /* as mr_step_checked: 0 quickStep, 1 dWorldStep */
+    int first_bad;       /* out: mr_step_checked's guard scan of the last step */
 } MrBatch;
 
 #define MR_TWO_PI 6.283185307179586
@@ -842,7 +845,8 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
         b->last_start = t;
         mr_batch_controllers(b);
         if (b->ndamp) mr_apply_damping(b->damp_joints, b->damp_kinds, b->damp_coef, b->ndamp);
-        b->ncontacts = mr_step(c, b->dt, b->gx, b->gy, b->gz, b->layer, b->max_contacts);
+        b->ncontacts = mr_step_checked(c, b->dt, b->gx, b->gy, b->gz, b->layer, b->max_contacts, b->world_step,
+                                       b->bodies, b->nbodies, b->vmax2, b->wmax2, &b->first_bad);
         b->iterations += 1;
         b->time = tn;
         mr_batch_track_turns(b);
@@ -860,8 +864,7 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
                 mr_batch_clock(b);
             }
         }
-        if ((b->nbodies && mr_check_bodies(b->bodies, 0, b->nbodies, b->vmax2, b->wmax2) >= 0) ||
-            b->ncontacts > b->guard_max_contacts ||
+        if (b->first_bad >= 0 || b->ncontacts > b->guard_max_contacts ||
             (b->snapshot_interval > 0 && b->iterations % b->snapshot_interval == 0)) {
             b->guard = 1;
             return k + 1;
