@@ -78,18 +78,35 @@ class StreamClock(object):
 
 
 def sim_sleep(seconds, wall_guard=120.0):
-    """Sleep in simulated time; ScenarioError when the clock does not move for ``wall_guard`` s."""
-    end = rospy.get_time() + seconds
+    """Sleep ``seconds`` of simulated time (see :func:`sim_sleep_until`)."""
+    sim_sleep_until(rospy.get_time() + seconds, wall_guard)
+
+
+def sim_sleep_until(end, wall_guard=120.0):
+    """Sleep until the simulated time ``end``; ScenarioError when the clock does not move for
+    ``wall_guard`` s.
+
+    Woken by each /clock message (rospy's time condition, as rospy.sleep), so the caller resumes
+    within one /clock message of the end instead of after a wall-clock poll period: at real-time
+    factor 5 a 2 ms poll was 10 ms of simulated time, a whole set-point period. Not rospy.sleep
+    itself: that waits forever on a stopped clock and raises on a world reset."""
+    if rospy.rostime.is_wallclock():        # no simulated time: nothing to wake us
+        time.sleep(max(0.0, end - rospy.get_time()))
+        return
+    cond = rospy.rostime.get_rostime_cond()
     last_t, last_wall = rospy.get_time(), time.time()
     while not rospy.is_shutdown():
+        with cond:
+            # checked under the condition's lock: /clock sets the time, then notifies under it
+            now = rospy.get_time()
+            if now >= end:
+                return
+            cond.wait(0.1)
         now = rospy.get_time()
-        if now >= end:
-            return
         if now != last_t:
             last_t, last_wall = now, time.time()
         elif time.time() - last_wall > wall_guard:
             raise ScenarioError("the simulated clock stopped at %.3f s" % now)
-        time.sleep(0.002)
     raise ScenarioError("shut down")
 
 
@@ -142,9 +159,16 @@ class RosArm(object):
 
     def follow(self, traj, rate=100.0, max_advance=0.02):
         """Stream the trajectory's set-points until its end, on a StreamClock (simulated time, at
-        most ``max_advance`` per set-point: a late node resumes instead of jumping)."""
+        most ``max_advance`` per set-point: a late node resumes instead of jumping).
+
+        The set-points keep a fixed schedule of ``rate`` per simulated second (as rospy.Rate):
+        /clock comes in steps (the launch file's 250 per wall second are 9.6 ms of simulated time
+        each at real-time factor 2.4), and a full period slept after each wake-up ends one step
+        late (there: every second step, 19 ms between set-points instead of 10). A node late by
+        more than a period starts a new schedule instead of bursting."""
         clock = StreamClock(max_advance)
         period = 1.0 / rate
+        wake = rospy.get_time()
         while not rospy.is_shutdown():
             t = clock.tick()
             q = traj.sample(t)
@@ -153,7 +177,9 @@ class RosArm(object):
                 self.recorder.sample(self)
             if t >= traj.duration:
                 return
-            sim_sleep(period)
+            now = rospy.get_time()
+            wake = wake + period if wake + period > now else now + period
+            sim_sleep_until(wake)
 
     def settle(self, tol=0.01, timeout=4.0):
         """Wait until every arm joint is within ``tol`` of its command; returns the largest error."""
