@@ -172,8 +172,14 @@ def figures(results):
                         ("bulbs_two", "Bulbs and Slides two robots")):
         if results.get(unit):
             ok = col(unit, lambda r: r["success"])
+            alone = col(unit, lambda r: r.get("sim_alone_per_wall"))
+            have = [r for r in results[unit] if "error" not in r and r.get("sim_alone_per_wall")]
             F.append(Figure(label + ", simulated s per wall s", "sim s / wall s",
                             col(unit, lambda r: r["sim_per_wall"]), target=("value", 5.0),
+                            peer_name=("the simulator alone (same world and run, robots holding, "
+                                       "right after)") if have else None,
+                            peer=[a for a in alone if a] if have else None,
+                            ratios=[r["sim_per_wall"] / r["sim_alone_per_wall"] for r in have] or None,
                             note="%d/%d succeeded; %s simulated s; wall incl. start-up %s s; simulated s per "
                                  "CPU s of the simulator node (incl. its start-up) %s" % (
                                      sum(bool(x) for x in ok), len(ok),

@@ -118,7 +118,12 @@ def main(argv=None):
                    help="no camera streams (frame and video of the principal views)")
     p.add_argument("--stream-rate", type=float, default=5.0, help="frames per second of each view")
     p.add_argument("--stream-size", default="320x240", help="WIDTHxHEIGHT of each view")
+    p.add_argument("--pace-probe", type=float, default=0.0, metavar="S",
+                   help="after the run, measure the simulator's real-time factor for S wall seconds with the "
+                        "robots holding (the reference for the run's own; benchmarks)")
     args = p.parse_args(argv)
+    if args.pace_probe < 0:
+        p.error("--pace-probe must be >= 0 seconds, got %g" % args.pace_probe)
     os.makedirs(args.out, exist_ok=True)
     stem = os.path.join(args.out, "bulbs_and_slides_%s" % args.scenario)
     try:
@@ -146,6 +151,8 @@ def main(argv=None):
             streams.wait_ready()
         sc = Scenario(layout, jitter=args.jitter, seed=args.seed, arm_speed=args.arm_speed)
         result = sc.run_two_robots() if args.scenario == "two_robots" else sc.run_one_robot()
+        if args.pace_probe > 0:
+            result.sim_alone_rtf = sc.measure_pace(args.pace_probe)
         if streams is not None:
             stream_files = streams.finish()
             for path in stream_files:

@@ -42,22 +42,25 @@ class Result(object):
         self.bulb = None
         self.final_position = None
         self.clearance = float("nan")      # two robots: closest approach of the arms' skeletons [m]
+        self.sim_alone_rtf = float("nan")  # the simulator's pace right after the run (measure_pace)
 
     def line(self, scenario):
         return ("RESULT %s: %s, sim time %.2f s, wall %.1f s (real-time factor %.2f), grasp force %.2f N, "
-                "placement error %.1f mm%s%s"
+                "placement error %.1f mm%s%s%s"
                 % (scenario, "SUCCESS" if self.success else "FAILURE", self.sim_time, self.wall_time,
                    self.sim_time / self.wall_time if self.wall_time > 0 else 0.0, self.grasp_force,
                    1000 * self.placement_error,
                    "" if math.isnan(self.clearance) else
                    ", arms' closest approach %.0f mm" % (1000 * self.clearance),
+                   "" if math.isnan(self.sim_alone_rtf) else
+                   ", simulator alone %.2f" % self.sim_alone_rtf,
                    (" -- " + self.message) if self.message else ""))
 
     def as_dict(self):
         return {"success": self.success, "message": self.message, "sim_time": self.sim_time,
                 "wall_time": self.wall_time, "grasp_force": self.grasp_force,
                 "placement_error": self.placement_error, "bulb": self.bulb,
-                "clearance": self.clearance,
+                "clearance": self.clearance, "sim_alone_rtf": self.sim_alone_rtf,
                 "final_position": None if self.final_position is None else
                 [float(v) for v in self.final_position]}
 
@@ -143,6 +146,14 @@ class Scenario(object):
             r.arm.wait_ready()
         self.t0 = rospy.get_time()
         self.wall0 = time.time()
+
+    def measure_pace(self, seconds):
+        """The simulator's real-time factor over ``seconds`` of wall time with nothing commanded (the
+        robots holding their last set-points): the reference for a run's own factor. A measurement
+        window in wall time, not a wait for a condition."""
+        s0, w0 = rospy.get_time(), time.time()
+        time.sleep(seconds)
+        return (rospy.get_time() - s0) / (time.time() - w0)
 
     def bulbs(self):
         return sorted(n for n in self.world.names() if n.startswith("bulb"))
