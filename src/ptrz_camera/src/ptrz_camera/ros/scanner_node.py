@@ -23,13 +23,24 @@ class Scanner(object):
     def run(self):
         if self.verbose:
             print(" ".join("%s %.2f" % (j, self.axes[j].position) for j in self.joints))
+        due = None
         while not rospy.is_shutdown():
             for j in self.joints:       # as the seed: one step of each joint, a pause after each
                 value = self.axes[j].advance()
                 if self.verbose:
                     print("%s %.2f" % (j, value))
+                # pauses end at whole multiples of the pause after the first (simulated time when
+                # /use_sim_time is set), as rospy.Rate: the time this node takes to wake up and
+                # publish does not add up, however fast the simulation runs against the wall clock
+                # (more than two pauses behind, or the time went back: start again from now)
+                now = rospy.get_time()
+                if due is None or now - due > 2 * self.pause or now < due - self.pause:
+                    due = now + self.pause
+                else:
+                    due += self.pause
                 try:
-                    rospy.sleep(self.pause)     # simulated time when /use_sim_time is set
+                    if due > now:
+                        rospy.sleep(due - now)
                 except rospy.ROSInterruptException:
                     return
             for j in self.joints:
