@@ -153,8 +153,12 @@ def figures(results):
     node_rows = (("throttled", "full node + ros_control, /clock 1 kHz wall, states subscribed",
                   ("ratio", 1.0)),
                  ("every_step", "full node + ros_control, /clock every step", ("ratio", 0.8)),
-                 ("throttled_rospy", "same, /clock 1 kHz wall, publishing with rospy (before)", None),
-                 ("every_step_rospy", "same, /clock every step, publishing with rospy (before)", None))
+                 ("throttled_pysteps", "same, /clock 1 kHz wall, every step in Python (before)", None),
+                 ("every_step_pysteps", "same, /clock every step, every step in Python (before)", None),
+                 ("throttled_rospy", "same, /clock 1 kHz wall, every step in Python, publishing with rospy "
+                                     "(before)", None),
+                 ("every_step_rospy", "same, /clock every step, every step in Python, publishing with rospy "
+                                      "(before)", None))
     for key, label, target in node_rows:
         if not any(key in r for r in results.get("node", [])):
             continue

@@ -283,10 +283,16 @@ def unit_node(args):
         rospy.set_param("/use_sim_time", True)
         rospy.init_node("bench_node", disable_signals=True)
         seconds = args.seconds or 5.0
-        # publishing through roscpp (MODROB_SIM_ROSCPP=1), then with rospy's (the node's default)
-        cpp_env, rospy_env = dict(os.environ, MODROB_SIM_ROSCPP="1"), dict(os.environ, MODROB_SIM_ROSCPP="0")
+        # the node as it runs by default (roscpp publishing, the steps at which no hook is due in
+        # batches of the C loop), then every step in Python (MODROB_SIM_NATIVE_STEPS=0), then
+        # also publishing with rospy (MODROB_SIM_ROSCPP=0)
+        cpp_env = dict(os.environ, MODROB_SIM_ROSCPP="1", MODROB_SIM_NATIVE_STEPS="1")
+        py_steps_env = dict(cpp_env, MODROB_SIM_NATIVE_STEPS="0")
+        rospy_env = dict(py_steps_env, MODROB_SIM_ROSCPP="0")
         out = {"throttled": run_node_once(seconds, 1000.0, env=cpp_env),
                "every_step": run_node_once(seconds, 0.0, env=cpp_env),
+               "throttled_pysteps": run_node_once(seconds, 1000.0, env=py_steps_env),
+               "every_step_pysteps": run_node_once(seconds, 0.0, env=py_steps_env),
                "throttled_rospy": run_node_once(seconds, 1000.0, env=rospy_env),
                "every_step_rospy": run_node_once(seconds, 0.0, env=rospy_env)}
         out["pybullet"] = scene.run_pybullet(int(seconds * 2000), scene_files())
