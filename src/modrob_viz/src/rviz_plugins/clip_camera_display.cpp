@@ -22,6 +22,8 @@
 #include <OgreRenderTargetListener.h>
 
 #include <rviz/default_plugin/camera_display.h>
+#include <rviz/display_context.h>
+#include <rviz/frame_manager.h>
 #include <rviz/properties/bool_property.h>
 #include <rviz/properties/float_property.h>
 #include <rviz/render_panel.h>
@@ -79,9 +81,44 @@ public:
     return static_cast<long>(serial_);
   }
 
+  // What the render about to happen shows: the stamp of the image whose pose the camera should
+  // have, the frame manager's time (where the frame-locked scene is drawn) and whether the camera
+  // really is at the image frame's pose of that stamp (RViz moves it only when a new image comes in,
+  // and in exact time sync only when the image's stamp is the sync time).
+  void noteRender()
+  {
+    ++renders_;
+    const sensor_msgs::Image::ConstPtr& image = texture_.getImage();
+    rviz::FrameManager* fm = context_->getFrameManager();
+    drawn_stamp_ = image ? image->header.stamp : ros::Time();
+    scene_time_ = fm->getTime();
+    pose_ok_ = false;
+    if (!image || !render_panel_ || !render_panel_->getCamera())
+      return;
+    Ogre::Vector3 position;
+    Ogre::Quaternion orientation;
+    if (!fm->getTransform(image->header.frame_id, image->header.stamp, position, orientation))
+      return;
+    orientation = orientation * Ogre::Quaternion(Ogre::Degree(180), Ogre::Vector3::UNIT_X);
+    const Ogre::Camera* camera = render_panel_->getCamera();
+    pose_ok_ = camera->getPosition().distance(position) < 1e-3 &&
+               camera->getOrientation().equals(orientation, Ogre::Radian(2e-3));
+  }
+
+  long drawn(unsigned int* stamps, int* pose_ok) const
+  {
+    stamps[0] = drawn_stamp_.sec;
+    stamps[1] = drawn_stamp_.nsec;
+    stamps[2] = scene_time_.sec;
+    stamps[3] = scene_time_.nsec;
+    *pose_ok = pose_ok_ ? 1 : 0;
+    return static_cast<long>(renders_);
+  }
+
   void preRenderTargetUpdate(const Ogre::RenderTargetEvent& evt) override
   {
     rviz::CameraDisplay::preRenderTargetUpdate(evt);
+    noteRender();
     if (!render_panel_ || !render_panel_->getCamera())
       return;
     Ogre::Camera* camera = render_panel_->getCamera();
@@ -104,6 +141,9 @@ private:
   std::vector<unsigned char> pixels_;
   unsigned int width_ = 0, height_ = 0;
   unsigned long serial_ = 0;
+  unsigned long renders_ = 0;
+  ros::Time drawn_stamp_, scene_time_;
+  bool pose_ok_ = false;
 };
 
 }  // namespace modrob_viz
@@ -119,6 +159,15 @@ long modrob_viz_clip_camera_serial(void* display)
 
 // copy the last captured render (RGB, width * height * 3 bytes, top row first) into out; returns
 // its serial, 0 if there is none yet, -1 if the display is not a ClipCamera or the size differs
+// The last render of the display: returns how many renders there were (-1: not a ClipCamera);
+// stamps = {image stamp sec, nsec, scene time sec, nsec}; pose_ok = the camera was at the image
+// frame's pose of the image's stamp.
+long modrob_viz_clip_camera_drawn(void* display, unsigned int* stamps, int* pose_ok)
+{
+  auto* d = dynamic_cast<modrob_viz::ClipCameraDisplay*>(static_cast<rviz::Display*>(display));
+  return d ? d->drawn(stamps, pose_ok) : -1;
+}
+
 long modrob_viz_clip_camera_copy(void* display, unsigned char* out, int width, int height)
 {
   auto* d = dynamic_cast<modrob_viz::ClipCameraDisplay*>(static_cast<rviz::Display*>(display));

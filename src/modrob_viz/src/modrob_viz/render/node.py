@@ -41,6 +41,7 @@ class _Camera(object):
         self.info = None            # latest input CameraInfo (or None)
         self.intrinsics = spec["intrinsics"]
         self.shown = None           # (frame, intrinsics) given to RViz last
+        self.rviz_ready = False     # RViz has had its CameraInfo and placeholder
         self.blank = None           # the 1x1 background image whose header names the frame
         self.next_t = 0.0
         self.problem = None         # text of the problem logged last (logged once)
@@ -54,7 +55,9 @@ class _Camera(object):
         self.last_rgb = None
         self.frames = 0
         self.recorder = None
-        self.pending = None         # (RViz image count, intrinsics, frame): frame in flight
+        # frame in flight: (RViz image count, intrinsics, frame, RViz's render count of the camera
+        # when the placeholder was sent, None without the ClipCamera plugin)
+        self.pending = None
 
     def close(self):
         for p in (self.pub_image, self.pub_info, self.pub_blank, self.pub_rviz_info, self.sub):
@@ -90,7 +93,10 @@ class CameraRendererNode(object):
         self.left_out = []          # scene frames left out of the batch time (logged on change)
         self.batch = None           # (T, wall time started) of the frames in flight
         self.batches = 0
-        self.resyncs = 0            # batches RViz drew at another time than T (drawn again)
+        self.resyncs = 0            # times RViz's time had moved away from T (set again)
+        self.redraws = 0            # placeholders sent again (the camera was not drawn at T)
+        self.dropped = 0            # frames given up after 1 s
+        self.batch_time = 0.0       # wall time batches were in flight
         self._scene_subs = [self._subscribe_scene(topic, kind) for topic, kind in scene.scene_topics()]
         for spec in cameras:
             self._add(spec)
@@ -312,9 +318,13 @@ class CameraRendererNode(object):
             self._collect(cams, now)
             if self.batch is not None:
                 return                  # RViz draws at the batch's time until it is grabbed
+        if not any(now >= cam.next_t for cam in cams):
+            return
         due = []
         for cam in cams:
-            if now < cam.next_t:
+            # a camera due within half its period joins the batch: cameras of one rate fall into
+            # step and share batches (each batch costs RViz a pass)
+            if now < cam.next_t - 0.5 / cam.spec["rate"]:
                 continue
             cam.next_t = max(cam.next_t + 1.0 / cam.spec["rate"], now - 0.5 / cam.spec["rate"])
             ready = self._ready(cam)
@@ -323,8 +333,16 @@ class CameraRendererNode(object):
             frame, intr = ready
             shown_before = cam.shown == (frame, intr)
             self._show(cam, frame, intr)
-            if not shown_before or not self.scene.ready(cam.spec["id"]):
+            if not shown_before:
                 continue            # RViz renders the new pinhole on its next frame
+            if not self.scene.ready(cam.spec["id"]):
+                if cam.rviz_ready:
+                    # RViz resets its displays when the time jumps back (a simulator restart)
+                    # and forgets the CameraInfo: give it again at the camera's next frame
+                    cam.shown = None
+                    cam.rviz_ready = False
+                continue
+            cam.rviz_ready = True
             due.append((cam, frame, intr))
         if due:
             self._start_batch(due, now)
@@ -339,23 +357,31 @@ class CameraRendererNode(object):
         self.scene.sync_time(stamp.secs, stamp.nsecs)
         for cam, frame, intr in due:
             cam.blank.header.stamp = stamp      # zero when nothing moves: RViz takes the latest
-            cam.pending = (self.scene.images_received(cam.spec["id"]), intr, frame)
+            drawn = self.scene.drawn(cam.spec["id"])
+            cam.pending = (self.scene.images_received(cam.spec["id"]), intr, frame,
+                           drawn[0] if drawn is not None else None)
             cam.pub_blank.publish(cam.blank)
         self.batch = (stamp, now)
         self.batches += 1
 
     def _collect(self, cams, now):
-        """Grab each camera of the batch once RViz has drawn its placeholder (its image count went
-        up; RViz takes messages, updates its displays and renders in one pass of this thread's
-        loop); the batch ends when all are grabbed.
+        """Grab each camera of the batch once RViz has drawn it at T; the batch ends when all are
+        grabbed (or after 1 s: dropped).
+
+        With the ClipCamera plugin the render itself says what it showed: the stamp of the
+        placeholder the camera took, the scene's time and whether the camera was at the frame's
+        pose of that stamp; a camera is grabbed only when all three are T. Without it, once its
+        placeholder count went up (RViz takes messages, updates its displays and renders in one
+        pass of this thread's loop).
 
         RViz's tf listener runs in its own thread and can be behind this node's: a scene frame it
         does not have at T yet makes RViz move its time back to that frame's newest, and then its
-        Camera displays keep their previous pose. The time is checked at each grab: if it moved,
-        it is set to T again and the placeholders re-sent, so an image is published only when
-        everything in it was drawn at T."""
+        Camera displays keep their previous pose (they move only when an image comes in, and in
+        exact sync only when its stamp is RViz's time). So when RViz's time moved it is set to T
+        again, and a camera that took its placeholder but was not drawn at T gets it again."""
         stamp, since = self.batch
-        synced = stamp.is_zero() or self.scene.synced_time() in (None, (stamp.secs, stamp.nsecs))
+        t = (stamp.secs, stamp.nsecs)
+        synced = stamp.is_zero() or self.scene.synced_time() in (None, t)
         if not synced:
             self.scene.sync_time(stamp.secs, stamp.nsecs)
             self.resyncs += 1
@@ -363,25 +389,40 @@ class CameraRendererNode(object):
         for cam in cams:
             if cam.pending is None:
                 continue
-            count, intr, frame = cam.pending
+            count, intr, frame, renders0 = cam.pending
             received = self.scene.images_received(cam.spec["id"])
-            if received > count and not synced:     # drawn at another time: draw it again
-                cam.pending = (received, intr, frame)
+            drawn = self.scene.drawn(cam.spec["id"])
+            if drawn is not None and renders0 is not None:
+                renders, image_stamp, scene_time, pose_ok = drawn
+                good = (renders > renders0 and image_stamp == t and pose_ok
+                        and (stamp.is_zero() or scene_time == t))
+            else:
+                good = received > count and synced
+            if good:
+                cam.pending = None
+                rgb = self.scene.grab(cam.spec["id"])
+                if rgb is not None:
+                    self._publish(cam, rgb, intr, frame, stamp if not stamp.is_zero() else rospy.Time.now())
+                continue
+            if now - since > 1.0:           # dropped (e.g. tf at T never reached RViz): start again
+                cam.pending = None
+                self.dropped += 1
+                continue
+            waiting = True
+            if drawn is not None and renders0 is not None:
+                # the camera shows its placeholder of T but was not drawn at T (it took it while
+                # RViz's time was not T): send it again. (A placeholder still waiting in RViz's tf
+                # filter for the camera frame at T shows an older stamp: wait for it.)
+                retry = received > count and drawn[1] == t and drawn[0] > renders0
+            else:
+                retry = received > count and not synced
+            if retry:
+                cam.pending = (received, intr, frame, drawn[0] if drawn is not None else None)
                 cam.pub_blank.publish(cam.blank)
-                waiting = True
-                continue
-            if received <= count:
-                if now - since > 1.0:       # dropped (e.g. tf at T never reached RViz): start again
-                    cam.pending = None
-                else:
-                    waiting = True
-                continue
-            cam.pending = None
-            rgb = self.scene.grab(cam.spec["id"])
-            if rgb is not None:
-                self._publish(cam, rgb, intr, frame, stamp if not stamp.is_zero() else rospy.Time.now())
+                self.redraws += 1
         if not waiting:
             self.batch = None
+            self.batch_time += now - since
 
     def _publish(self, cam, rgb, intr, frame, stamp):
         spec = cam.spec
@@ -461,8 +502,10 @@ class CameraRendererNode(object):
         return TriggerResponse(bool(done), " ".join(done) or "nothing was recording")
 
     def close(self):
-        print("camera_renderer: %d batches of frames, %d drawn again because RViz's tf was behind"
-              % (self.batches, self.resyncs), flush=True)
+        print("camera_renderer: %d batches of frames (%.0f ms each on average, %d frames dropped); "
+              "RViz's time set to a batch's again %d times, placeholders sent again %d times (RViz's "
+              "tf was behind)" % (self.batches, 1000.0 * self.batch_time / max(1, self.batches),
+                                  self.dropped, self.resyncs, self.redraws), flush=True)
         self._on_shutdown()
 
     def _on_shutdown(self):

@@ -34,9 +34,9 @@ def disable_antialiasing():
     return True
 
 
-def _pixel_reader():
-    """ctypes handle on the ClipCamera plugin's pixel functions (the library pluginlib loaded), or
-    None: then panels are grabbed from the X server."""
+def _plugin_function(name, restype, argtypes):
+    """ctypes handle on one of the ClipCamera plugin's C functions (in the library pluginlib
+    loaded), or None."""
     path = "libmodrob_viz_rviz_plugins.so"
     try:
         with open("/proc/self/maps") as f:
@@ -44,13 +44,17 @@ def _pixel_reader():
                 if line.rstrip().endswith("/libmodrob_viz_rviz_plugins.so"):
                     path = line.split()[-1]
                     break
-        lib = ctypes.CDLL(path)
-        copy = lib.modrob_viz_clip_camera_copy
+        fn = getattr(ctypes.CDLL(path), name)
     except (OSError, AttributeError):
         return None
-    copy.restype = ctypes.c_long
-    copy.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int, ctypes.c_int]
-    return copy
+    fn.restype, fn.argtypes = restype, argtypes
+    return fn
+
+
+def _pixel_reader():
+    """The ClipCamera plugin's pixel copy, or None: then panels are grabbed from the X server."""
+    return _plugin_function("modrob_viz_clip_camera_copy", ctypes.c_long,
+                            [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int, ctypes.c_int])
 
 
 class _FrameSync(object):
@@ -156,6 +160,7 @@ class RvizScene(object):
         self.max_cameras = max_cameras
         self.clip_supported = None  # the ClipCamera plugin loaded (set by _make_display)
         self._copy = None           # the plugin's pixel copy function (set by _make_display)
+        self._drawn = None          # the plugin's report of the last render (set by _make_display)
         self._pool = [self._make_display(i) for i in range(max_cameras)]
         self._origin = (0, 130)
 
@@ -233,7 +238,11 @@ class RvizScene(object):
         ptr = _address(disp) if self.pixels == "gl" and _has_prop(disp, "Capture Pixels") else None
         if ptr is not None and self._copy is None:
             self._copy = _pixel_reader()
-        return dict(display=disp, dock=dock, panel=dock.widget(), size=None, ptr=ptr)
+        clip = _address(disp) if _has_prop(disp, "Capture Pixels") else None
+        if clip is not None and self._drawn is None:
+            self._drawn = _plugin_function("modrob_viz_clip_camera_drawn", ctypes.c_long,
+                                           [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p])
+        return dict(display=disp, dock=dock, panel=dock.widget(), size=None, ptr=ptr, clip=clip)
 
     def add_camera(self, name, topic_prefix):
         """Give a Camera display of the pool to ``name``: it reads ``<prefix>/image`` (a 1x1 image
@@ -338,6 +347,20 @@ class RvizScene(object):
         text = self.status(name).get("Image", "")
         head = text.split(" ", 1)[0]
         return int(head) if head.isdigit() else 0
+
+    def drawn(self, name):
+        """What the camera's last render showed: (renders so far, image stamp (secs, nsecs), scene
+        time (secs, nsecs), camera at the image frame's pose of that stamp), or None without the
+        ClipCamera plugin."""
+        cam = self.cameras.get(name)
+        if cam is None or cam.get("clip") is None or self._drawn is None:
+            return None
+        stamps = (ctypes.c_uint * 4)()
+        pose_ok = ctypes.c_int(0)
+        renders = self._drawn(cam["clip"], ctypes.addressof(stamps), ctypes.addressof(pose_ok))
+        if renders < 0:
+            return None
+        return int(renders), (stamps[0], stamps[1]), (stamps[2], stamps[3]), bool(pose_ok.value)
 
     def process_events(self):
         self.app.processEvents()
