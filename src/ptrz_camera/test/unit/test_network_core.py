@@ -61,3 +61,37 @@ def test_scanning_covers_the_floor_when_nothing_is_seen(chains):
     assert net.grid.fraction_seen(30.0) > 0.9
     values = net.grid.values(30.0)
     assert values.min() <= 2 and (values >= 0).all()      # the last image was 0.25 s before
+
+
+def test_a_partly_hidden_ball_gives_no_floor_estimate(chains):
+    """The centroid of the visible part of a ball is not the image of its centre: a blob much
+    smaller than a whole ball at that range (a robot hides the rest) yields a detection, no
+    estimate; the whole ball an estimate within 2 cm."""
+    intr = pinhole.intrinsics_from_fov(320, 128, 1.3962634)
+    chain = chains["ptrz2"]
+    centre = (4.0, 0.5, R)
+    pan, tilt = chain.aim(centre, {})
+    pose = chain.pose({"pan": pan, "tilt": tilt, "roll": 0.0})
+    img = synthetic.render(pose, intr, centre, R)
+    net = network.Network(chains, FLOOR, R)
+    whole = net.on_image("ptrz2", 0.0, img, intr, pose)
+    assert whole.estimate is not None
+    assert np.linalg.norm(whole.estimate.xy - centre[:2]) < 0.02
+    u = int(whole.detection.u)
+    for hide in (slice(u - 1, None), slice(None, u + 1)):   # a grey robot hides most of it, either side
+        part = img.copy()
+        part[:, hide] = (90, 90, 90)
+        obs = network.Network(chains, FLOOR, R).on_image("ptrz2", 0.0, part, intr, pose)
+        assert obs.detection is not None and obs.detection.area < 0.7 * whole.detection.area
+        assert obs.estimate is None, "an estimate from a partly hidden ball: %s" % (obs.estimate.xy,)
+
+
+def test_off_path_measures_the_distance_to_the_stamped_path():
+    from ptrz_camera.tracking import evaluate
+    path = [(0.1 * i, 0.1 * i, 0.0) for i in range(30)]            # along x at 1 m/s
+    # model_states kept with a late time of arrival: still on the path
+    assert evaluate.off_path([(1.0, 0.7, 0.0), (2.0, 1.55, 0.0)], path) == pytest.approx([0.0, 0.0])
+    assert evaluate.off_path([(1.0, 1.0, 0.03)], path) == pytest.approx([0.03])
+    # far from any sample within the window around its time
+    assert evaluate.off_path([(0.5, 2.5, 0.0)], path, window=0.5)[0] == pytest.approx(1.5)
+    assert len(evaluate.off_path([(9.0, 0.0, 0.0)], path)) == 0

@@ -23,6 +23,27 @@ def errors(truth, estimates):
     return es[:, 0], np.hypot(es[:, 1] - x, es[:, 2] - y)
 
 
+def off_path(points, path, window=1.0):
+    """Distance (m) of each point (t, x, y) to the polyline of ``path`` (t, x, y) between the path
+    samples within ``window`` s of the point's time (points of poorly known time, such as
+    model_states kept with their time of arrival); points outside the path's time span skipped."""
+    if len(path) < 2 or not len(points):
+        return np.zeros(0)
+    pa = np.asarray(sorted(path), dtype=float)
+    out = []
+    for t, x, y in points:
+        if t < pa[0, 0] or t > pa[-1, 0]:
+            continue
+        i0 = max(0, int(np.searchsorted(pa[:, 0], t - window)) - 1)
+        i1 = min(len(pa), int(np.searchsorted(pa[:, 0], t + window)) + 1)
+        a, b = pa[i0:i1 - 1, 1:], pa[i0 + 1:i1, 1:]
+        ab = b - a
+        L2 = np.maximum((ab ** 2).sum(axis=1), 1e-18)
+        s = np.clip(((np.array([x, y]) - a) * ab).sum(axis=1) / L2, 0.0, 1.0)
+        out.append(float(np.min(np.hypot(*(a + s[:, None] * ab - (x, y)).T))))
+    return np.asarray(out)
+
+
 def centred_fraction(pixels, width, height):
     """Share of detections (u, v) inside the central third of the image (both axes)."""
     if not len(pixels):
