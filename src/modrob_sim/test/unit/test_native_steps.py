@@ -50,7 +50,7 @@ class Rig(object):
             self.nc = NativeControl(self.plugin)
             host = types.SimpleNamespace(native_controls=lambda: (self.nc,))
             outputs = types.SimpleNamespace(batch_after_due=lambda: self.next_t, batch_clock=lambda: None,
-                                            after_batch=lambda: None)
+                                            after_batch=lambda **_kw: None)
             self.fast = FastSteps(self.world, host, types.SimpleNamespace(idle=True), outputs)
 
     def before(self, t, dt):

@@ -82,8 +82,10 @@ class FastSteps(object):
                 c.finish(k, t)
             if self.set_time is not None:
                 self.set_time(ros_time(t))
-            self.outputs.after_batch()
             self.steps += k
+            self.outputs.after_batch(wall_schedules=not b.after_due)
+            if b.after_due:         # the last step's after-hooks are due: as World.step runs them
+                b.run_after_hooks()
         return k
 
     def _layout(self, controls, key):

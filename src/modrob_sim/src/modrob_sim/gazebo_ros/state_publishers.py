@@ -90,11 +90,14 @@ class StatePublishers(object):
         self._batch_clock = c
         return c
 
-    def after_batch(self):
-        """After a batch of native steps: the wall-clock schedules (/clock throttled, scene)."""
+    def after_batch(self, wall_schedules=True):
+        """After a batch of native steps: the wall-clock schedules (/clock throttled, scene),
+        unless the caller runs after_step for the batch's last step (``wall_schedules`` False)."""
         if self._batch_clock is not None:
             self._last_clock_wall = self._batch_clock.last
-        elif self._clock_period > 0.0:
+        if not wall_schedules:
+            return
+        if self._batch_clock is None and self._clock_period > 0.0:
             wall = time.monotonic()
             if wall - self._last_clock_wall >= self._clock_period:
                 self._last_clock_wall = wall

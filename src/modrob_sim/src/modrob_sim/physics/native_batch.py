@@ -52,7 +52,8 @@ class _Batch(ctypes.Structure):
         [("iterations", ctypes.c_longlong), ("before_due", ctypes.c_double), ("after_due", ctypes.c_double),
          ("publish", ctypes.c_void_p), ("clock_handle", ctypes.c_void_p), ("clock_period", ctypes.c_double),
          ("last_clock", ctypes.c_double), ("ncontacts", ctypes.c_int),
-         ("guard", ctypes.c_int), ("world_step", ctypes.c_int), ("first_bad", ctypes.c_int)]
+         ("guard", ctypes.c_int), ("world_step", ctypes.c_int), ("first_bad", ctypes.c_int),
+         ("after", ctypes.c_int)]
 
 
 def _declare(lib):
@@ -95,6 +96,8 @@ class Batcher(object):
         self._b = _Batch()
         self._ref = ctypes.byref(self._b)
         self._turn_src = (None, None)   # (the World's turn-tracking joints, the joint array)
+        self.last_start = 0.0
+        self.after_due = False
         self._turns = None
 
     def eligible(self):
@@ -104,12 +107,15 @@ class Batcher(object):
 
     def run(self, n, joints, njoints, physics_joints, before_due, after_due, clock=None):
         """Up to ``n`` steps in C; returns the number done (0: the first step is due for Python).
+        A step whose after-hooks are due (it ends at t with t + 1e-12 >= ``after_due``) ends the
+        batch with ``after_due`` set: the caller then runs :meth:`run_after_hooks`.
         ``joints``: a BatchJoint array of ``njoints`` entries for the physics Joints
         ``physics_joints`` (same order), ``clock``: an object with ``publish`` (function pointer),
         ``handle``, ``period`` (0: every step, else at most once per ``period`` s of
         time.monotonic) and ``last`` (time.monotonic of the last /clock, updated) to publish
-        /clock after the steps, or None. The caller makes sure that no step hook is due before
-        ``before_due`` (step start) and ``after_due`` (step end, + 1e-12) and in these n steps."""
+        /clock after the steps, or None. The caller makes sure that no before-hook is due at a step
+        starting before ``before_due`` within these n steps, and no after-hook at a step ending
+        (+ 1e-12) before ``after_due``."""
         w = self.world
         be = w._backend
         b = self._b
@@ -174,6 +180,17 @@ class Batcher(object):
             j.effort = joints[idx].applied
         w._last_effort_joints = list(physics_joints)
         self.last_start = b.last_start
+        self.after_due = bool(b.after)
         if b.guard:
             w._guard()
+            if w._frozen:
+                w._hold_frozen()
         return k
+
+    def run_after_hooks(self):
+        """The World's after-step hooks for the last step of the batch (when ``after_due``: the
+        batch made that step because only its after-hooks needed Python)."""
+        w = self.world
+        t, dt = w.time, w._dt
+        for h in w._after:
+            h(t, dt)

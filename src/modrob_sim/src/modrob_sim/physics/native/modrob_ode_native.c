@@ -663,7 +663,8 @@ double mr_max_depth(dGeomID a, dGeomID b)
  *   /clock (8 bytes: secs, nsecs, as rospy serialises rosgraph_msgs/Clock) through `publish`, at
  *   every step or throttled to a wall-clock period as StatePublishers.after_step does;
  *   the blow-up guard's checks: a step the guard would flag, or a snapshot step, ends the batch
- *   (`guard` = 1) so that the World's Python guard runs for it.
+ *   (`guard` = 1) so that the World's Python guard runs for it; so does a step whose after-hooks
+ *   are due (`after` = 1: Python runs them).
  * Semantics are those of ros_control/pid.py, hardware.py, effort_joint_position.py and
  * physics/model.py (Joint._limit), which stay the reference. */
 typedef struct {
@@ -711,7 +712,8 @@ typedef struct {
     double last_start;   /* out: the time at which the last step started */
     long long iterations;
     double before_due;   /* no step starts at t >= before_due (a before-hook is due) */
-    double after_due;    /* no step ends at t with t + 1e-12 >= after_due (an after-hook is due) */
+    double after_due;    /* a step that ends at t with t + 1e-12 >= after_due ends the batch: its
+                          * after-hooks are due (`after`; /clock is theirs then) */
     void *publish;       /* mr_publish_fn for /clock, or NULL */
     void *clock_handle;
     double clock_period; /* > 0: /clock at most once per clock_period s of CLOCK_MONOTONIC */
@@ -720,6 +722,7 @@ typedef struct {
     int guard;           /* out: 1 when the World's guard must look at the last step */
     int world_step;      /* as mr_step_checked: 0 quickStep, 1 dWorldStep */
     int first_bad;       /* out: mr_step_checked's guard scan of the last step */
+    int after;           /* out: 1 when the last step's after-hooks are due (Python runs them) */
 } MrBatch;
 
 #define MR_TWO_PI 6.283185307179586
@@ -839,9 +842,11 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
 {
     int k;
     b->guard = 0;
+    b->after = 0;
     for (k = 0; k < n; ++k) {
         double t = b->time, tn = t + b->dt;
-        if (t >= b->before_due || tn + 1e-12 >= b->after_due) break;
+        int after = tn + 1e-12 >= b->after_due;
+        if (t >= b->before_due) break;
         b->last_start = t;
         mr_batch_controllers(b);
         if (b->ndamp) mr_apply_damping(b->damp_joints, b->damp_kinds, b->damp_coef, b->ndamp);
@@ -850,7 +855,7 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
         b->iterations += 1;
         b->time = tn;
         mr_batch_track_turns(b);
-        if (b->publish) {
+        if (b->publish && !after) {
             if (b->clock_period > 0.0) {
                 struct timespec ts;
                 double now;
@@ -867,6 +872,11 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
         if (b->first_bad >= 0 || b->ncontacts > b->guard_max_contacts ||
             (b->snapshot_interval > 0 && b->iterations % b->snapshot_interval == 0)) {
             b->guard = 1;
+            b->after = after;
+            return k + 1;
+        }
+        if (after) {
+            b->after = 1;
             return k + 1;
         }
     }
