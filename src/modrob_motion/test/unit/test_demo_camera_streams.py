@@ -210,6 +210,9 @@ def _run(monkeypatch, tmp_path, capsys, argv, fail=None):
             calls.append("scenario")
             return _Result()
 
+        def stream_stats(self, result):
+            pass
+
     monkeypatch.setattr(scenario, "Scenario", FakeScenario)
     code = demo.main(["--out", str(tmp_path)] + argv)
     return code, calls, capsys.readouterr().out

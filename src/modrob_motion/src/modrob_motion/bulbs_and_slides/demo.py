@@ -151,6 +151,7 @@ def main(argv=None):
             streams.wait_ready()
         sc = Scenario(layout, jitter=args.jitter, seed=args.seed, arm_speed=args.arm_speed)
         result = sc.run_two_robots() if args.scenario == "two_robots" else sc.run_one_robot()
+        sc.stream_stats(result)
         if args.pace_probe > 0:
             result.sim_alone_rtf = sc.measure_pace(args.pace_probe)
         if streams is not None:
@@ -208,6 +209,7 @@ def node_main():
         sc = Scenario(layout, log=rospy.loginfo, jitter=float(rospy.get_param("~jitter", 0.0)),
                       seed=int(rospy.get_param("~seed", 0)))
         result = sc.run_two_robots() if scenario == "two_robots" else sc.run_one_robot()
+        sc.stream_stats(result)
     except ModrobError as exc:
         rospy.logerr("bulbs_and_slides: %s", exc)
         return 1

@@ -121,6 +121,8 @@ class RosArm(object):
         self.effort = {}
         self.recorder = recorder
         self.cmd = {}
+        self.setpoints = 0          # streamed by follow(), and how many of them came late (capped)
+        self.late_setpoints = 0
         self.pub = rospy.Publisher(self.ns + "/motion_command", JointState, queue_size=10)
         self.sub = rospy.Subscriber(self.ns + "/joint_states", JointState, self._on_js, queue_size=5)
 
@@ -169,17 +171,21 @@ class RosArm(object):
         clock = StreamClock(max_advance)
         period = 1.0 / rate
         wake = rospy.get_time()
-        while not rospy.is_shutdown():
-            t = clock.tick()
-            q = traj.sample(t)
-            self.command(traj.joint_names, q)
-            if self.recorder:
-                self.recorder.sample(self)
-            if t >= traj.duration:
-                return
-            now = rospy.get_time()
-            wake = wake + period if wake + period > now else now + period
-            sim_sleep_until(wake)
+        try:
+            while not rospy.is_shutdown():
+                t = clock.tick()
+                q = traj.sample(t)
+                self.command(traj.joint_names, q)
+                self.setpoints += 1
+                if self.recorder:
+                    self.recorder.sample(self)
+                if t >= traj.duration:
+                    return
+                now = rospy.get_time()
+                wake = wake + period if wake + period > now else now + period
+                sim_sleep_until(wake)
+        finally:
+            self.late_setpoints += clock.capped
 
     def settle(self, tol=0.01, timeout=4.0):
         """Wait until every arm joint is within ``tol`` of its command; returns the largest error."""

@@ -43,15 +43,19 @@ class Result(object):
         self.final_position = None
         self.clearance = float("nan")      # two robots: closest approach of the arms' skeletons [m]
         self.sim_alone_rtf = float("nan")  # the simulator's pace right after the run (measure_pace)
+        self.setpoints = 0                 # arm set-points streamed, and those more than 20 ms of
+        self.late_setpoints = 0            # simulated time after the one before (the stream fell behind)
 
     def line(self, scenario):
         return ("RESULT %s: %s, sim time %.2f s, wall %.1f s (real-time factor %.2f), grasp force %.2f N, "
-                "placement error %.1f mm%s%s%s"
+                "placement error %.1f mm%s%s%s%s"
                 % (scenario, "SUCCESS" if self.success else "FAILURE", self.sim_time, self.wall_time,
                    self.sim_time / self.wall_time if self.wall_time > 0 else 0.0, self.grasp_force,
                    1000 * self.placement_error,
                    "" if math.isnan(self.clearance) else
                    ", arms' closest approach %.0f mm" % (1000 * self.clearance),
+                   ", %d of %d set-points late" % (self.late_setpoints, self.setpoints)
+                   if self.late_setpoints else "",
                    "" if math.isnan(self.sim_alone_rtf) else
                    ", simulator alone %.2f" % self.sim_alone_rtf,
                    (" -- " + self.message) if self.message else ""))
@@ -61,6 +65,7 @@ class Result(object):
                 "wall_time": self.wall_time, "grasp_force": self.grasp_force,
                 "placement_error": self.placement_error, "bulb": self.bulb,
                 "clearance": self.clearance, "sim_alone_rtf": self.sim_alone_rtf,
+                "setpoints": self.setpoints, "late_setpoints": self.late_setpoints,
                 "final_position": None if self.final_position is None else
                 [float(v) for v in self.final_position]}
 
@@ -146,6 +151,11 @@ class Scenario(object):
             r.arm.wait_ready()
         self.t0 = rospy.get_time()
         self.wall0 = time.time()
+
+    def stream_stats(self, result):
+        """Copy the robots' set-point counts into ``result``."""
+        result.setpoints = sum(r.arm.setpoints for r in self.robots.values())
+        result.late_setpoints = sum(r.arm.late_setpoints for r in self.robots.values())
 
     def measure_pace(self, seconds):
         """The simulator's real-time factor over ``seconds`` of wall time with nothing commanded (the

@@ -1,0 +1,26 @@
+"""The RESULT line and YAML of a Bulbs and Slides run report the set-point stream's late set-points
+and the simulator-alone reference only when there is something to say."""
+import math
+
+from modrob_motion.bulbs_and_slides.scenario import Result
+
+
+def test_line_without_stream_figures():
+    r = Result()
+    r.success, r.sim_time, r.wall_time = True, 20.0, 10.0
+    line = r.line("one_robot")
+    assert line.startswith("RESULT one_robot: SUCCESS, sim time 20.00 s, wall 10.0 s (real-time factor 2.00)")
+    assert "late" not in line and "alone" not in line
+
+
+def test_line_and_dict_with_late_setpoints_and_reference():
+    r = Result()
+    r.sim_time, r.wall_time = 20.0, 10.0
+    r.setpoints, r.late_setpoints, r.sim_alone_rtf = 1400, 61, 2.5
+    r.message = "the bulb is not in the gripper after the lift"
+    line = r.line("one_robot")
+    assert "FAILURE" in line
+    assert ", 61 of 1400 set-points late, simulator alone 2.50 -- the bulb" in line
+    d = r.as_dict()
+    assert (d["setpoints"], d["late_setpoints"], d["sim_alone_rtf"]) == (1400, 61, 2.5)
+    assert math.isnan(Result().as_dict()["sim_alone_rtf"])
