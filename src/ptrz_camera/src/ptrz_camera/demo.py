@@ -115,7 +115,9 @@ def run(args, launch):
     ok = (s.n > 0 and s.max <= args.tolerance and sim >= 0.95 * args.duration
           and len(off) > 0 and off.max() < 0.01)
     print("[ptrz demo] /gazebo/model_states: %d poses of the ball, at most %.1f mm from its stamped "
-          "path (tf)" % (len(off), 1000 * (off.max() if len(off) else float("nan"))), flush=True)
+          "path (tf); longest gap between two stamped poses %.3f s"
+          % (len(off), 1000 * (off.max() if len(off) else float("nan")),
+             max([b[0] - a[0] for a, b in zip(truth, truth[1:])] or [0.0])), flush=True)
     frames = ", ".join("ptrz_%s.png" % n for n in sorted(images))
     print("[ptrz demo] wrote %s, %s" % (plot, frames), flush=True)
     values = (args.scenario, "SUCCESS" if ok else "FAILURE", len(names), sim, rtf, s.n, 100 * s.mean,

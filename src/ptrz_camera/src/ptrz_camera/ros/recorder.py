@@ -28,7 +28,9 @@ class TrackingRecorder(object):
         self.pixels = {c: [] for c in cameras}
         self.images = {}
         self.subs = [rospy.Subscriber("/gazebo/model_states", ModelStates, self._states, queue_size=5),
-                     rospy.Subscriber("/tf", TFMessage, self._tf, queue_size=50),
+                     # every tf message (hundreds a second): a dropped one leaves a gap in the truth
+                     rospy.Subscriber("/tf", TFMessage, self._tf, queue_size=2000, buff_size=2 ** 24,
+                                      tcp_nodelay=True),
                      rospy.Subscriber("/ptrz_network/ball", PointStamped, self._est, queue_size=50),
                      rospy.Subscriber("/ptrz_network/mode", String, self._mode, queue_size=5)]
         for c in cameras:

@@ -73,7 +73,8 @@ def plot(path, truth, estimates, per_camera=None, title="", tolerance=0.05, fiel
     if field is not None:
         ax.add_patch(Rectangle((field[0], field[1]), field[2], field[3], fill=False, color="0.5", lw=1))
     if len(tr):
-        ax.plot(tr[:, 1], tr[:, 2], "-", color="k", lw=1.5, label="true path (/gazebo/model_states)")
+        ax.plot(tr[:, 1], tr[:, 2], "-", color="k", lw=1.5,
+                label="true path (the ball's pose stamped on tf = /gazebo/model_states)")
     for name, pts in sorted((per_camera or {}).items()):
         p = np.asarray(pts, dtype=float)
         if len(p):
