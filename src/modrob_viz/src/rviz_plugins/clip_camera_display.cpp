@@ -10,10 +10,11 @@
 // Pixels: with "Capture Pixels" on, each render of the panel is copied (glReadPixels through OGRE,
 // RGB, top row first) into a buffer right after it is drawn, before the buffers are swapped; the C
 // functions at the end hand it to camera_renderer (ctypes) with a serial number per render.
+// The render window can be wider than the image: RViz makes every render window's width even (an
+// image 321 px wide is drawn in a 322 px window whose last column the panel clips), so the copy
+// takes the image's columns from each row of the render.
 #include <cstring>
 #include <vector>
-
-#include <GL/gl.h>
 
 #include <OgrePixelFormat.h>
 #include <OgreRenderTarget.h>
@@ -52,10 +53,9 @@ public:
       unsigned int w = evt.source->getWidth(), h = evt.source->getHeight();
       if (w == 0 || h == 0)
         return rviz::CameraDisplay::postRenderTargetUpdate(evt);
-      // rows tightly packed (a width whose 3 bytes per pixel are not a multiple of 4 would
-      // otherwise be padded by OpenGL past the end of the buffer); slack against any padding
-      glPixelStorei(GL_PACK_ALIGNMENT, 1);
-      pixels_.resize(static_cast<size_t>(w) * h * 3 + 4 * static_cast<size_t>(h));
+      // OGRE makes the window's context current and sets GL_PACK_ALIGNMENT 1 itself (rows
+      // tightly packed, w * 3 bytes each), so the read fills exactly w * h * 3 bytes
+      pixels_.resize(static_cast<size_t>(w) * h * 3);
       Ogre::PixelBox box(w, h, 1, Ogre::PF_BYTE_RGB, pixels_.data());
       evt.source->copyContentsToMemory(Ogre::Box(0, 0, w, h), box, Ogre::RenderTarget::FB_AUTO);
       width_ = w;
@@ -65,14 +65,18 @@ public:
     rviz::CameraDisplay::postRenderTargetUpdate(evt);
   }
 
-  // the last captured render: its serial (0 = none yet), or -1 when it is not width x height
+  // the top-left width x height of the last captured render: its serial (0 = none yet), or -1
+  // when the render is not that size (its width may be one more: RViz's even window widths)
   long copyPixels(unsigned char* out, int width, int height) const
   {
     if (serial_ == 0)
       return 0;
-    if (static_cast<int>(width_) != width || static_cast<int>(height_) != height)
+    if (width <= 0 || height <= 0 || static_cast<int>(height_) != height ||
+        (static_cast<int>(width_) != width && static_cast<int>(width_) != width + 1))
       return -1;
-    std::memcpy(out, pixels_.data(), static_cast<size_t>(width_) * height_ * 3);
+    const size_t row = static_cast<size_t>(width) * 3, stride = static_cast<size_t>(width_) * 3;
+    for (size_t y = 0; y < height_; ++y)
+      std::memcpy(out + y * row, pixels_.data() + y * stride, row);
     return static_cast<long>(serial_);
   }
 
@@ -157,8 +161,6 @@ long modrob_viz_clip_camera_serial(void* display)
   return d ? d->serial() : -1;
 }
 
-// copy the last captured render (RGB, width * height * 3 bytes, top row first) into out; returns
-// its serial, 0 if there is none yet, -1 if the display is not a ClipCamera or the size differs
 // The last render of the display: returns how many renders there were (-1: not a ClipCamera);
 // stamps = {image stamp sec, nsec, scene time sec, nsec}; pose_ok = the camera was at the image
 // frame's pose of the image's stamp.
@@ -168,6 +170,9 @@ long modrob_viz_clip_camera_drawn(void* display, unsigned int* stamps, int* pose
   return d ? d->drawn(stamps, pose_ok) : -1;
 }
 
+// copy the last captured render (RGB, width * height * 3 bytes, top row first) into out; returns
+// its serial, 0 if there is none yet, -1 if the display is not a ClipCamera or the size differs
+// (a render one column wider than width is cropped)
 long modrob_viz_clip_camera_copy(void* display, unsigned char* out, int width, int height)
 {
   auto* d = dynamic_cast<modrob_viz::ClipCameraDisplay*>(static_cast<rviz::Display*>(display));

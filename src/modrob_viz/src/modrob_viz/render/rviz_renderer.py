@@ -117,7 +117,7 @@ def _has_prop(disp, name):
 class RvizScene(object):
     """``config`` is an .rviz file with the scene displays (no cameras)."""
 
-    def __init__(self, config, frame_rate=30.0, max_cameras=8, antialiasing=False, pixels="x11"):
+    def __init__(self, config, frame_rate=30.0, max_cameras=8, antialiasing=False, pixels="gl"):
         """``antialiasing``: RViz's 4x multisampling (off: a frame costs Mesa a quarter of the CPU);
         ``pixels``: "gl" reads each render from OpenGL through the ClipCamera plugin, "x11" grabs
         the panel from the X server (the fallback without the plugin)."""
