@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Camera renderer benchmark: frames per second per stream (640x480 and 1280x720, 1 and 5 streams)
 and the simulator's real-time factor with and without the streams, in one run; then one 640x480
-stream with the renderer's two savings undone (RViz's 4x multisampling back on, pixels grabbed from
-the X server instead of read from OpenGL), as ratios to the default in the same run.
+stream with one default changed (RViz's 4x multisampling back on, pixels grabbed from the X server
+instead of read from OpenGL, the renderer at the simulator's priority, no rasterizer threads), as
+ratios to the default in the same run; for every window also the simulator's CPU share and its
+simulated seconds per CPU second (whether it lost CPU or does more work per step).
 
 The simulator runs modrob_sim's camera_box world as fast as it can (real_time_factor 0); the
 renderer (a separate process, its own Xvfb) renders N cameras asking for `--rate` fps each.
@@ -17,14 +19,15 @@ import sys
 import threading
 import time
 
-from procs import start, stop
+from procs import cpu_seconds, start, stop
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CONFIGS = [(640, 480, 1), (640, 480, 5), (1280, 720, 1), (1280, 720, 5)]
 # (label, renderer parameters) at 640x480, one stream
 VARIANTS = [("RViz's 4x multisampling on", ["_antialiasing:=true"]),
-            ("pixels read from OpenGL by the ClipCamera plugin", ["_pixels:=gl"]),
-            ("both (the renderer before)", ["_antialiasing:=true", "_pixels:=x11"])]
+            ("pixels grabbed from the X server", ["_pixels:=x11"]),
+            ("renderer at the simulator's priority (`_nice:=0`)", ["_nice:=0"]),
+            ("no llvmpipe rasterizer threads (`_render_threads:=0`)", ["_render_threads:=0"])]
 HEADING = "## Camera renderer (RViz/OGRE off-screen)"
 LOGS = os.path.join(ROOT, "out", "bench", "render")
 FRAME = "gazebo/camera_post/camera_link/camera1"
@@ -38,6 +41,8 @@ class Meter(object):
         self.lock = threading.Lock()
         self.clock = None
         self.counts = {}
+        self.sim_pid = None
+        self.cpu = (float("nan"), float("nan"))
         rospy.Subscriber("/clock", Clock, self._on_clock, queue_size=1)
 
     def _on_clock(self, msg):
@@ -57,13 +62,19 @@ class Meter(object):
             self.counts[topic] += 1
 
     def measure(self, seconds, topics=()):
+        """(real-time factor, [fps per topic]); ``self.cpu`` gets (CPU seconds of the simulator per
+        wall second, simulated seconds per CPU second of it) for the same window."""
         with self.lock:
             c0, n0, w0 = self.clock, {t: self.counts[t] for t in topics}, time.monotonic()
+        cpu0 = cpu_seconds(self.sim_pid) if self.sim_pid else None
         time.sleep(seconds)
         with self.lock:
             c1, n1, w1 = self.clock, {t: self.counts[t] for t in topics}, time.monotonic()
+        cpu1 = cpu_seconds(self.sim_pid) if self.sim_pid else None
         rtf = (c1 - c0) / (w1 - w0) if c0 is not None and c1 is not None else float("nan")
         fps = [(n1[t] - n0[t]) / (w1 - w0) for t in topics]
+        share = (cpu1 - cpu0) / (w1 - w0) if cpu0 is not None else float("nan")
+        self.cpu = (share, rtf / share if share > 0 else float("nan"))
         return rtf, fps
 
 
@@ -90,8 +101,12 @@ def main():
         world = os.path.join(ROOT, "src/modrob_sim/test/fixtures/camera_box.world")
         # /clock at 250 Hz of wall time, as bulbs_and_slides.launch: at every step (1000+/s) the
         # renderer's two clients (rospy and RViz's roscpp) would spend the CPU on /clock alone
+        # topics through roscpp (MODROB_SIM_ROSCPP=1) as in the other benchmarks and make demo: with
+        # rospy's publishers every subscriber of /clock and /tf (the renderer adds two of each) costs
+        # the simulator a Python thread wake-up per message
         sim = start(["roslaunch", "modrob_sim", "empty_world.launch", "gui:=false", "real_time_factor:=0",
-                     "use_clock_frequency:=true", "pub_clock_frequency:=250", "world_name:=" + world], env)
+                     "use_clock_frequency:=true", "pub_clock_frequency:=250", "world_name:=" + world],
+                    dict(env, MODROB_SIM_ROSCPP="1"))
         rospy.init_node("render_bench", anonymous=True, disable_signals=True)
         meter = Meter()
         end = time.monotonic() + 120
@@ -99,8 +114,11 @@ def main():
             if time.monotonic() > end:
                 raise RuntimeError("the simulator published no /clock within 120 s")
             time.sleep(0.5)
+        meter.sim_pid = sim_pid()
         base_rtf, _ = meter.measure(args.seconds)
-        print("[bench] simulator alone: real-time factor %.2f" % base_rtf, flush=True)
+        base_cpu = meter.cpu
+        print("[bench] simulator alone: real-time factor %.2f, %.2f CPU s/s, %.1f simulated s per CPU s"
+              % ((base_rtf,) + base_cpu), flush=True)
 
         runs = [0]
 
@@ -140,16 +158,21 @@ def main():
             rtf, fps = run(w, h, n, extra)
             return rtf, fps, " (2nd try)"
 
+        def run_cpu(*a):
+            rtf, fps, note = run_retry(*a)
+            return rtf, fps, note, meter.cpu
+
         for w, h, n in CONFIGS:
-            rtf, fps, note = run_retry(w, h, n)
-            rows.append((w, h, n, sum(fps) / len(fps), min(fps), rtf, note))
+            rtf, fps, note, cpu = run_cpu(w, h, n)
+            rows.append((w, h, n, sum(fps) / len(fps), min(fps), rtf, note, cpu))
             print("[bench] %dx%d x%d: %.1f fps per stream (min %.1f), simulator RTF %.2f (alone %.2f)"
                   % (w, h, n, rows[-1][3], rows[-1][4], rtf, base_rtf), flush=True)
         for label, extra in VARIANTS:
-            rtf, fps, note = run_retry(640, 480, 1, extra)
-            variants.append((label + note, fps[0], rtf))
+            rtf, fps, note, cpu = run_cpu(640, 480, 1, extra)
+            variants.append((label + note, fps[0], rtf, cpu))
             print("[bench] 640x480 x1, %s: %.1f fps, simulator RTF %.2f" % (label, fps[0], rtf), flush=True)
         after_rtf, _ = meter.measure(args.seconds)
+        after_cpu = meter.cpu
     finally:
         stop(renderer)
         stop(sim)
@@ -162,20 +185,29 @@ def main():
              "commit %s, %s; load average %s."
              % (args.seconds, args.rate, time.strftime("%Y-%m-%d"), commit, "2 cores, Mesa llvmpipe, no GPU",
                 open("/proc/loadavg").read().split()[0]),
+             "", "Simulator CPU: its process's CPU seconds per wall second (its share of the 2 cores) and "
+             "simulated seconds per CPU second of it (its efficiency: work it does per step). Alone: "
+             "%.2f CPU s/s, %.1f simulated s per CPU s before the streams, %.2f / %.1f after."
+             % (base_cpu + after_cpu),
              "", "| image | streams | fps per stream (mean) | slowest stream | simulator RTF with streams "
-             "| RTF alone (before / after) |", "|---|---|---|---|---|---|"]
-    for w, h, n, mean, low, rtf, note in rows:
-        lines.append("| %dx%d%s | %d | %.1f | %.1f | %.2f (%+.0f %%) | %.2f / %.2f |"
-                     % (w, h, note, n, mean, low, rtf, 100.0 * (rtf / base_rtf - 1.0), base_rtf, after_rtf))
+             "| RTF alone (before / after) | simulator CPU s/s | simulated s per CPU s |",
+             "|---|---|---|---|---|---|---|---|"]
+    for w, h, n, mean, low, rtf, note, cpu in rows:
+        lines.append("| %dx%d%s | %d | %.1f | %.1f | %.2f (%+.0f %%) | %.2f / %.2f | %.2f | %.1f (%+.0f %%) |"
+                     % (w, h, note, n, mean, low, rtf, 100.0 * (rtf / base_rtf - 1.0), base_rtf, after_rtf,
+                        cpu[0], cpu[1], 100.0 * (cpu[1] / base_cpu[1] - 1.0)))
     default = rows[0][3] if rows else float("nan")
-    lines += ["", "One 640x480 stream with a saving undone, same run (fps relative to the default row "
+    first = " | ".join(["%.2f" % rows[0][5], "%.2f" % rows[0][7][0], "%.1f" % rows[0][7][1]]) if rows \
+        else "- | - | -"
+    lines += ["", "One 640x480 stream with a default changed, same run (fps relative to the default row "
               "above, %.1f fps):" % default, "",
-              "| renderer | fps | vs default | simulator RTF |", "|---|---|---|---|",
-              "| default (no multisampling, pixels grabbed from the X server) "
-              "| %.1f | 1.00 | %s |" % (default, "%.2f" % rows[0][5] if rows else "-")]
-    for label, fps, rtf in variants:
+              "| renderer | fps | vs default | simulator RTF | simulator CPU s/s | simulated s per CPU s |",
+              "|---|---|---|---|---|---|",
+              "| default (no multisampling, pixels read from OpenGL, nice 10, llvmpipe threads) "
+              "| %.1f | 1.00 | %s |" % (default, first)]
+    for label, fps, rtf, cpu in variants:
         ratio = fps / default if default else float("nan")
-        lines.append("| %s | %.1f | %.2f | %.2f |" % (label, fps, ratio, rtf))
+        lines.append("| %s | %.1f | %.2f | %.2f | %.2f | %.1f |" % (label, fps, ratio, rtf, cpu[0], cpu[1]))
     if retries:
         lines += ["", "Run twice because a stream gave no frame in the first try: %s." % "; ".join(retries)]
     text = "\n".join(lines) + "\n"
@@ -183,6 +215,17 @@ def main():
     if args.write:
         write_section(args.write, text)
     return 0
+
+
+def sim_pid():
+    """Process id of the /gazebo node (its slave API's getPid)."""
+    import xmlrpc.client
+    import rosgraph
+    import rosnode
+    uri = rosnode.get_api_uri(rosgraph.Master("/render_bench"), "/gazebo")
+    if not uri:
+        raise RuntimeError("the master does not know the /gazebo node")
+    return int(xmlrpc.client.ServerProxy(uri).getPid("/render_bench")[2])
 
 
 def write_section(path, text):

@@ -18,6 +18,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 from modrob_sim.errors import SimulationError
 from modrob_sim.gazebo_ros import markers
 from modrob_sim.gazebo_ros import transforms as tf
+from modrob_sim.gazebo_ros.native_pub import publisher
 
 WORLD = "world"
 
@@ -92,8 +93,10 @@ class ScenePublisher(object):
     def __init__(self, world, rate=30.0, prefix="gazebo/"):
         self.model = SceneModel(world, prefix)
         self.period = 1.0 / rate if rate > 0 else 0.0
-        self._markers_pub = rospy.Publisher("/gazebo/scene_markers", MarkerArray, queue_size=1, latch=True)
-        self._tf_pub = rospy.Publisher("/tf", TFMessage, queue_size=10)
+        # through roscpp when the node publishes natively: each subscriber (the renderer has two,
+        # its rospy node and RViz) costs a rospy publisher a Python thread wake-up under the GIL
+        self._markers_pub = publisher("/gazebo/scene_markers", MarkerArray, queue_size=1, latch=True)
+        self._tf_pub = publisher("/tf", TFMessage, queue_size=10)
         self._next_wall = 0.0
         self._links = []
 
