@@ -17,8 +17,15 @@ def free_display(rng=None):
     raise ConfigError("no free X display number in 100..899 (stale /tmp/.X*-lock files?)")
 
 
+def _parent_death():
+    """``setpriv --pdeathsig TERM`` (util-linux) before a command when available, else nothing."""
+    return ["setpriv", "--pdeathsig", "TERM"] if shutil.which("setpriv") else []
+
+
 class Xvfb(object):
-    """``Xvfb :N -screen 0 WxHx24`` started on a free N; ``stop()`` ends it. ``display`` is ":N"."""
+    """``Xvfb :N -screen 0 WxHx24`` started on a free N; ``stop()`` ends it. ``display`` is ":N".
+    It also ends when the thread that started it does (a renderer that crashed or was killed):
+    start it from the thread that lives as long as it is needed."""
 
     def __init__(self, width=4096, height=2304, timeout=15.0):
         if shutil.which("Xvfb") is None:
@@ -27,10 +34,12 @@ class Xvfb(object):
         last = None
         for _attempt in range(3):
             n = free_display()
-            proc = subprocess.Popen(["Xvfb", ":%d" % n, "-screen", "0", "%dx%dx24" % (width, height),
-                                     "-nolisten", "tcp"],
+            # own session: roslaunch's SIGINT must not end it first; SIGTERM when this process dies
+            # without stopping it (a crash or SIGKILL left one Xvfb per renderer behind)
+            proc = subprocess.Popen(_parent_death() + ["Xvfb", ":%d" % n, "-screen", "0",
+                                                       "%dx%dx24" % (width, height), "-nolisten", "tcp"],
                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                                    start_new_session=True)   # roslaunch's SIGINT must not end it first
+                                    start_new_session=True)
             deadline = time.monotonic() + timeout
             while time.monotonic() < deadline and proc.poll() is None:
                 if os.path.exists("/tmp/.X11-unix/X%d" % n):
