@@ -12,8 +12,9 @@ the topics; rospy keeps the services, parameters and subscriptions.
 
 :func:`publisher` is the factory the node uses: a NativePublisher once :func:`start` succeeded,
 else rospy.Publisher. Both offer ``publish``, ``get_num_connections``, ``resolved_name``, ``name``,
-``unregister``. The node starts it when ``~native_publishing`` is true, its default;
-``MODROB_SIM_ROSCPP=0`` makes the default false and refuses it whatever the parameter says.
+``unregister``. The node starts it when ``~native_publishing`` is true; that parameter defaults to
+true when the environment has ``MODROB_SIM_ROSCPP=1`` (``make demo`` and the benchmarks set it),
+else to false; ``MODROB_SIM_ROSCPP=0`` refuses it whatever the parameter says.
 """
 import atexit
 import ctypes
@@ -53,8 +54,8 @@ def enabled():
 
 
 def wanted_by_default():
-    """The default of the node's ~native_publishing: true unless MODROB_SIM_ROSCPP=0."""
-    return enabled()
+    """The default of the node's ~native_publishing: MODROB_SIM_ROSCPP=1 in the environment."""
+    return os.environ.get("MODROB_SIM_ROSCPP", "") in ("1", "true", "yes")
 
 
 def start(node_name):
