@@ -109,6 +109,16 @@ public:
                camera->getOrientation().equals(orientation, Ogre::Radian(2e-3));
   }
 
+  // Whether RViz's own tf buffer can place `frame` in the fixed frame at `stamp` (RViz's
+  // listener thread can be behind the renderer's: a frame-locked object whose frame it cannot look
+  // up at the scene time keeps its previous pose in the render).
+  bool canTransform(const std::string& frame, const ros::Time& stamp)
+  {
+    rviz::FrameManager* fm = context_->getFrameManager();
+    const std::shared_ptr<tf2_ros::Buffer> buffer = fm->getTF2BufferPtr();
+    return buffer && buffer->canTransform(fm->getFixedFrame(), frame, stamp);
+  }
+
   long drawn(unsigned int* stamps, int* pose_ok) const
   {
     stamps[0] = drawn_stamp_.sec;
@@ -168,6 +178,21 @@ long modrob_viz_clip_camera_drawn(void* display, unsigned int* stamps, int* pose
 {
   auto* d = dynamic_cast<modrob_viz::ClipCameraDisplay*>(static_cast<rviz::Display*>(display));
   return d ? d->drawn(stamps, pose_ok) : -1;
+}
+
+// 1 when RViz's tf buffer has every one of the `count` frames at (sec, nsec) relative to RViz's
+// fixed frame, 0 when not, -1 if the display is not a ClipCamera
+int modrob_viz_clip_camera_can_transform(void* display, const char** frames, int count, unsigned int sec,
+                                         unsigned int nsec)
+{
+  auto* d = dynamic_cast<modrob_viz::ClipCameraDisplay*>(static_cast<rviz::Display*>(display));
+  if (!d)
+    return -1;
+  const ros::Time stamp(sec, nsec);
+  for (int i = 0; i < count; ++i)
+    if (!d->canTransform(frames[i], stamp))
+      return 0;
+  return 1;
 }
 
 // copy the last captured render (RGB, width * height * 3 bytes, top row first) into out; returns

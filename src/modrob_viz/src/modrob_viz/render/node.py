@@ -95,6 +95,10 @@ class CameraRendererNode(object):
         self.batches = 0
         self.resyncs = 0            # times RViz's time had moved away from T (set again)
         self.redraws = 0            # placeholders sent again (the camera was not drawn at T)
+        self.tf_wait_since = None   # when the batch waiting for RViz's tf at T began to wait
+        self.tf_waits = 0           # batches that waited for RViz's tf to reach their time
+        self.tf_waits_expired = 0   # batches that went ahead after waiting 1 s for it
+        self.batch_frames = []      # camera and scene frames of the batch time (_batch_stamp)
         self.dropped = 0            # frames given up after 1 s
         self.batch_time = 0.0       # wall time batches were in flight
         self._scene_subs = [self._subscribe_scene(topic, kind) for topic, kind in scene.scene_topics()]
@@ -144,6 +148,9 @@ class CameraRendererNode(object):
             scene = self.scene_frames.frames()
         stamps = {f: self._newest(f) for f in scene}
         t, left_out = scene_sync.common_stamp(cams, stamps, self.scene_max_lag_ns)
+        # the frames RViz must have at T too (those in this node's tf and not left out)
+        self.batch_frames = list(frames) + sorted(f for f, v in stamps.items()
+                                                  if v is not None and f not in left_out)
         if left_out != self.left_out:
             self.left_out = left_out
             if left_out:
@@ -351,9 +358,12 @@ class CameraRendererNode(object):
         """Set RViz's scene time to T and send each camera's placeholder stamped T: RViz's Camera
         display moves its camera to the frame's pose at that stamp when the image arrives (and
         only then: a new placeholder per frame keeps a moving camera up to date)."""
-        stamp = self._batch_stamp(sorted(set(frame for _cam, frame, _intr in due)))
+        frames = sorted(set(frame for _cam, frame, _intr in due))
+        stamp = self._batch_stamp(frames)
         if stamp is None:
             return
+        if not stamp.is_zero() and not self._rviz_has_tf(stamp, now):
+            return                              # next pass: RViz's tf listener is behind at T
         self.scene.sync_time(stamp.secs, stamp.nsecs)
         for cam, frame, intr in due:
             cam.blank.header.stamp = stamp      # zero when nothing moves: RViz takes the latest
@@ -363,6 +373,27 @@ class CameraRendererNode(object):
             cam.pub_blank.publish(cam.blank)
         self.batch = (stamp, now)
         self.batches += 1
+
+    def _rviz_has_tf(self, stamp, now):
+        """Whether RViz's own tf buffer has the batch's camera frames and the scene's frames at T
+        (its listener thread can be behind this node's: a frame-locked object whose frame it cannot
+        look up at T keeps its previous pose in the render, which the render's own report does not
+        show). A batch waits for it up to 1 s, then goes ahead (counted in ``tf_waits_expired``)."""
+        has = self.scene.rviz_has_tf(self.batch_frames, stamp.secs, stamp.nsecs)
+        if has is not False:
+            self.tf_wait_since = None
+            return True
+        if self.tf_wait_since is None:
+            self.tf_wait_since = now
+            self.tf_waits += 1
+        if now - self.tf_wait_since < 1.0:
+            return False
+        self.tf_wait_since = None
+        self.tf_waits_expired += 1
+        rospy.logwarn_throttle(10.0, "RViz's tf did not reach the batch time within 1 s for %s; rendering "
+                               "anyway (objects on those frames may be drawn at an older pose)"
+                               % ", ".join(self.batch_frames[:6]))
+        return True
 
     def _collect(self, cams, now):
         """Grab each camera of the batch once RViz has drawn it at T; the batch ends when all are
@@ -504,8 +535,10 @@ class CameraRendererNode(object):
     def close(self):
         print("camera_renderer: %d batches of frames (%.0f ms each on average, %d frames dropped); "
               "RViz's time set to a batch's again %d times, placeholders sent again %d times (RViz's "
-              "tf was behind)" % (self.batches, 1000.0 * self.batch_time / max(1, self.batches),
-                                  self.dropped, self.resyncs, self.redraws), flush=True)
+              "tf was behind); %d batches waited for RViz's tf to reach their time, %d of them 1 s and were "
+              "drawn anyway" % (self.batches, 1000.0 * self.batch_time / max(1, self.batches),
+                                self.dropped, self.resyncs, self.redraws, self.tf_waits,
+                                self.tf_waits_expired), flush=True)
         self._on_shutdown()
 
     def _on_shutdown(self):

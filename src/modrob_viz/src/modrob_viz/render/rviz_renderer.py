@@ -161,6 +161,7 @@ class RvizScene(object):
         self.clip_supported = None  # the ClipCamera plugin loaded (set by _make_display)
         self._copy = None           # the plugin's pixel copy function (set by _make_display)
         self._drawn = None          # the plugin's report of the last render (set by _make_display)
+        self._can_transform = None  # the plugin's look-up in RViz's tf buffer (set by _make_display)
         self._pool = [self._make_display(i) for i in range(max_cameras)]
         self._origin = (0, 130)
 
@@ -242,6 +243,10 @@ class RvizScene(object):
         if clip is not None and self._drawn is None:
             self._drawn = _plugin_function("modrob_viz_clip_camera_drawn", ctypes.c_long,
                                            [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p])
+            self._can_transform = _plugin_function(
+                "modrob_viz_clip_camera_can_transform", ctypes.c_int,
+                [ctypes.c_void_p, ctypes.POINTER(ctypes.c_char_p), ctypes.c_int, ctypes.c_uint,
+                 ctypes.c_uint])
         return dict(display=disp, dock=dock, panel=dock.widget(), size=None, ptr=ptr, clip=clip)
 
     def add_camera(self, name, topic_prefix):
@@ -361,6 +366,18 @@ class RvizScene(object):
         if renders < 0:
             return None
         return int(renders), (stamps[0], stamps[1]), (stamps[2], stamps[3]), bool(pose_ok.value)
+
+    def rviz_has_tf(self, frames, secs, nsecs):
+        """Whether RViz's own tf buffer (its listener thread can be behind the renderer's) has every
+        one of ``frames`` at that time; None when the ClipCamera plugin cannot tell."""
+        fn = self._can_transform
+        clip = next((c["clip"] for c in self.cameras.values() if c.get("clip") is not None), None)
+        if fn is None or clip is None:
+            return None
+        names = [f.lstrip("/").encode() for f in frames]
+        arr = (ctypes.c_char_p * max(1, len(names)))(*names)
+        got = fn(clip, arr, len(names), secs, nsecs)
+        return None if got < 0 else bool(got)
 
     def process_events(self):
         self.app.processEvents()
