@@ -36,10 +36,13 @@ class GraphOfScenario(unittest.TestCase):
         deadline = time.monotonic() + 40
         while True:
             g = build_graph(snapshot(), Options())
-            if all((mp, c, "") in g.live and (c, "/gazebo", "") in g.live for c in cmds):
+            # the connections come up one by one (robot_state_publisher's to joint_states too)
+            js = (ns + "/joint_states", ns + "/robot_state_publisher", "")
+            if all((mp, c, "") in g.live and (c, "/gazebo", "") in g.live for c in cmds) and js in g.live:
                 break
-            self.assertLess(time.monotonic(), deadline, "live motion_publisher -> command -> /gazebo for %s; "
-                            "live edges now: %s" % (cmds, sorted(g.live)))
+            self.assertLess(time.monotonic(), deadline, "live motion_publisher -> command -> /gazebo for %s "
+                            "and joint_states -> robot_state_publisher; live edges now: %s"
+                            % (cmds, sorted(g.live)))
             time.sleep(0.5)
         for node in ("/gazebo", mp, ns + "/robot_state_publisher", ns + "/controller_spawner"):
             self.assertIn(node, g.nodes)
