@@ -48,9 +48,13 @@ class KatanaArm(unittest.TestCase):
         cls.arm = actionlib.SimpleActionClient("/katana_arm_controller/follow_joint_trajectory",
                                                FollowJointTrajectoryAction)
         cls.gripper = actionlib.SimpleActionClient("/gripper_grasp_posture_controller", GripperCommandAction)
-        assert cls.arm.wait_for_server(rospy.Duration(60)), \
-            "no /katana_arm_controller/follow_joint_trajectory"
-        assert cls.gripper.wait_for_server(rospy.Duration(60)), "no /gripper_grasp_posture_controller"
+        # in wall time: actionlib's timeout is simulated time, which at real_time_factor 0 ran out
+        # 0.4 s after start, before the spawner had started the controllers
+        end = time.monotonic() + 60
+        for client, name in ((cls.arm, "/katana_arm_controller/follow_joint_trajectory"),
+                             (cls.gripper, "/gripper_grasp_posture_controller")):
+            while not client.wait_for_server(rospy.Duration(0.1)):
+                assert time.monotonic() < end and not rospy.is_shutdown(), "no %s" % name
         wait_until(lambda: all(j in cls.positions for j in JOINTS + ("katana_r_finger_joint",)), 30,
                    "joint states of the arm and the fingers")
 
