@@ -83,6 +83,17 @@ def object_urdf():
             % (_inertial(OBJ_M, ixx, ixx, OBJ_M * OBJ_R ** 2 / 2), OBJ_R, OBJ_H))
 
 
+def scene_files(prefix="modrob_bench_"):
+    """The scene's three URDFs (arm, table, can) written to a new temporary folder: {name: path}."""
+    tmp = tempfile.mkdtemp(prefix=prefix)
+    files = {}
+    for name, text in (("arm", arm_urdf()), ("table", table_urdf()), ("can", object_urdf())):
+        files[name] = os.path.join(tmp, name + ".urdf")
+        with open(files[name], "w") as f:
+            f.write(text)
+    return files
+
+
 def run_ours(steps, native, settle=500, auto_disable=True, iters=None):
     from modrob_sim.physics import World
     world = World(time_step=0.001, native=native)
@@ -189,12 +200,7 @@ def main():
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args()
 
-    tmp = tempfile.mkdtemp(prefix="modrob_bench_")
-    files = {}
-    for name, text in (("arm", arm_urdf()), ("table", table_urdf()), ("can", object_urdf())):
-        files[name] = os.path.join(tmp, name + ".urdf")
-        with open(files[name], "w") as f:
-            f.write(text)
+    files = scene_files()
 
     engines = [("ours (native C loop)", lambda: run_ours(args.steps, None)),
                ("ours, auto-disable off", lambda: run_ours(args.steps, None, auto_disable=False)),

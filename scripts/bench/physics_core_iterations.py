@@ -12,7 +12,6 @@ the timed steps, so that what fewer iterations cost in accuracy is beside what t
 import argparse
 import os
 import sys
-import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import physics_core as scene  # noqa: E402
@@ -30,13 +29,7 @@ def main():
         ap.error("--iters takes comma-separated integers, got %r" % args.iters)
     if not iters or min(iters) < 1:
         ap.error("--iters needs at least one count >= 1")
-    tmp = tempfile.mkdtemp(prefix="modrob_bench_")
-    files = {}
-    for name, text in (("arm", scene.arm_urdf()), ("table", scene.table_urdf()),
-                       ("can", scene.object_urdf())):
-        files[name] = os.path.join(tmp, name + ".urdf")
-        with open(files[name], "w") as f:
-            f.write(text)
+    files = scene.scene_files("modrob_bench_")
     runs = [("PyBullet default (early exit)", None,
              lambda: scene.run_pybullet(args.steps, files))]
     for n in iters:

@@ -18,7 +18,6 @@ import os
 import re
 import subprocess
 import sys
-import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -143,13 +142,7 @@ def main():
     os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
     core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL)
-    tmp = tempfile.mkdtemp(prefix="modrob_bench_node_")
-    files = {}
-    for name, text in (("arm", scene.arm_urdf()), ("table", scene.table_urdf()),
-                       ("can", scene.object_urdf())):
-        files[name] = os.path.join(tmp, name + ".urdf")
-        with open(files[name], "w") as f:
-            f.write(text)
+    files = scene.scene_files("modrob_bench_node_")
     try:
         import rosgraph
         deadline = time.time() + 30

@@ -66,17 +66,6 @@ def rss_mb(pid):
     return float("nan")
 
 
-def scene_files():
-    tmp = tempfile.mkdtemp(prefix="modrob_bench_")
-    files = {}
-    for name, text in (("arm", scene.arm_urdf()), ("table", scene.table_urdf()),
-                       ("can", scene.object_urdf())):
-        files[name] = os.path.join(tmp, name + ".urdf")
-        with open(files[name], "w") as f:
-            f.write(text)
-    return files
-
-
 class Master(object):
     """roscore on a free port; ROS_MASTER_URI of this process points at it."""
 
@@ -149,7 +138,7 @@ def run_mujoco(steps, settle=500):
 
 
 def unit_physics_core(args):
-    files = scene_files()
+    files = scene.scene_files()
     steps = int(args.seconds * 1000) if args.seconds else 20000
     out = {"sleeping": scene.run_ours(steps, None),
            "awake": scene.run_ours(steps, None, auto_disable=False),
@@ -295,7 +284,7 @@ def unit_node(args):
                "every_step_pysteps": run_node_once(seconds, 0.0, env=py_steps_env),
                "throttled_rospy": run_node_once(seconds, 1000.0, env=rospy_env),
                "every_step_rospy": run_node_once(seconds, 0.0, env=rospy_env)}
-        out["pybullet"] = scene.run_pybullet(int(seconds * 2000), scene_files())
+        out["pybullet"] = scene.run_pybullet(int(seconds * 2000), scene.scene_files())
         return out
     finally:
         master.close()
@@ -422,11 +411,8 @@ def unit_startup(_args):
 PYBULLET_RSS = r"""
 import sys, json
 sys.path.insert(0, sys.argv[1])
-import physics_core as scene, pybullet as p, tempfile, os
-d = tempfile.mkdtemp()
-files = {}
-for n, t in (("arm", scene.arm_urdf()), ("table", scene.table_urdf()), ("can", scene.object_urdf())):
-    files[n] = os.path.join(d, n + ".urdf"); open(files[n], "w").write(t)
+import physics_core as scene, pybullet as p
+files = scene.scene_files()
 p.connect(p.DIRECT)
 p.loadURDF(files["table"], useFixedBase=True); p.loadURDF(files["arm"], useFixedBase=True)
 for x, y in scene.OBJECTS:
@@ -477,7 +463,7 @@ def unit_kdl_fk(_args):
     import pybullet as p
     cid = p.connect(p.DIRECT)
     try:
-        f = scene_files()["arm"]
+        f = scene.scene_files()["arm"]
         arm = p.loadURDF(f, useFixedBase=True, basePosition=(0, 0, 0))
         jidx = [i for i in range(p.getNumJoints(arm)) if p.getJointInfo(arm, i)[2] == p.JOINT_REVOLUTE]
         c0 = time.process_time()
