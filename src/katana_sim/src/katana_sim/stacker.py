@@ -24,6 +24,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 from visualization_msgs.msg import Marker, MarkerArray
 
 from katana_sim import kinematics as kin
+from katana_sim import waits
 from katana_sim.errors import KatanaError
 from katana_sim.planner import Grip, Move, judge_stack
 
@@ -46,15 +47,17 @@ class ArmInterface(object):
         self.arm = actionlib.SimpleActionClient("/katana_arm_controller/follow_joint_trajectory",
                                                 FollowJointTrajectoryAction)
         self.gripper = actionlib.SimpleActionClient("/gripper_grasp_posture_controller", GripperCommandAction)
-        for client, name in ((self.arm, "/katana_arm_controller/follow_joint_trajectory"),
-                             (self.gripper, "/gripper_grasp_posture_controller")):
-            if not client.wait_for_server(rospy.Duration(wait)):
-                raise StackError("no action server %s after %.0f s: is katana.launch running?" % (name, wait))
-        end = rospy.get_time() + wait
-        while not rospy.is_shutdown() and not all(j in self.q for j in kin.JOINTS):
-            if rospy.get_time() > end:
-                raise StackError("no /joint_states with the Katana's arm joints after %.0f s" % wait)
-            rospy.sleep(0.05)
+        missing = waits.wait_for_action_servers(
+            ((self.arm, "/katana_arm_controller/follow_joint_trajectory"),
+             (self.gripper, "/gripper_grasp_posture_controller")), wait)
+        if missing:
+            raise StackError("no action server %s after %.0f s: is katana.launch running?" % (missing, wait))
+        if not waits.wait_until(self._has_arm_joints, wait):
+            raise StackError("no /joint_states with the Katana's arm joints after %.0f s" % wait)
+
+    def _has_arm_joints(self):
+        with self.lock:
+            return all(j in self.q for j in kin.JOINTS)
 
     def _joint_states(self, msg):
         with self.lock:

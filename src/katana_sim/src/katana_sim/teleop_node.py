@@ -20,6 +20,7 @@ from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from katana_sim import kinematics as kin
+from katana_sim import waits
 from katana_sim.teleop import TeleopState, help_text
 
 
@@ -47,22 +48,22 @@ class TeleopNode(object):
             return [self.q.get(j, 0.0) for j in kin.JOINTS]
 
     def wait_ready(self, timeout=60.0):
-        for client, name in ((self.arm, "katana_arm_controller/follow_joint_trajectory"),
-                             (self.gripper, "gripper_grasp_posture_controller")):
-            if not client.wait_for_server(rospy.Duration(timeout)):
-                print("keyboard_teleop: no action server %s after %.0f s (is katana.launch running?)"
-                      % (rospy.resolve_name(name), timeout))
-                return False
-        end = rospy.get_time() + timeout
-        while not rospy.is_shutdown():
-            with self.lock:
-                if all(j in self.q for j in kin.JOINTS):
-                    return True
-            if rospy.get_time() > end:
+        missing = waits.wait_for_action_servers(
+            ((self.arm, "katana_arm_controller/follow_joint_trajectory"),
+             (self.gripper, "gripper_grasp_posture_controller")), timeout)
+        if missing:
+            print("keyboard_teleop: no action server %s after %.0f s (is katana.launch running?)"
+                  % (rospy.resolve_name(missing), timeout))
+            return False
+        if not waits.wait_until(self._has_arm_joints, timeout):
+            if not rospy.is_shutdown():
                 print("keyboard_teleop: no joint_states with the arm's joints after %.0f s" % timeout)
-                return False
-            rospy.sleep(0.05)
-        return False
+            return False
+        return True
+
+    def _has_arm_joints(self):
+        with self.lock:
+            return all(j in self.q for j in kin.JOINTS)
 
     def apply(self, cmd):
         if cmd.kind == "move":

@@ -1,0 +1,41 @@
+"""Waits measured in wall-clock time.
+
+With ``use_sim_time`` set, actionlib's ``wait_for_server(timeout)``, ``rospy.sleep`` and
+``rospy.get_time`` run on the simulator's clock: at ``real_time_factor`` 0 a minute of simulated
+time can pass in a fraction of a wall second (before the controller spawner has even started the
+action servers), and while the simulator is paused or not yet publishing ``/clock`` it never
+passes. How long a client is willing to wait for the rest of the system is a wall-clock question.
+"""
+import time
+
+import rospy
+
+POLL = 0.02  # wall seconds between two looks at a condition
+
+
+def wait_for_action_servers(clients, timeout):
+    """Wait until every ``(SimpleActionClient, name)`` in ``clients`` has its server.
+
+    Returns the name of the first server still missing after ``timeout`` wall seconds (or at
+    shutdown), None when all are there.
+    """
+    end = time.monotonic() + timeout
+    for client, name in clients:
+        # the short sim-time timeout only bounds one look; the loop's limit is wall time
+        while not client.wait_for_server(rospy.Duration(0.05)):
+            if rospy.is_shutdown() or time.monotonic() > end:
+                return name
+            time.sleep(POLL)
+    return None
+
+
+def wait_until(condition, timeout):
+    """Poll ``condition()`` until it is true (True) or ``timeout`` wall seconds pass (False)."""
+    end = time.monotonic() + timeout
+    while not rospy.is_shutdown():
+        if condition():
+            return True
+        if time.monotonic() > end:
+            return False
+        time.sleep(POLL)
+    return False
