@@ -114,6 +114,9 @@ def main(argv=None):
     p.add_argument("--gains", choices=("tuned", "computed"), default="tuned",
                    help="arm PID gains: tune_pid's table (default) or computed from the inertias")
     p.add_argument("--arm-speed", type=float, default=0.5, help="joint speed of the free moves (rad/s)")
+    p.add_argument("--motion", choices=("trajectory", "stream"), default="trajectory",
+                   help="how the arm's motions reach the simulator: each segment to a "
+                        "JointTrajectoryController (default) or set-points streamed through motion_publisher")
     p.add_argument("--no-streams", action="store_true",
                    help="no camera streams (frame and video of the principal views)")
     p.add_argument("--stream-rate", type=float, default=5.0, help="frames per second of each view")
@@ -149,7 +152,8 @@ def main(argv=None):
             print("bulbs_and_slides_demo: camera streams %s starting (log: %s_camera.log)"
                   % (", ".join(streams.views), stem), flush=True)
             streams.wait_ready()
-        sc = Scenario(layout, jitter=args.jitter, seed=args.seed, arm_speed=args.arm_speed)
+        sc = Scenario(layout, jitter=args.jitter, seed=args.seed, arm_speed=args.arm_speed,
+                      motion=args.motion)
         result = sc.run_two_robots() if args.scenario == "two_robots" else sc.run_one_robot()
         sc.stream_stats(result)
         if args.pace_probe > 0:
@@ -199,7 +203,8 @@ def make_streams(args, stem):
 
 def node_main():
     """The ``bulbs_and_slides`` node (bulbs_and_slides.launch run:=true): runs the scenario on the
-    simulation the launch file started. ~scenario, ~layout_file, ~result_file, ~jitter, ~seed."""
+    simulation the launch file started. ~scenario, ~layout_file, ~result_file, ~jitter, ~seed,
+    ~motion (trajectory | stream, see Scenario)."""
     import rospy
     from modrob_motion.bulbs_and_slides.scenario import Scenario
     rospy.init_node("bulbs_and_slides")
@@ -207,9 +212,10 @@ def node_main():
     try:
         layout = Layout.load(scenario, rospy.get_param("~layout_file", "") or None)
         sc = Scenario(layout, log=rospy.loginfo, jitter=float(rospy.get_param("~jitter", 0.0)),
-                      seed=int(rospy.get_param("~seed", 0)))
+                      seed=int(rospy.get_param("~seed", 0)), motion=rospy.get_param("~motion", "trajectory"))
         result = sc.run_two_robots() if scenario == "two_robots" else sc.run_one_robot()
         sc.stream_stats(result)
+        sc.release()        # motion_publisher (and so motion_terminal) drives the arms again
     except ModrobError as exc:
         rospy.logerr("bulbs_and_slides: %s", exc)
         return 1

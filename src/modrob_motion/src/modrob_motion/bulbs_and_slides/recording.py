@@ -23,7 +23,7 @@ class Recorder(object):
         self._last[rid] = t
         names = arm.info.arm_joints
         meas = arm.measured(names)
-        cmd = np.array([arm.cmd.get(n, np.nan) for n in names])
+        cmd = arm.commanded(names)
         ee = self.fk[rid](meas)
         fingers = arm.info.gripper.joints if arm.info.gripper else []
         eff = float(np.mean(np.abs(arm.efforts(fingers)))) if fingers else 0.0

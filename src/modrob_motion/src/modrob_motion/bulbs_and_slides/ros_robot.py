@@ -110,8 +110,44 @@ def sim_sleep_until(end, wall_guard=120.0):
     raise ScenarioError("shut down")
 
 
+TRAJECTORY_CONTROLLER = "arm_trajectory_controller"
+
+
+def wait_event(event, sim_limit, what, wall_guard=30.0):
+    """Wait for ``event`` (a threading.Event set by a ROS callback) for at most ``sim_limit`` s of
+    simulated time: True when it is set, False when that time has passed. Woken by each /clock
+    message (as sim_sleep_until); ScenarioError when the clock does not move for ``wall_guard`` s
+    of wall time."""
+    end = rospy.get_time() + sim_limit
+    last_t, last_wall = rospy.get_time(), time.time()
+    cond = None if rospy.rostime.is_wallclock() else rospy.rostime.get_rostime_cond()
+    while not rospy.is_shutdown():
+        if event.is_set():
+            return True
+        if rospy.get_time() >= end:
+            return False
+        if cond is None:
+            event.wait(0.005)
+        else:
+            with cond:
+                if not event.is_set() and rospy.get_time() < end:
+                    cond.wait(0.1)
+        now = rospy.get_time()
+        if now != last_t:
+            last_t, last_wall = now, time.time()
+        elif time.time() - last_wall > wall_guard:
+            raise ScenarioError("%s: the simulated clock stopped at %.3f s" % (what, now))
+    raise ScenarioError("shut down")
+
+
 class RosArm(object):
-    """info: motion.robot_info.RobotInfo of the robot."""
+    """info: motion.robot_info.RobotInfo of the robot.
+
+    The arm moves in one of two ways: set-points streamed through motion_publisher (``command``,
+    ``follow`` before ``use_trajectory_controller``), or, after ``use_trajectory_controller``,
+    each motion sent whole to an effort_controllers/JointTrajectoryController that the simulator
+    runs at every step (``follow`` then waits for the action's result). The gripper always goes
+    through motion_publisher."""
 
     def __init__(self, info, recorder=None):
         self.info = info
@@ -125,6 +161,10 @@ class RosArm(object):
         self.late_setpoints = 0
         self.pub = rospy.Publisher(self.ns + "/motion_command", JointState, queue_size=10)
         self.sub = rospy.Subscriber(self.ns + "/joint_states", JointState, self._on_js, queue_size=5)
+        self.trajectory_client = None   # actionlib client while the trajectory controller runs
+        self._position_controllers = []  # the arm's position controllers it replaced
+        self.trajectories = 0
+        self._commanded = None
 
     def _on_js(self, msg):
         with self._lock:
@@ -159,15 +199,150 @@ class RosArm(object):
         self.pub.publish(msg)
         self.cmd.update(zip(names, positions))
 
+    # ---- the arm's motions timed inside the simulator -------------------------------------------
+    def _controller_service(self, name, srv_type, wall_timeout=30.0):
+        path = "%s/controller_manager/%s" % (self.ns, name)
+        deadline = time.time() + wall_timeout
+        while not rospy.is_shutdown():
+            # rospy.wait_for_service's timeout is wall-clock time
+            try:
+                rospy.wait_for_service(path, timeout=max(0.1, min(1.0, deadline - time.time())))
+                return rospy.ServiceProxy(path, srv_type)
+            except rospy.ROSException:
+                if time.time() >= deadline:
+                    raise ScenarioError("%s did not appear within %.0f s: is the robot's controller "
+                                        "manager running?" % (path, wall_timeout))
+        raise ScenarioError("shut down")
+
+    def use_trajectory_controller(self, goal_time=1.0, wall_timeout=30.0):
+        """Swap the arm's JointPositionControllers for one effort_controllers/JointTrajectoryController
+        with the same PID gains (ros_control's switch_controller, in one step). The controller keeps
+        the motion's pace in simulated time however late this process runs; its D term acts on the
+        velocity error, so a motion is a smooth effort, not a set-point pulse every 10 ms."""
+        import actionlib
+        from control_msgs.msg import FollowJointTrajectoryAction
+        from controller_manager_msgs.srv import ListControllers, LoadController, SwitchController
+        from modrob_motion.controller_map import position_controllers
+
+        if self.trajectory_client is not None:
+            return
+        by_joint = position_controllers(rospy.get_param(self.ns, {}), self.ns)
+        missing = [j for j in self.info.arm_joints if j not in by_joint]
+        if missing:
+            raise ScenarioError("modrob%d: no position controller for %s under %s"
+                                % (self.info.robot_id, ", ".join(missing), self.ns))
+        self._position_controllers = [by_joint[j] for j in self.info.arm_joints]
+        base = "%s/%s" % (self.ns, TRAJECTORY_CONTROLLER)
+        gains = {}
+        for j, c in zip(self.info.arm_joints, self._position_controllers):
+            pid = rospy.get_param("%s/%s/pid" % (self.ns, c), None)
+            if not isinstance(pid, dict) or "p" not in pid:
+                raise ScenarioError("modrob%d: %s/%s/pid has no gains" % (self.info.robot_id, self.ns, c))
+            gains[j] = pid
+        rospy.set_param(base, {
+            "type": "effort_controllers/JointTrajectoryController",
+            "joints": list(self.info.arm_joints),
+            "gains": gains,
+            "constraints": {"goal_time": goal_time, "stopped_velocity_tolerance": 0.05},
+            "state_publish_rate": 25.0,
+        })
+        listed = self._controller_service("list_controllers", ListControllers, wall_timeout)()
+        states = {c.name: c.state for c in listed.controller}
+        if TRAJECTORY_CONTROLLER not in states:
+            if not self._controller_service("load_controller", LoadController, wall_timeout)(
+                    TRAJECTORY_CONTROLLER).ok:
+                raise ScenarioError("modrob%d: could not load %s (see the simulator's log)"
+                                    % (self.info.robot_id, base))
+        client = actionlib.SimpleActionClient(base + "/follow_joint_trajectory", FollowJointTrajectoryAction)
+        switch = self._controller_service("switch_controller", SwitchController, wall_timeout)
+        if not switch(start_controllers=[TRAJECTORY_CONTROLLER], stop_controllers=self._position_controllers,
+                      strictness=2, start_asap=False, timeout=0.0).ok:
+            raise ScenarioError("modrob%d: could not switch to %s (see the simulator's log)"
+                                % (self.info.robot_id, base))
+        # actionlib's own timeout is simulated time, which at real-time factor 0 runs out at once
+        deadline = time.time() + wall_timeout
+        while not client.wait_for_server(rospy.Duration(0.01)):
+            if rospy.is_shutdown() or time.time() > deadline:
+                raise ScenarioError("modrob%d: %s/follow_joint_trajectory did not answer within %.0f s"
+                                    % (self.info.robot_id, base, wall_timeout))
+            time.sleep(0.02)
+        self.trajectory_client = client
+        q = self.measured()
+        self.cmd.update(zip(self.info.arm_joints, q))
+
+    def release_trajectory_controller(self, wall_timeout=30.0):
+        """Back to the JointPositionControllers (they start holding where the arm is), so that
+        motion_publisher drives the arm again."""
+        from controller_manager_msgs.srv import SwitchController
+        if self.trajectory_client is None:
+            return
+        switch = self._controller_service("switch_controller", SwitchController, wall_timeout)
+        if not switch(start_controllers=self._position_controllers, stop_controllers=[TRAJECTORY_CONTROLLER],
+                      strictness=2, start_asap=False, timeout=0.0).ok:
+            raise ScenarioError("modrob%d: could not switch back to the position controllers"
+                                % self.info.robot_id)
+        self.trajectory_client = None
+
+    def execute(self, traj, period=0.01, margin=2.0):
+        """Send ``traj`` whole to the trajectory controller (points every ``period`` s with the
+        velocities of the smoothstep, so that the controller's cubic splines follow it) and wait
+        for the action's result in simulated time."""
+        from control_msgs.msg import FollowJointTrajectoryGoal
+        from trajectory_msgs.msg import JointTrajectoryPoint
+        goal = FollowJointTrajectoryGoal()
+        goal.trajectory.joint_names = list(traj.joint_names)
+        t0 = traj.t[0]
+        for t, q, qd in traj.samples(period):
+            goal.trajectory.points.append(JointTrajectoryPoint(
+                positions=[float(v) for v in q], velocities=[float(v) for v in qd],
+                time_from_start=rospy.Duration.from_sec(t - t0)))
+        done = threading.Event()
+        start = rospy.get_time()
+        self.trajectory_client.send_goal(goal, done_cb=lambda *_: done.set())
+        self.trajectories += 1
+        end_q = traj.q[-1]
+        self._commanded = (traj, start)     # the commanded line of the joints plot
+        what = "modrob%d's trajectory" % self.info.robot_id
+        limit = traj.duration - t0 + margin
+        try:
+            while not wait_event(done, 0.02, what):
+                if self.recorder:
+                    self.recorder.sample(self)
+                if rospy.get_time() - start > limit:
+                    self.trajectory_client.cancel_goal()
+                    raise ScenarioError("modrob%d: the trajectory controller gave no result %.1f s "
+                                        "after the motion's end" % (self.info.robot_id, margin))
+        finally:
+            self._commanded = None
+            self.cmd.update(zip(traj.joint_names, end_q))
+        res = self.trajectory_client.get_result()
+        if res is not None and res.error_code != 0:
+            raise ScenarioError("modrob%d: the trajectory controller aborted the motion: %s (error %d)"
+                                % (self.info.robot_id, res.error_string, res.error_code))
+
+    def commanded(self, names):
+        """What the arm is commanded now: the trajectory being executed at this simulated time, or
+        the last set-point."""
+        cur = self._commanded
+        if cur is not None:
+            traj, start = cur
+            q = dict(zip(traj.joint_names, traj.sample(traj.t[0] + rospy.get_time() - start)))
+            return np.array([q.get(n, self.cmd.get(n, np.nan)) for n in names])
+        return np.array([self.cmd.get(n, np.nan) for n in names])
+
     def follow(self, traj, rate=100.0, max_advance=0.02):
-        """Stream the trajectory's set-points until its end, on a StreamClock (simulated time, at
-        most ``max_advance`` per set-point: a late node resumes instead of jumping).
+        """With the trajectory controller: :meth:`execute`. Otherwise stream the trajectory's set-points
+        until its end, on a StreamClock (simulated time, at most ``max_advance`` per set-point: a late
+        node resumes instead of jumping).
 
         The set-points keep a fixed schedule of ``rate`` per simulated second (as rospy.Rate):
         /clock comes in steps (the launch file's 250 per wall second are 9.6 ms of simulated time
         each at real-time factor 2.4), and a full period slept after each wake-up ends one step
         late (there: every second step, 19 ms between set-points instead of 10). A node late by
         more than a period starts a new schedule instead of bursting."""
+        if self.trajectory_client is not None:
+            self.execute(traj)
+            return
         clock = StreamClock(max_advance)
         period = 1.0 / rate
         wake = rospy.get_time()
@@ -217,9 +392,10 @@ class RosArm(object):
             opened = self.info.gripper.command("open")
             ends = np.array([[opened[n], target[n]] for n in names])
             start = np.clip(self.measured(names), ends.min(axis=1), ends.max(axis=1))
-            t0 = rospy.get_time()
+            # on a StreamClock: a stalled stream resumes the ramp instead of slamming the fingers shut
+            clock = StreamClock(0.02)
             while not rospy.is_shutdown():
-                s = min(1.0, (rospy.get_time() - t0) / ramp)
+                s = min(1.0, clock.tick() / ramp)
                 self.command(names, start + s * (goal - start))
                 if self.recorder:
                     self.recorder.sample(self)

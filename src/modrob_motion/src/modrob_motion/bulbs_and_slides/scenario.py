@@ -129,7 +129,15 @@ def _log(msg):
 
 
 class Scenario(object):
-    def __init__(self, layout, log=_log, jitter=0.0, seed=0, arm_speed=0.5):
+    MOTIONS = ("trajectory", "stream")
+
+    def __init__(self, layout, log=_log, jitter=0.0, seed=0, arm_speed=0.5, motion="trajectory"):
+        """motion: 'trajectory' (each segment sent whole to a JointTrajectoryController that the
+        simulator runs, RosArm.use_trajectory_controller) or 'stream' (set-points streamed at
+        100 Hz of simulated time through motion_publisher, the seed's way)."""
+        if motion not in self.MOTIONS:
+            raise ScenarioError("motion must be one of %s, got %r" % (", ".join(self.MOTIONS), motion))
+        self.motion = motion
         self.layout = layout
         self.log = log
         self.jitter = jitter
@@ -149,8 +157,15 @@ class Scenario(object):
         for r in self.robots.values():
             r.arm.recorder = self.recorder
             r.arm.wait_ready()
+            if self.motion == "trajectory":
+                r.arm.use_trajectory_controller()
         self.t0 = rospy.get_time()
         self.wall0 = time.time()
+
+    def release(self):
+        """The arms back on their position controllers (motion_publisher drives them again)."""
+        for r in self.robots.values():
+            r.arm.release_trajectory_controller()
 
     def stream_stats(self, result):
         """Copy the robots' set-point counts into ``result``."""
@@ -221,7 +236,8 @@ class Scenario(object):
     def run_segments(self, robot, segments, bulb, result):
         arm = robot.arm
         for seg in segments:
-            self.log("  modrob%d: %s (%d points)" % (robot.info.robot_id, seg.name, len(seg.configs)))
+            self.log("  modrob%d: %s (%d points, at %.2f s)"
+                     % (robot.info.robot_id, seg.name, len(seg.configs), rospy.get_time() - self.t0))
             traj = time_waypoints(robot.info.arm_joints, seg.configs, seg.speed)
             before, _ = self.glass_centre(bulb)
             arm.follow(traj)
@@ -232,7 +248,10 @@ class Scenario(object):
                     self.log("  modrob%d: %s moved by %.1f mm during '%s' (now at %.3f, %.3f, %.3f)"
                              % ((robot.info.robot_id, bulb, moved, seg.name) + tuple(after)))
             if seg.settle:
+                t_settle = rospy.get_time()
                 err = arm.settle(tol=0.004 if seg.gripper_after else 0.02, timeout=3.0)
+                self.log("  modrob%d: settled in %.2f s (joint error %.4f rad)"
+                         % (robot.info.robot_id, rospy.get_time() - t_settle, err))
                 if seg.gripper_after and err > 0.02:
                     raise ScenarioError("modrob%d did not reach the %s pose (joint error %.3f rad)"
                                         % (robot.info.robot_id, seg.name, err))
@@ -445,4 +464,5 @@ class Scenario(object):
             self.run_segments(r, [Segment("raise", [q] + up, 0.2)], bulb, result)
         except ScenarioError as exc:
             self.log("  %s" % exc)
+        self.release()
         return bulb
