@@ -283,10 +283,16 @@ class RosArm(object):
                                 % self.info.robot_id)
         self.trajectory_client = None
 
-    def execute(self, traj, period=0.01, margin=2.0):
+    def execute(self, traj, period=0.01, margin=30.0):
         """Send ``traj`` whole to the trajectory controller (points every ``period`` s with the
         velocities of the smoothstep, so that the controller's cubic splines follow it) and wait
-        for the action's result in simulated time."""
+        for the action's result in simulated time.
+
+        The controller starts the motion when the goal reaches it, and it always ends the goal: it
+        succeeds once the arm has stopped after the last point, or aborts ``goal_time`` after it.
+        ``margin`` only bounds a goal that was lost: a goal that reached the simulator late (this
+        process starved while the simulation ran on, at up to 40x in bursts on a loaded machine)
+        also ends late in simulated time, so a tight margin would fail a motion that went well."""
         from control_msgs.msg import FollowJointTrajectoryGoal
         from trajectory_msgs.msg import JointTrajectoryPoint
         goal = FollowJointTrajectoryGoal()
@@ -298,10 +304,15 @@ class RosArm(object):
                 time_from_start=rospy.Duration.from_sec(t - t0)))
         done = threading.Event()
         start = rospy.get_time()
-        self.trajectory_client.send_goal(goal, done_cb=lambda *_: done.set())
+        # the commanded line of the joints plot: the trajectory from when the controller took the
+        # goal (its ACTIVE status; the controller starts the motion on arrival)
+        self._commanded = (traj, start)
+
+        def active():
+            self._commanded = (traj, rospy.get_time())
+        self.trajectory_client.send_goal(goal, done_cb=lambda *_: done.set(), active_cb=active)
         self.trajectories += 1
         end_q = traj.q[-1]
-        self._commanded = (traj, start)     # the commanded line of the joints plot
         what = "modrob%d's trajectory" % self.info.robot_id
         limit = traj.duration - t0 + margin
         try:
