@@ -61,3 +61,62 @@ def test_every_thread_and_what_starts_later_is_niced():
     assert int(out[0]) >= 2                       # the main thread and the waiting one
     assert out[1:-1] == ["[%d]" % expect]
     assert int(out[-1]) == expect                 # a process started afterwards inherits it
+
+
+def test_cpus_auto_leaves_the_first_cpu_to_the_rest():
+    assert priority.check_cpus("auto", [0, 1]) == [1]
+    assert priority.check_cpus("auto", [0, 1, 2, 3]) == [1, 2, 3]
+    assert priority.check_cpus("auto", [2, 5]) == [5]
+    assert priority.check_cpus("auto", [0]) is None         # one CPU: nothing to leave
+    assert priority.check_cpus(" AUTO ", [0, 1]) == [1]
+
+
+def test_cpus_all_and_lists():
+    assert priority.check_cpus("all", [0, 1]) is None
+    assert priority.check_cpus("", [0, 1]) is None
+    assert priority.check_cpus(1, [0, 1]) == [1]              # `_cpus:=1` arrives as an int
+    assert priority.check_cpus("0-2,5", range(8)) == [0, 1, 2, 5]
+    assert priority.check_cpus("3,1", range(4)) == [1, 3]
+
+
+@pytest.mark.parametrize("value", ["x", "1-", "-1", "2-1", "1,,2", None, True, 1.5, [1]])
+def test_bad_cpus_are_refused_by_name(value):
+    with pytest.raises(ConfigError, match=r"~cpus must be 'auto', 'all' or a CPU list"):
+        priority.check_cpus(value, [0, 1])
+
+
+def test_cpus_the_process_may_not_use_are_refused():
+    with pytest.raises(ConfigError,
+                       match=r"~cpus '1-3': CPU 2,3 not available to this process \(it may use 0,1\)"):
+        priority.check_cpus("1-3", [0, 1])
+
+
+def test_render_threads_follow_the_cpu_set_unless_given():
+    assert priority.threads_for(-1, [1]) == 1
+    assert priority.threads_for(-1, [1, 2, 3]) == 3
+    assert priority.threads_for(-1, None) == -1            # not confined: Mesa's default
+    assert priority.threads_for(0, [1]) == 0
+    assert priority.threads_for(4, [1]) == 4
+
+
+def test_every_thread_and_what_starts_later_is_confined():
+    cpus = sorted(os.sched_getaffinity(0))
+    one = cpus[-1]
+    code = textwrap.dedent("""
+        import os, subprocess, threading
+        from modrob_viz.render import priority
+        ev = threading.Event()
+        t = threading.Thread(target=ev.wait, daemon=True)
+        t.start()
+        n = priority.confine([%d])
+        sets = set(tuple(sorted(os.sched_getaffinity(int(tid)))) for tid in os.listdir("/proc/self/task"))
+        child = subprocess.run(["sh", "-c", "grep Cpus_allowed_list /proc/self/status"],
+                               stdout=subprocess.PIPE, text=True).stdout.split()[-1]
+        ev.set()
+        print(n, sorted(sets), child)
+    """ % one)
+    out = subprocess.run([sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True, env=dict(os.environ), check=True).stdout.split(None, 1)
+    assert int(out[0]) >= 2
+    assert out[1].split()[:-1] == ["[(%d,)]" % one]
+    assert out[1].split()[-1] == str(one)                  # a process started afterwards inherits it

@@ -6,6 +6,9 @@ and so everything it starts afterwards (Xvfb, llvmpipe's threads inherit it): wh
 CPU the simulator gets it first, and the renderer still uses what is idle.
 ``set_render_threads`` sets Mesa llvmpipe's rasterizer threads (LP_NUM_THREADS; Mesa's default is
 one per CPU, 0 rasterizes in the thread that renders).
+``confine`` keeps every thread of this process, and so its Xvfb and Mesa's threads started
+afterwards, on a set of CPUs (``~cpus``): by default all but one of the CPUs this process may use,
+so that on a 2-core machine the simulator keeps a core whatever the renderer draws.
 """
 import os
 
@@ -36,6 +39,77 @@ def check_nice(value):
 def check_threads(value):
     """-1: Mesa's default (one rasterizer thread per CPU); 0: none (the calling thread rasterizes)."""
     return _integer("~render_threads", value, -1)
+
+
+def available_cpus():
+    """The CPUs this process may run on (its affinity mask), sorted."""
+    return sorted(os.sched_getaffinity(0))
+
+
+def _cpu_list(text):
+    """Linux CPU list syntax ("1", "0-3", "1,3,5-7") -> set of ints; ValueError when malformed."""
+    out = set()
+    for part in text.split(","):
+        part = part.strip()
+        lo, sep, hi = part.partition("-")
+        lo, hi = int(lo), int(hi) if sep else int(lo)
+        if lo < 0 or hi < lo:
+            raise ValueError(part)
+        out.update(range(lo, hi + 1))
+    return out
+
+
+def check_cpus(value, available=None):
+    """``~cpus`` -> sorted list of CPU numbers to confine the renderer to, or None (no confinement).
+
+    "auto" (the default): every CPU this process may use but the first, when it may use two or
+    more (the simulator and the rest keep that one); None on one CPU. "all" or "": no confinement.
+    Else a CPU list as Linux writes them ("1", "2-3", "1,3"), each CPU one this process may use."""
+    available = available_cpus() if available is None else sorted(available)
+    if isinstance(value, bool) or value is None:
+        raise ConfigError("~cpus must be 'auto', 'all' or a CPU list such as '1' or '1-3', got %r" % (value,))
+    if isinstance(value, int):
+        value = str(value)
+    if not isinstance(value, str):
+        raise ConfigError("~cpus must be 'auto', 'all' or a CPU list such as '1' or '1-3', got %r" % (value,))
+    text = value.strip().lower()
+    if text == "auto":
+        return available[1:] if len(available) >= 2 else None
+    if text in ("all", ""):
+        return None
+    try:
+        cpus = _cpu_list(text)
+    except ValueError:
+        raise ConfigError("~cpus must be 'auto', 'all' or a CPU list such as '1' or '1-3', got %r" % (value,))
+    missing = sorted(cpus - set(available))
+    if missing:
+        raise ConfigError("~cpus %r: CPU %s not available to this process (it may use %s)"
+                          % (value, ",".join(str(c) for c in missing), ",".join(str(c) for c in available)))
+    return sorted(cpus)
+
+
+def confine(cpus):
+    """Every thread of this process on ``cpus`` (a list, or None: leave it); threads and processes
+    started later inherit it. Returns the number of threads changed."""
+    if not cpus:
+        return 0
+    changed = 0
+    for tid in os.listdir("/proc/self/task"):
+        try:
+            os.sched_setaffinity(int(tid), cpus)
+            changed += 1
+        except (OSError, ValueError):     # the thread ended meanwhile
+            continue
+    return changed
+
+
+def threads_for(render_threads, cpus):
+    """LP_NUM_THREADS to use: ``render_threads`` when given (>= 0); with Mesa's default (-1) and the
+    renderer confined to ``cpus``, one rasterizer thread per CPU of the set (Mesa would start one
+    per CPU of the machine); else -1 (Mesa's default)."""
+    if render_threads >= 0 or not cpus:
+        return render_threads
+    return len(cpus)
 
 
 def lower_priority(nice):
