@@ -274,13 +274,13 @@ def summary(pairs):
 def table(args, rows, variants, retries, loads, commit, minutes):
     lo, hi = (min(loads), max(loads)) if loads else (float("nan"), float("nan"))
     lines = ["", HEADING, "",
-             "Command: `bash scripts/bench/render.sh --repeats %d --variant-repeats %d --seconds %g` (cameras "
-             "asking %g fps, simulator at real_time_factor 0 on modrob_sim's camera_box world, /clock at "
-             "250 Hz). Windows alternate: the simulator alone, then beside a renderer started for the "
-             "row's streams, which is stopped before the next alone window; each figure is the median over "
-             "a row's pairs with (min-max), each ratio one with-streams window against the alone window "
-             "just before it. Measured %s, commit %s, 2 cores, Mesa llvmpipe, no GPU, %.0f minutes; load "
-             "average %.1f-%.1f during the run."
+             "Command: `bash scripts/bench/render.sh --repeats %d --variant-repeats %d --seconds %g` "
+             "(cameras asking %g fps, simulator at real_time_factor 0 on modrob_sim's camera_box world, "
+             "/clock at 250 Hz). Windows alternate: the simulator alone, then beside a renderer started "
+             "for the row's streams, which is stopped before the next alone window; each figure is the "
+             "median over a row's pairs with (min-max), each ratio one with-streams window against the "
+             "alone window just before it. Measured %s, commit %s, 2 cores, Mesa llvmpipe, no GPU, %.0f "
+             "minutes; load average %.1f-%.1f during the run."
              % (args.repeats, args.variant_repeats, args.seconds, args.rate, time.strftime("%Y-%m-%d"),
                 commit, minutes, lo, hi),
              "",
