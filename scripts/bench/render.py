@@ -3,7 +3,7 @@
 and the simulator's real-time factor beside the streams against the simulator alone, in one run;
 then one 640x480 stream with one default changed (RViz's 4x multisampling back on, pixels grabbed
 from the X server instead of read from OpenGL, the renderer at the simulator's priority, no
-rasterizer threads, the renderer on every CPU instead of all but one).
+rasterizer threads, the renderer kept off the first CPU).
 
 Alone and with-streams windows alternate (alone, renderer started, with streams, renderer
 stopped, alone, ...; ``--repeats`` pairs per row), so that the load of other work on the machine
@@ -31,14 +31,13 @@ from procs import cpu_seconds, start, stop
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CONFIGS = [(640, 480, 1), (640, 480, 5), (1280, 720, 1), (1280, 720, 5)]
-DEFAULT = ("default (no multisampling, pixels read from OpenGL, nice 10, all CPUs but one, one llvmpipe "
-           "thread per CPU of those)")
+DEFAULT = "default (no multisampling, pixels read from OpenGL, nice 10, every CPU, Mesa's threads)"
 # (label, renderer parameters) at 640x480, one stream
 VARIANTS = [("RViz's 4x multisampling on", ["_antialiasing:=true"]),
             ("pixels grabbed from the X server", ["_pixels:=x11"]),
             ("renderer at the simulator's priority (`_nice:=0`)", ["_nice:=0"]),
             ("no llvmpipe rasterizer threads (`_render_threads:=0`)", ["_render_threads:=0"]),
-            ("renderer on every CPU, Mesa's threads per CPU of the machine (`_cpus:=all`)", ["_cpus:=all"])]
+            ("renderer on every CPU but the first, one llvmpipe thread (`_cpus:=auto`)", ["_cpus:=auto"])]
 HEADING = "## Camera renderer (RViz/OGRE off-screen)"
 LOGS = os.path.join(ROOT, "out", "bench", "render")
 FRAME = "gazebo/camera_post/camera_link/camera1"

@@ -64,6 +64,7 @@ def test_every_thread_and_what_starts_later_is_niced():
 
 
 def test_cpus_auto_leaves_the_first_cpu_to_the_rest():
+    # the node's default is "all"; "auto" is asked for by launch argument
     assert priority.check_cpus("auto", [0, 1]) == [1]
     assert priority.check_cpus("auto", [0, 1, 2, 3]) == [1, 2, 3]
     assert priority.check_cpus("auto", [2, 5]) == [5]

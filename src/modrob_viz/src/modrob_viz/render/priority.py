@@ -7,8 +7,10 @@ CPU the simulator gets it first, and the renderer still uses what is idle.
 ``set_render_threads`` sets Mesa llvmpipe's rasterizer threads (LP_NUM_THREADS; Mesa's default is
 one per CPU, 0 rasterizes in the thread that renders).
 ``confine`` keeps every thread of this process, and so its Xvfb and Mesa's threads started
-afterwards, on a set of CPUs (``~cpus``): by default all but one of the CPUs this process may use,
-so that on a 2-core machine the simulator keeps a core whatever the renderer draws.
+afterwards, on a set of CPUs (``~cpus``; "auto": all but one of the CPUs this process may use, so
+that on a 2-core machine a simulator running flat out keeps a core whatever the renderer draws).
+The default leaves the renderer on every CPU: confined, it draws slower whenever the CPUs are
+shared with other work.
 """
 import os
 
@@ -62,8 +64,8 @@ def _cpu_list(text):
 def check_cpus(value, available=None):
     """``~cpus`` -> sorted list of CPU numbers to confine the renderer to, or None (no confinement).
 
-    "auto" (the default): every CPU this process may use but the first, when it may use two or
-    more (the simulator and the rest keep that one); None on one CPU. "all" or "": no confinement.
+    "all" (the node's default) or "": no confinement. "auto": every CPU this process may use but the
+    first, when it may use two or more (the simulator and the rest keep that one); None on one CPU.
     Else a CPU list as Linux writes them ("1", "2-3", "1,3"), each CPU one this process may use."""
     available = available_cpus() if available is None else sorted(available)
     if isinstance(value, bool) or value is None:
