@@ -17,7 +17,7 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import Latest, wait_running, wait_until  # noqa: E402
+from control_common import Latest, wait_for_action_server, wait_running, wait_until  # noqa: E402
 
 NS = "/arm3"
 JOINTS = ["yaw", "shoulder", "elbow"]
@@ -39,7 +39,7 @@ class FollowJointTrajectory(unittest.TestCase):
         wait_running(NS, ["joint_state_controller", "arm_controller"])
         cls.client = actionlib.SimpleActionClient(NS + "/arm_controller/follow_joint_trajectory",
                                                   FollowJointTrajectoryAction)
-        assert cls.client.wait_for_server(rospy.Duration(30)), "no follow_joint_trajectory action server"
+        wait_for_action_server(cls.client, 30, "the follow_joint_trajectory action server")
         cls.state = Latest(NS + "/arm_controller/state", JointTrajectoryControllerState)
         wait_until(lambda: cls.state.msg is not None, 30, "the controller state")
 
@@ -69,7 +69,7 @@ class FollowJointTrajectory(unittest.TestCase):
     def test_3_new_goal_preempts_the_old(self):
         first = actionlib.SimpleActionClient(NS + "/arm_controller/follow_joint_trajectory",
                                              FollowJointTrajectoryAction)
-        self.assertTrue(first.wait_for_server(rospy.Duration(30)))
+        wait_for_action_server(first, 30, "the follow_joint_trajectory action server (second client)")
         first.send_goal(goal([([-0.5, 0.4, -0.4], 3.0)]))
         wait_until(lambda: first.get_state() == GoalStatus.ACTIVE, 30, "the first goal to be active")
         self.client.send_goal(goal([([0.0, 0.1, 0.0], 1.5)]))
