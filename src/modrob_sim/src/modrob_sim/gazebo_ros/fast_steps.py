@@ -68,18 +68,20 @@ class FastSteps(object):
                 return 0
         elif self._arr is None:
             return 0
-        before_due = INF
+        before_due = stop_due = INF
         for c in controls:
             p = c.plan()
             if p is None:
                 return 0
             before_due = min(before_due, p[0])
             n = min(n, p[1])
-        k = b.run(n, self._arr, self._n, self._sim_joints, before_due, after_due, clock)
+            stop_due = min(stop_due, p[2])
+        k = b.run(n, self._arr, self._n, self._sim_joints, before_due, after_due, clock, stop_due)
         if k > 0:
             t = b.last_start
+            dt = self.world.time_step
             for c in controls:
-                c.finish(k, t)
+                c.finish(k, t, dt)
             if self.set_time is not None:
                 self.set_time(ros_time(t))
             self.steps += k

@@ -27,7 +27,7 @@ LIBRARY = "libmodrob_roscpp_pub.so"
 LOG = logging.getLogger("modrob_sim.gazebo_ros.native_pub")
 
 _lib = None
-_state = {"tried": False, "ok": False, "reason": "not started"}
+_state = {"tried": False, "ok": False, "reason": "not started", "publish_addr": None}
 _lock = threading.Lock()
 
 
@@ -81,6 +81,7 @@ def start(node_name):
             _state["reason"] = "roscpp did not start: %s" % lib.mrp_error().decode(errors="replace")
             return False
         _lib = lib
+        _state["publish_addr"] = ctypes.cast(lib.mrp_publish, ctypes.c_void_p).value
         _state["ok"] = True
         _state["reason"] = ""
         atexit.register(stop)
@@ -153,7 +154,7 @@ class NativePublisher(object):
         h = self._h
         if not h or not _state["ok"]:
             return False
-        return ctypes.cast(_lib.mrp_publish, ctypes.c_void_p).value, h
+        return _state["publish_addr"], h
 
     def unregister(self):
         h, self._h = self._h, None

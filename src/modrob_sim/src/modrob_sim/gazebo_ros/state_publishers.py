@@ -11,10 +11,31 @@ from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
 from modrob_sim.camera.scene import ScenePublisher
-from modrob_sim.gazebo_ros import markers
+from modrob_sim.gazebo_ros import markers, native_states
 from modrob_sim.gazebo_ros.native_pub import publisher
 from modrob_sim.gazebo_ros.conversions import pose_to_msg, ros_time, twist_to_msg
 from modrob_sim.physics.world import FROZEN_REASON
+
+
+def model_states_msg(world):
+    """gazebo_msgs/ModelStates of ``world`` now."""
+    ms = gzm.ModelStates()
+    for name, model in world.models.items():
+        ms.name.append(name)
+        ms.pose.append(pose_to_msg(model.pose))
+        ms.twist.append(twist_to_msg(model.twist))
+    return ms
+
+
+def link_states_msg(world):
+    """gazebo_msgs/LinkStates of ``world`` now."""
+    ls = gzm.LinkStates()
+    for mname, model in world.models.items():
+        for lname, link in model.links.items():
+            ls.name.append("%s::%s" % (mname, lname))
+            ls.pose.append(pose_to_msg(link.pose))
+            ls.twist.append(twist_to_msg(link.twist))
+    return ls
 
 
 class _BatchClock(object):
@@ -38,6 +59,9 @@ class StatePublishers(object):
         # every model's visuals + per-link tf for RViz and the camera renderer (modrob_sim.camera)
         self._scene = ScenePublisher.for_world(world, params.scene_rate)
         self._guard_hint = {}
+        # serialised states written by the C loop (native_states), per world layout
+        self._native_states = native_states.available(world)
+        self._states_cache = (None, None, None)     # (layout_version, model_states, link_states)
 
         self._clock_period = 1.0 / params.pub_clock_frequency if params.pub_clock_frequency > 0 else 0.0
         self._last_clock_wall = -1e9
@@ -124,21 +148,36 @@ class StatePublishers(object):
 
     def publish_states(self):
         world = self.world
+        if self._native_states:
+            ms_native = self._model_states_pub.native_handle() if hasattr(self._model_states_pub,
+                                                                          "native_handle") else False
+            if ms_native:
+                self._publish_native_states(ms_native)
+                return
         if self._model_states_pub.get_num_connections() > 0:
-            ms = gzm.ModelStates()
-            for name, model in world.models.items():
-                ms.name.append(name)
-                ms.pose.append(pose_to_msg(model.pose))
-                ms.twist.append(twist_to_msg(model.twist))
-            self._model_states_pub.publish(ms)
+            self._model_states_pub.publish(model_states_msg(world))
         if self._link_states_pub.get_num_connections() > 0:
-            ls = gzm.LinkStates()
-            for mname, model in world.models.items():
-                for lname, link in model.links.items():
-                    ls.name.append("%s::%s" % (mname, lname))
-                    ls.pose.append(pose_to_msg(link.pose))
-                    ls.twist.append(twist_to_msg(link.twist))
-            self._link_states_pub.publish(ls)
+            self._link_states_pub.publish(link_states_msg(world))
+
+    def _publish_native_states(self, ms_native):
+        world = self.world
+        ms_sub = self._model_states_pub.get_num_connections() > 0
+        ls_sub = self._link_states_pub.get_num_connections() > 0
+        if not (ms_sub or ls_sub):
+            return
+        version, ms, ls = self._states_cache
+        if version != world.layout_version:
+            ms = ls = None
+            version = world.layout_version
+        if ms_sub:
+            if ms is None:
+                ms = native_states.model_states(world)
+            ms.publish(ms_native)
+        if ls_sub:
+            if ls is None:
+                ls = native_states.link_states(world)
+            ls.publish(self._link_states_pub.native_handle())
+        self._states_cache = (version, ms, ls)
 
     def publish_markers(self, force=False):
         arr = self._markers.update(force=force)

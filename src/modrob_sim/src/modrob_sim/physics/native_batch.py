@@ -21,6 +21,8 @@ from . import native as native_mod
 from . import odelib
 from .model import FORCE_CAP
 
+INF = float("inf")
+
 
 class BatchJoint(ctypes.Structure):
     """One effort joint of the batch (MrBatchJoint). mode 0: constant effort ``command``; mode 1:
@@ -53,7 +55,7 @@ class _Batch(ctypes.Structure):
          ("publish", ctypes.c_void_p), ("clock_handle", ctypes.c_void_p), ("clock_period", ctypes.c_double),
          ("last_clock", ctypes.c_double), ("ncontacts", ctypes.c_int),
          ("guard", ctypes.c_int), ("world_step", ctypes.c_int), ("first_bad", ctypes.c_int),
-         ("after", ctypes.c_int)]
+         ("after", ctypes.c_int), ("stop_due", ctypes.c_double)]
 
 
 def _declare(lib):
@@ -105,7 +107,7 @@ class Batcher(object):
         return (w.native and not w._mimics and not w._soft and not w._wrench_links
                 and not w._anti_gravity and not w._frozen and not w._effort_joints)
 
-    def run(self, n, joints, njoints, physics_joints, before_due, after_due, clock=None):
+    def run(self, n, joints, njoints, physics_joints, before_due, after_due, clock=None, stop_due=INF):
         """Up to ``n`` steps in C; returns the number done (0: the first step is due for Python).
         A step whose after-hooks are due (it ends at t with t + 1e-12 >= ``after_due``) ends the
         batch with ``after_due`` set: the caller then runs :meth:`run_after_hooks`.
@@ -115,7 +117,8 @@ class Batcher(object):
         time.monotonic) and ``last`` (time.monotonic of the last /clock, updated) to publish
         /clock after the steps, or None. The caller makes sure that no before-hook is due at a step
         starting before ``before_due`` within these n steps, and no after-hook at a step ending
-        (+ 1e-12) before ``after_due``."""
+        (+ 1e-12) before ``after_due``. A step starting at t >= ``stop_due`` ends the batch once
+        made (the caller then does with what that step read what was due at its start)."""
         w = self.world
         be = w._backend
         b = self._b
@@ -141,6 +144,7 @@ class Batcher(object):
         b.iterations = w.iterations
         b.before_due = before_due
         b.after_due = after_due
+        b.stop_due = stop_due
         if clock is not None:
             b.publish, b.clock_handle, b.clock_period, b.last_clock = (clock.publish, clock.handle,
                                                                        clock.period, clock.last)

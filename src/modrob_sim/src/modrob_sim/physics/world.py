@@ -153,6 +153,7 @@ class World(object):
         self._finalizer = weakref.finalize(self, _teardown, self.models, self._geom_info, self._backend,
                                            self._ode_world, self._static_space, self._dyn_space,
                                            self._contact_group)
+        self.layout_version = 0
         self._reseed()
         self._apply_params()
         self._rebuild_caches()
@@ -480,6 +481,9 @@ class World(object):
             self._backend.forget_model(entry)
 
     def _rebuild_caches(self):
+        # models, links or bodies came or went: caches kept outside the World (the node's
+        # serialised states) compare this number
+        self.layout_version += 1
         ms = list(self.models.values())
         self._dynamic_models = [m for m in ms if m.bodies and m.name not in self._frozen]
         joints = [j for m in ms for j in m.joints_in_order if j.ode_joint is not None]

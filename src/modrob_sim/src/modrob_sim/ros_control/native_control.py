@@ -3,10 +3,13 @@
 
 Natively updated: effort joints driven by effort_controllers/JointPositionController (the PID of
 pid.py, the error of JointResource.position_error) or by effort_controllers/JointEffortController,
-and effort joints without a running controller (their last command). The joint_state_controller
-needs Python only at its publish times, a JointPositionController only at the updates whose
-``state`` message is due and subscribed. Anything else (position or velocity joints, other
-controller types, a ``controlPeriod``) keeps every step in Python.
+and effort joints without a running controller (their last command). A JointPositionController
+needs a Python update only when its ``state`` message is due and subscribed. The
+joint_state_controller's update at its publish times needs only what that step read: the C loop
+makes the step and ends the batch there, and :meth:`NativeControl.finish` runs the controller's
+update and publishes its message from the step's read, as the Python update would have. Anything
+else (position or velocity joints, other controller types, a ``controlPeriod``) keeps every step
+in Python.
 
 Python stays the reference: before a batch the controllers' state (PID gains and errors, commands,
 the applied efforts) goes into the batch's joints; after it, what the updates did comes back
@@ -78,7 +81,8 @@ class NativeControl(object):
                 jsc.append(c)
             else:
                 owner[c.joint.name] = c
-        self._arr, self._off, self._jsc = arr, offset, jsc
+        self._arr, self._off = arr, offset
+        self._jsc = [(c, p.adapters.get(c.name)) for c in jsc]
         self._pid, self._forward, self._idle, self._res = [], [], [], []
         for k, name in enumerate(hw.order):
             idx = offset + k
@@ -117,14 +121,16 @@ class NativeControl(object):
 
     def plan(self):
         """Before a batch: the controllers' state into the batch joints. Returns (time before
-        which the batch must stop, most steps), or None when the next update needs Python."""
+        which the batch must stop, most steps, time from which a step ends the batch once made),
+        or None when the next update needs Python."""
         arr = self._arr
         steps = 1 << 30
         due = INF
-        for c in self._jsc:
+        stop = INF
+        for c, _a in self._jsc:
             if c._last_publish is None:
                 return None
-            due = min(due, c._last_publish + 1.0 / c.publish_rate - 1e-9)
+            stop = min(stop, c._last_publish + 1.0 / c.publish_rate - 1e-9)
         for idx, c, pub in self._pid:
             if pub is not None and pub.get_num_connections() > 0:
                 k = (STATE_DECIMATION - c._count % STATE_DECIMATION) % STATE_DECIMATION
@@ -144,10 +150,10 @@ class NativeControl(object):
             arr[idx].command = cmd if math.isfinite(cmd) else 0.0
         for idx, res in self._res:
             arr[idx].applied = res.sim.effort
-        return due, steps
+        return due, steps, stop
 
-    def finish(self, steps, t_last):
-        """After a batch of ``steps`` steps whose last started at ``t_last``."""
+    def finish(self, steps, t_last, dt):
+        """After a batch of ``steps`` steps of ``dt`` whose last started at ``t_last``."""
         arr = self._arr
         p = self.plugin
         p.manager.time = t_last
@@ -165,3 +171,10 @@ class NativeControl(object):
         for idx, res in self._res:
             e = arr[idx]
             res.position, res.velocity, res.effort = e.position, e.velocity, e.effort
+        # a joint_state_controller due at the last step's start: its update from that step's read
+        # (res above), then its adapter publishes, as in GazeboRosControlPlugin.before_step
+        for c, adapter in self._jsc:
+            if t_last >= c._last_publish + 1.0 / c.publish_rate - 1e-9:
+                c.update(t_last, dt)
+                if adapter is not None:
+                    adapter.after_update(t_last)

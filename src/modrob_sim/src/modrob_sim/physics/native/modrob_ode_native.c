@@ -723,6 +723,8 @@ typedef struct {
     int world_step;      /* as mr_step_checked: 0 quickStep, 1 dWorldStep */
     int first_bad;       /* out: mr_step_checked's guard scan of the last step */
     int after;           /* out: 1 when the last step's after-hooks are due (Python runs them) */
+    double stop_due;     /* a step that starts at t >= stop_due ends the batch once made (Python
+                          * then does what was due at its start from what the step read) */
 } MrBatch;
 
 #define MR_TWO_PI 6.283185307179586
@@ -879,6 +881,83 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
             b->after = 1;
             return k + 1;
         }
+        if (t >= b->stop_due) return k + 1;
     }
     return k;
+}
+
+/* ---- model and link states (gazebo_msgs/ModelStates, LinkStates) ------------------------------
+ * The pose and twist of a link in the world, written as the message's float64s into a serialised
+ * message: Link.pose (pose_mul(body pose, T)) and Link.twist (v + w x R(q) T.p, w) of
+ * physics/model.py with the same operations in the same order as transforms.py, so the doubles are
+ * bit for bit those of the Python properties. A static link (body NULL) has its world pose in
+ * `T` (the caller keeps it current) and a zero twist. */
+typedef struct {
+    dBodyID body;
+    double T[7];         /* link frame in the body frame: x y z qx qy qz qw (static: world pose) */
+    int pose_off;        /* byte offset of the 7 pose doubles in the message */
+    int twist_off;       /* byte offset of the 6 twist doubles */
+} MrStateEntry;
+
+static inline void mr_put(uint8_t *buf, int off, const double *v, int n)
+{
+    memcpy(buf + off, v, (size_t)n * sizeof(double));   /* little-endian hosts, as struct '<d' */
+}
+
+/* transforms.quat_rotate(q = (x, y, z, w), v) */
+static inline void mr_quat_rotate(const double *q, const double *v, double *out)
+{
+    double qx = q[0], qy = q[1], qz = q[2], qw = q[3];
+    double vx = v[0], vy = v[1], vz = v[2];
+    double tx = 2.0 * (qy * vz - qz * vy);
+    double ty = 2.0 * (qz * vx - qx * vz);
+    double tz = 2.0 * (qx * vy - qy * vx);
+    out[0] = vx + qw * tx + (qy * tz - qz * ty);
+    out[1] = vy + qw * ty + (qz * tx - qx * tz);
+    out[2] = vz + qw * tz + (qx * ty - qy * tx);
+}
+
+void mr_states_write(const MrStateEntry *e, int n, uint8_t *buf)
+{
+    int k;
+    for (k = 0; k < n; ++k, ++e) {
+        double pose[7], twist[6];
+        if (!e->body) {
+            mr_put(buf, e->pose_off, e->T, 7);
+            memset(twist, 0, sizeof(twist));
+            mr_put(buf, e->twist_off, twist, 6);
+            continue;
+        } else {
+            const dReal *p = dBodyGetPosition(e->body);
+            const dReal *qo = dBodyGetQuaternion(e->body);      /* ODE: w x y z */
+            const dReal *v = dBodyGetLinearVel(e->body);
+            const dReal *w = dBodyGetAngularVel(e->body);
+            double qa[4] = {qo[1], qo[2], qo[3], qo[0]};
+            double r[3];
+            const double *qb = e->T + 3;
+            double ax = qa[0], ay = qa[1], az = qa[2], aw = qa[3];
+            double bx = qb[0], by = qb[1], bz = qb[2], bw = qb[3];
+            mr_quat_rotate(qa, e->T, r);
+            pose[0] = p[0] + r[0]; pose[1] = p[1] + r[1]; pose[2] = p[2] + r[2];
+            /* transforms.quat_mul(qa, qb) */
+            pose[3] = aw * bx + ax * bw + ay * bz - az * by;
+            pose[4] = aw * by - ax * bz + ay * bw + az * bx;
+            pose[5] = aw * bz + ax * by - ay * bx + az * bw;
+            pose[6] = aw * bw - ax * bx - ay * by - az * bz;
+            /* Link.twist: r = quat_rotate(q, T.p); (v + cross(w, r), w) */
+            twist[0] = v[0] + (w[1] * r[2] - w[2] * r[1]);
+            twist[1] = v[1] + (w[2] * r[0] - w[0] * r[2]);
+            twist[2] = v[2] + (w[0] * r[1] - w[1] * r[0]);
+            twist[3] = w[0]; twist[4] = w[1]; twist[5] = w[2];
+            mr_put(buf, e->pose_off, pose, 7);
+            mr_put(buf, e->twist_off, twist, 6);
+        }
+    }
+}
+
+/* mr_states_write, then the message out through `publish` (mr_publish_fn, roscpp) */
+int mr_states_publish(const MrStateEntry *e, int n, uint8_t *buf, uint32_t size, void *publish, void *handle)
+{
+    mr_states_write(e, n, buf);
+    return ((mr_publish_fn)publish)(handle, buf, size);
 }
