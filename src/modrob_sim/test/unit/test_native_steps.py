@@ -178,3 +178,21 @@ def test_the_c_loops_clock_bytes_are_rospys():
     assert expected[-1] == rospy_bytes(rig.world.time)
     assert len(set(got)) == len(got) and set(got) <= set(expected)
     assert got[0][:4] == (6).to_bytes(4, "little") and got[-1][:4] == (7).to_bytes(4, "little")
+
+
+@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+def test_the_c_loop_publishes_clock_at_steps_whose_after_hooks_are_due():
+    """/clock every step: the C loop publishes it at every step it makes, the steps whose
+    after-step hooks are due included, and says so (``sent``) for the node's after-step hook."""
+    import ctypes
+    got = []
+    proto = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.POINTER(ctypes.c_ubyte), ctypes.c_uint32)
+    fn = proto(lambda _h, data, size: got.append(bytes(data[:size])) or 0)
+    rig = Rig(True)
+    clock = types.SimpleNamespace(publish=ctypes.cast(fn, ctypes.c_void_p).value, handle=None, period=0.0,
+                                  last=0.0, sent=False)
+    rig.fast.outputs.batch_clock = lambda: clock
+    rig.fast.step(95)
+    assert rig.fast.steps == rig.world.iterations == 95
+    assert sum(1 for e in rig.log if e[0] == "states") == 10
+    assert len(got) == 95 and len(set(got)) == 95 and clock.sent

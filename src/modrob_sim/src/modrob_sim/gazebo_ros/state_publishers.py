@@ -40,7 +40,7 @@ def link_states_msg(world):
 
 class _BatchClock(object):
     """/clock for the C loop's batches (physics.native_batch.Batcher.run)."""
-    __slots__ = ("publish", "handle", "period", "last")
+    __slots__ = ("publish", "handle", "period", "last", "sent")
 
 
 class StatePublishers(object):
@@ -65,6 +65,7 @@ class StatePublishers(object):
 
         self._clock_period = 1.0 / params.pub_clock_frequency if params.pub_clock_frequency > 0 else 0.0
         self._last_clock_wall = -1e9
+        self._clock_sent_t = None     # the simulated time whose /clock the C loop has published
         self._batch_clock = None
         self._state_period = 1.0 / params.publish_rate if params.publish_rate > 0 else 0.0
         self._next_state_t = 0.0
@@ -74,7 +75,10 @@ class StatePublishers(object):
 
     def after_step(self):
         now_t = self.world.time
-        if self._clock_period <= 0.0:
+        sent, self._clock_sent_t = self._clock_sent_t, None
+        if sent == now_t:
+            pass                    # the batch's last step: the C loop has published its /clock
+        elif self._clock_period <= 0.0:
             self.publish_clock()
         else:
             wall = time.monotonic()
@@ -110,7 +114,7 @@ class StatePublishers(object):
             return None if self._clock_period > 0.0 else False
         c = self._batch_clock or _BatchClock()
         c.publish, c.handle = native
-        c.period, c.last = self._clock_period, self._last_clock_wall
+        c.period, c.last, c.sent = self._clock_period, self._last_clock_wall, False
         self._batch_clock = c
         return c
 
@@ -119,6 +123,7 @@ class StatePublishers(object):
         unless the caller runs after_step for the batch's last step (``wall_schedules`` False)."""
         if self._batch_clock is not None:
             self._last_clock_wall = self._batch_clock.last
+            self._clock_sent_t = self.world.time if self._batch_clock.sent else None
         if not wall_schedules:
             return
         if self._batch_clock is None and self._clock_period > 0.0:

@@ -55,7 +55,7 @@ class _Batch(ctypes.Structure):
          ("publish", ctypes.c_void_p), ("clock_handle", ctypes.c_void_p), ("clock_period", ctypes.c_double),
          ("last_clock", ctypes.c_double), ("ncontacts", ctypes.c_int),
          ("guard", ctypes.c_int), ("world_step", ctypes.c_int), ("first_bad", ctypes.c_int),
-         ("after", ctypes.c_int), ("stop_due", ctypes.c_double)]
+         ("after", ctypes.c_int), ("stop_due", ctypes.c_double), ("clock_sent", ctypes.c_int)]
 
 
 def _declare(lib):
@@ -115,9 +115,10 @@ class Batcher(object):
         ``physics_joints`` (same order), ``clock``: an object with ``publish`` (function pointer),
         ``handle``, ``period`` (0: every step, else at most once per ``period`` s of
         time.monotonic) and ``last`` (time.monotonic of the last /clock, updated) to publish
-        /clock after the steps, or None. The caller makes sure that no before-hook is due at a step
-        starting before ``before_due`` within these n steps, and no after-hook at a step ending
-        (+ 1e-12) before ``after_due``. A step starting at t >= ``stop_due`` ends the batch once
+        /clock after the steps (``sent`` set True when it went out after the last one), or None.
+        The caller makes sure that no before-hook is due at a step starting before
+        ``before_due`` within these n steps, and no after-hook at a step ending (+ 1e-12) before
+        ``after_due``. A step starting at t >= ``stop_due`` ends the batch once
         made (the caller then does with what that step read what was due at its start)."""
         w = self.world
         be = w._backend
@@ -178,6 +179,7 @@ class Batcher(object):
             j.effort = 0.0
         if clock is not None:
             clock.last = b.last_clock
+            clock.sent = bool(b.clock_sent)
         w._ncontacts = b.ncontacts
         be.batch_done(b.ncontacts, b.first_bad)
         for idx, j in enumerate(physics_joints):

@@ -661,7 +661,8 @@ double mr_max_depth(dGeomID a, dGeomID b)
  *   explicit damping, collide + quickStep or dWorldStep with the guard's velocity scan
  *   (mr_step_checked), time and iteration count;
  *   /clock (8 bytes: secs, nsecs, as rospy serialises rosgraph_msgs/Clock) through `publish`, at
- *   every step or throttled to a wall-clock period as StatePublishers.after_step does;
+ *   every step or throttled to a wall-clock period as StatePublishers.after_step does, also at
+ *   a step whose after-hooks are due (`clock_sent` tells them);
  *   the blow-up guard's checks: a step the guard would flag, or a snapshot step, ends the batch
  *   (`guard` = 1) so that the World's Python guard runs for it; so does a step whose after-hooks
  *   are due (`after` = 1: Python runs them).
@@ -713,7 +714,7 @@ typedef struct {
     long long iterations;
     double before_due;   /* no step starts at t >= before_due (a before-hook is due) */
     double after_due;    /* a step that ends at t with t + 1e-12 >= after_due ends the batch: its
-                          * after-hooks are due (`after`; /clock is theirs then) */
+                          * after-hooks are due (`after`) */
     void *publish;       /* mr_publish_fn for /clock, or NULL */
     void *clock_handle;
     double clock_period; /* > 0: /clock at most once per clock_period s of CLOCK_MONOTONIC */
@@ -725,6 +726,7 @@ typedef struct {
     int after;           /* out: 1 when the last step's after-hooks are due (Python runs them) */
     double stop_due;     /* a step that starts at t >= stop_due ends the batch once made (Python
                           * then does what was due at its start from what the step read) */
+    int clock_sent;      /* out: 1 when /clock went out after the last step */
 } MrBatch;
 
 #define MR_TWO_PI 6.283185307179586
@@ -857,7 +859,8 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
         b->iterations += 1;
         b->time = tn;
         mr_batch_track_turns(b);
-        if (b->publish && !after) {
+        b->clock_sent = 0;
+        if (b->publish) {
             if (b->clock_period > 0.0) {
                 struct timespec ts;
                 double now;
@@ -866,9 +869,11 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
                 if (now - b->last_clock >= b->clock_period) {
                     b->last_clock = now;
                     mr_batch_clock(b);
+                    b->clock_sent = 1;
                 }
             } else {
                 mr_batch_clock(b);
+                b->clock_sent = 1;
             }
         }
         if (b->first_bad >= 0 || b->ncontacts > b->guard_max_contacts ||
