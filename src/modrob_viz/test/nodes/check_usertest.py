@@ -88,9 +88,13 @@ class UserTest(unittest.TestCase):
         self.assertIsNotNone(green, "the sphere did not change colour inside the threshold")
 
         out = rospy.get_param("~out")
-        deadline = rospy.get_time() + 10
+        # the node writes the files every save_period; the first PNG includes matplotlib's import,
+        # which took more than 10 s on a loaded CI machine
+        deadline = rospy.get_time() + 45
         while rospy.get_time() < deadline and not all(os.path.exists(out + ext) for ext in (".csv", ".png")):
             rospy.sleep(0.2)
+        for ext in (".csv", ".png"):
+            self.assertTrue(os.path.exists(out + ext), "%s%s not written within 45 s" % (out, ext))
         log = DistanceLog.read_csv(out + ".csv")
         self.assertGreater(len(log), 5)
         if trajectory is not None:
