@@ -6,7 +6,9 @@ poses must lie on that path: recorder.py says why not their time of arrival) ove
 simulated time: at least a share ~within of the estimates within ~tolerance (the issue's 5 cm),
 the mean error at most ~mean_error,
 none farther than ~max_error, the ball in the central third of the tracking camera's image in at
-least a share ~centred of the detections, and estimates all along the run."""
+least a share ~centred of the detections, and estimates all along the run: for a share
+~published of the image times with a detection (the network withholds the estimates it cannot
+trust)."""
 import os
 import sys
 import time
@@ -54,6 +56,15 @@ class Tracking(unittest.TestCase):
                         "the truth is not the simulator's")
         self.assertGreaterEqual(s.n, 2 * duration, "too few estimates: %d in %.0f s" % (s.n, duration))
         self.assertGreaterEqual(s.duration, 0.8 * duration, "estimates stopped before the end")
+        t1 = max([p[0] for p in est] or [t0])
+        cover = evaluate.coverage([p[0] for p in est], t0, rospy.get_time())
+        share = evaluate.published_share([p[0] for p in est], rec.detection_times(), t0, t1)
+        rospy.loginfo("estimates for %.0f %% of the image times with a detection, %.1f per simulated s, "
+                      "one at most 0.5 s old during %.0f %% of the time", 100 * share,
+                      len(est) / max(1e-6, rospy.get_time() - t0), 100 * cover)
+        self.assertGreaterEqual(share, float(rospy.get_param("~published", 0.9)),
+                                "estimates for only %.0f %% of the image times with a detection"
+                                % (100 * share))
         self.assertGreaterEqual(s.within, float(rospy.get_param("~within", 0.9)),
                                 "only %.0f %% of the estimates within %.0f cm of the ball (mean %.1f cm)"
                                 % (100 * s.within, 100 * tolerance, 100 * s.mean))

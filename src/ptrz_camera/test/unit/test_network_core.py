@@ -95,3 +95,56 @@ def test_off_path_measures_the_distance_to_the_stamped_path():
     # far from any sample within the window around its time
     assert evaluate.off_path([(0.5, 2.5, 0.0)], path, window=0.5)[0] == pytest.approx(1.5)
     assert len(evaluate.off_path([(9.0, 0.0, 0.0)], path)) == 0
+
+
+def _located(chains, ns, centre, intr, t, net):
+    chain = chains[ns]
+    pan, tilt = chain.aim(centre, {})
+    pose = chain.pose({"pan": pan, "tilt": tilt, "roll": 0.0})
+    return net.on_image(ns, t, synthetic.render(pose, intr, centre, R), intr, pose)
+
+
+def test_one_estimate_per_image_time_from_that_time_only(chains):
+    """The cameras' images of one time are fused together once all are in, never with another
+    time's; none is published before a camera has locked on (three images in a row)."""
+    intr = pinhole.intrinsics_from_fov(320, 128, 1.3962634)
+    net = network.Network(chains, FLOOR, R)
+    out = []
+    for k in range(4):
+        t = 0.1 * k
+        centre = (3.0 + 0.5 * k, 0.5, R)          # 5 m/s: any mixing of times would show
+        for ns in ("ptrz1", "ptrz2"):
+            _located(chains, ns, centre, intr, t, net)
+            out += [(t, centre, e) for t, e, _src in net.fuse_ready()]   # ptrz3 not in: waits
+        _located(chains, "ptrz3", centre, intr, t, net)
+        out += [(t_, centre, e) for t_, e, _src in net.fuse_ready()]
+    assert [round(t, 3) for t, _c, _e in out] == [0.2, 0.3]
+    for _t, centre, e in out:
+        assert np.linalg.norm(e.xy - centre[:2]) < 0.02
+    assert net.counts["rejected_not_locked"] == 2 and net.counts["published"] == 2
+
+
+def test_rays_that_disagree_give_no_estimate(chains):
+    intr = pinhole.intrinsics_from_fov(320, 128, 1.3962634)
+    net = network.Network(chains, FLOOR, R, min_streak=1)
+    _located(chains, "ptrz1", (3.0, 0.5, R), intr, 0.0, net)
+    _located(chains, "ptrz2", (3.4, 0.5, R), intr, 0.0, net)    # sees another ball, 40 cm off
+    _located(chains, "ptrz3", (3.0, 0.9, R), intr, 0.0, net)    # and another
+    assert net.fuse_ready() == []
+    assert net.counts["rejected_residual"] == 1
+    # two agree, the third is off: it is left out
+    _located(chains, "ptrz1", (3.0, 0.5, R), intr, 0.1, net)
+    _located(chains, "ptrz2", (3.0, 0.5, R), intr, 0.1, net)
+    _located(chains, "ptrz3", (3.0, 1.0, R), intr, 0.1, net)
+    (t, est, src), = net.fuse_ready()
+    assert sorted(n for n, _o in src) == ["ptrz1", "ptrz2"]
+    assert np.linalg.norm(est.xy - (3.0, 0.5)) < 0.02
+
+
+def test_cubic_joint_interpolation_with_velocities():
+    cam = network.Camera("c", None)
+    for t in (0.0, 0.02, 0.04):                  # constant acceleration 100 rad/s^2
+        cam.add_joints(t, {"pan": 50.0 * t * t}, {"pan": 100.0 * t})
+    assert cam.joints_at(0.013)["pan"] == pytest.approx(50.0 * 0.013 ** 2, abs=1e-9)
+    assert cam.joints_at(0.05, max_gap=0.05) is None            # not between two samples
+    assert cam.joints_at(0.05)["pan"] == pytest.approx(50.0 * 0.04 ** 2)

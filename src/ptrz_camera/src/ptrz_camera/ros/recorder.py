@@ -26,6 +26,7 @@ class TrackingRecorder(object):
         self.truth, self.states, self.estimates, self.modes = [], [], [], []
         self.camera_points = {c: [] for c in cameras}
         self.pixels = {c: [] for c in cameras}
+        self.detected = set()       # image times at which a camera detected the ball
         self.images = {}
         self.subs = [rospy.Subscriber("/gazebo/model_states", ModelStates, self._states, queue_size=5),
                      # every tf message (hundreds a second): a dropped one leaves a gap in the truth
@@ -67,11 +68,16 @@ class TrackingRecorder(object):
     def _pixel(self, msg, cam):
         with self.lock:
             self.pixels[cam].append((msg.point.x, msg.point.y))
+            self.detected.add(round(msg.header.stamp.to_sec(), 3))
 
     def _image(self, msg, cam):
         if msg.encoding == "rgb8":
             with self.lock:
                 self.images[cam] = np.frombuffer(msg.data, np.uint8).reshape(msg.height, msg.width, 3).copy()
+
+    def detection_times(self):
+        with self.lock:
+            return sorted(self.detected)
 
     def snapshot(self):
         """(truth (stamped), estimates, {camera: estimates}, {camera: pixels}, {camera: image},

@@ -53,6 +53,27 @@ def centred_fraction(pixels, width, height):
     return float(np.mean(inside))
 
 
+def coverage(times, t0, t1, max_age=0.5):
+    """Share of the simulated time [t0, t1] at which the newest published estimate (times) is at
+    most ``max_age`` s old."""
+    if t1 <= t0:
+        return 0.0
+    ts = np.clip(np.sort(np.asarray(times, dtype=float)), t0, t1)
+    covered = 0.0
+    for a, b in zip(ts, np.append(ts[1:], t1)):
+        covered += min(b - a, max_age)
+    return float(min(1.0, covered / (t1 - t0)))
+
+
+def published_share(estimate_times, detection_times, t0, t1):
+    """Share of the image times in [t0, t1] at which a camera detected the ball that gave a
+    published estimate."""
+    det = {round(t, 3) for t in detection_times if t0 <= t <= t1}
+    if not det:
+        return 0.0
+    return len(det & {round(t, 3) for t in estimate_times}) / float(len(det))
+
+
 def summarize(truth, estimates, tolerance=0.05, centred=0.0):
     t, e = errors(truth, estimates)
     if not len(e):

@@ -56,3 +56,24 @@ def fuse(estimates):
         vec += w.dot(e.xy)
     cov = np.linalg.inv(info)
     return FloorEstimate(cov.dot(vec), cov)
+
+
+def ray_residual(rays):
+    """How far apart rays (origin, unit direction) pass: (point, residual), the point nearest to
+    all of them in the least-squares sense and the largest distance of a ray from it (m); None
+    for fewer than two rays or rays all parallel."""
+    if len(rays) < 2:
+        return None
+    a = np.zeros((3, 3))
+    b = np.zeros(3)
+    projs = []
+    for o, d in rays:
+        d = np.asarray(d, dtype=float) / np.linalg.norm(d)
+        m = np.eye(3) - np.outer(d, d)
+        projs.append((np.asarray(o, dtype=float), m))
+        a += m
+        b += m.dot(o)
+    if np.linalg.cond(a) > 1e8:
+        return None
+    p = np.linalg.solve(a, b)
+    return p, max(float(np.linalg.norm(m.dot(p - o))) for o, m in projs)
