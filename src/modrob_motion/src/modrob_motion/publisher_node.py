@@ -7,7 +7,7 @@ Topics (relative to the robot namespace ``~robot_namespace``, default the node's
 Parameters:
     ~robot_namespace   e.g. /modrob0 (default: the node's namespace)
     ~input_topic       default motion_command
-    ~wait_timeout      seconds to wait for the controller parameters at start (default 30)
+    ~wait_timeout      wall-clock seconds to wait for the controller parameters at start (default 30)
 The joint -> controller map comes from the controller parameters in the robot namespace
 (``type: effort_controllers/JointPositionController``, ``joint: ...``); joint limits from
 ``<ns>/robot_description`` when present. A bad message is logged (what and why) and dropped.
@@ -43,7 +43,11 @@ class MotionPublisher(object):
                       topic, len(self.publishers), self.namespace or "/")
 
     def _wait_for_controllers(self, timeout):
-        deadline = rospy.get_time() + timeout
+        # wall-clock time: with use_sim_time at real_time_factor 0 the simulation runs on while the
+        # robots are still being built and their controller YAML loaded, so 30 s of simulated time
+        # passed within a few wall seconds on a loaded machine (and rospy.sleep waits forever
+        # while paused)
+        deadline = time.time() + timeout
         last_error = None
         while not rospy.is_shutdown():
             try:
@@ -51,9 +55,9 @@ class MotionPublisher(object):
                 return
             except (ModrobError, KeyError) as exc:
                 last_error = exc
-            if rospy.get_time() > deadline:
+            if time.time() > deadline:
                 break
-            rospy.sleep(0.2)
+            time.sleep(0.2)
         raise ModrobError("motion_publisher for %s: %s" % (self.namespace or "/", last_error))
 
     def _configure(self):
