@@ -1,6 +1,6 @@
 """Process helpers the benchmark scripts share: a free port for a ROS master, a process's CPU
-time, and starting/stopping a command in a session of its own (roslaunch and its nodes end
-together)."""
+time, the processes below one, and starting/stopping a command in a session of its own
+(roslaunch and its nodes end together)."""
 import os
 import socket
 import subprocess
@@ -17,6 +17,27 @@ def cpu_seconds(pid):
     with open("/proc/%d/stat" % pid) as f:
         fields = f.read().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def descendants(pid):
+    """Every process below ``pid``, from a snapshot of /proc (children in sessions of their own
+    included: roslaunch's nodes, a renderer's Xvfb)."""
+    children = {}
+    for d in os.listdir("/proc"):
+        if not d.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % d) as f:
+                ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+        except (OSError, IndexError, ValueError):
+            continue
+        children.setdefault(ppid, []).append(int(d))
+    out, todo = [], [pid]
+    while todo:
+        for c in children.get(todo.pop(), []):
+            out.append(c)
+            todo.append(c)
+    return out
 
 
 def start(cmd, env, log=None):

@@ -27,7 +27,7 @@ import sys
 import threading
 import time
 
-from procs import cpu_seconds, start, stop
+from procs import cpu_seconds, descendants, start, stop
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 CONFIGS = [(640, 480, 1), (640, 480, 5), (1280, 720, 1), (1280, 720, 5)]
@@ -44,24 +44,9 @@ FRAME = "gazebo/camera_post/camera_link/camera1"
 
 
 def tree(pid):
-    """``pid`` and its descendants (a snapshot from /proc), and the Xvfb servers they started
+    """``pid`` and its descendants (a snapshot from /proc), the Xvfb servers they started included
     (those run in sessions of their own but are still their children)."""
-    children = {}
-    for d in os.listdir("/proc"):
-        if not d.isdigit():
-            continue
-        try:
-            with open("/proc/%s/stat" % d) as f:
-                ppid = int(f.read().rsplit(")", 1)[1].split()[1])
-        except (OSError, IndexError, ValueError):
-            continue
-        children.setdefault(ppid, []).append(int(d))
-    out, todo = [], [pid]
-    while todo:
-        p = todo.pop()
-        out.append(p)
-        todo.extend(children.get(p, []))
-    return out
+    return [pid] + descendants(pid)
 
 
 def tree_cpu(pids):

@@ -21,32 +21,13 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import physics_core as scene  # noqa: E402  (the scene, the PD gains, our engine and PyBullet's runs)
-from procs import cpu_seconds, free_port  # noqa: E402
+from procs import cpu_seconds, descendants, free_port  # noqa: E402
 
 N = scene.N_JOINTS
 JOINTS = ["joint%d" % (i + 1) for i in range(N)]
 
 
 # ---- helpers ------------------------------------------------------------------------------------
-def descendants(pid):
-    """Every process below ``pid`` (roslaunch starts its nodes in sessions of their own)."""
-    children = {}
-    for d in os.listdir("/proc"):
-        if d.isdigit():
-            try:
-                with open("/proc/%s/stat" % d) as f:
-                    ppid = int(f.read().rsplit(")", 1)[1].split()[1])
-            except (OSError, ValueError, IndexError):
-                continue
-            children.setdefault(ppid, []).append(int(d))
-    out, todo = [], [pid]
-    while todo:
-        for c in children.get(todo.pop(), []):
-            out.append(c)
-            todo.append(c)
-    return out
-
-
 def find_node(root_pid, needle="modrob_sim/gazebo"):
     for pid in descendants(root_pid):
         try:
