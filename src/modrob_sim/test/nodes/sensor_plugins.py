@@ -210,6 +210,13 @@ class SensorPlugins(unittest.TestCase):
         self.spawn_urdf("p3d_bot", F.sensor_robot("", static=False, extra=extra),
                         x=1.0, y=-2.0, z=0.5, yaw=0.7)
         self.assertTrue(wait_for(lambda: odom.count >= 5, 60.0))
+        # compare at rest: odom is a 50 Hz sample, model_states the pose of the last step, so a
+        # falling body would differ by up to 20 ms of its motion between the two
+        def at_rest():
+            t = odom.get().twist.twist
+            return max(abs(t.linear.x), abs(t.linear.y), abs(t.linear.z),
+                       abs(t.angular.x), abs(t.angular.y), abs(t.angular.z)) < 1e-3
+        self.assertTrue(wait_for(at_rest, 60.0), "p3d_bot did not come to rest")
         self.gz.pause_physics()
         c = odom.count
         wait_for(lambda: odom.count > c, 2.0)   # nothing new once paused
