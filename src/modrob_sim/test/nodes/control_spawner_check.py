@@ -4,8 +4,10 @@ import os
 import signal
 import subprocess
 import sys
+import time
 import unittest
 
+import rosgraph
 import rospy
 import rostest
 
@@ -51,6 +53,38 @@ class Spawner(unittest.TestCase):
         self.assertEqual(out.returncode, 1, out.stdout)
         self.assertIn("/nowhere/controller_manager/load_controller", out.stdout)
         self.assertIn("gazebo_ros_control", out.stdout)
+
+    def test_3_quick_exit_once_the_manager_is_gone(self):
+        # roslaunch stops the simulator and the spawner at once: the spawner must not wait its
+        # --shutdown-timeout (30 s) for services that have gone, which kept roslaunch escalating
+        # and left the spawner behind as an orphan
+        proc = subprocess.Popen(["rosrun", "modrob_sim", "spawner", self.yaml, "__ns:=" + NS,
+                                 "__name:=spawner_gone"],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            wait_until(lambda: controller_states(NS).get("shoulder_controller") == "running",
+                       60, "the YAML's controllers running", period=0.2)
+            rospy.wait_for_service("/gazebo/delete_model", 20)
+            from gazebo_msgs.srv import DeleteModel
+            self.assertTrue(rospy.ServiceProxy("/gazebo/delete_model", DeleteModel)("arm1").success)
+            master = rosgraph.Master(rospy.get_name())
+
+            def gone():
+                try:
+                    master.lookupService(NS + "/controller_manager/switch_controller")
+                    return False
+                except rosgraph.MasterException:
+                    return True
+            wait_until(gone, 20, "arm1's controller_manager services unregistered", period=0.1)
+            t0 = time.monotonic()
+            proc.send_signal(signal.SIGINT)
+            out, _ = proc.communicate(timeout=40)
+            took = time.monotonic() - t0
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+        self.assertIn("is no longer offered", out)
+        self.assertLess(took, 10.0, out)
 
 
 if __name__ == "__main__":

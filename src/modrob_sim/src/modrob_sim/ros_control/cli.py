@@ -12,6 +12,7 @@ import os
 import sys
 import time
 
+import rosgraph
 import rosparam
 import rospy
 import yaml
@@ -146,7 +147,14 @@ def spawner_main(argv=None):
         t0 = time.monotonic()
         try:
             for k in ("switch_controller", "unload_controller"):
-                rospy.wait_for_service(rospy.resolve_name(client.names[k]), timeout=args.shutdown_timeout)
+                name = rospy.resolve_name(client.names[k])
+                if not _service_registered(name):
+                    # the simulator went down with us (roslaunch stops every node at once): waiting
+                    # --shutdown-timeout for it would only keep roslaunch (and this process) around
+                    rospy.loginfo("Controller Spawner: %s is no longer offered (the simulator has "
+                                  "stopped): nothing to stop or unload" % name)
+                    return
+                rospy.wait_for_service(name, timeout=args.shutdown_timeout)
             # BEST_EFFORT: a controller the simulator already stopped (its model deleted, or another
             # spawner) is not an error at tear-down
             client.switch_controller([], loaded, BEST_EFFORT, False, 0.0)
@@ -175,6 +183,15 @@ def spawner_main(argv=None):
             rospy.logerr("Failed to start controllers: %s" % ", ".join(loaded))
     rospy.spin()
     return 0
+
+
+def _service_registered(name):
+    """Whether the master still lists the service ``name`` (False when the master is gone too)."""
+    try:
+        rosgraph.Master(rospy.get_name()).lookupService(name)
+        return True
+    except (rosgraph.MasterException, OSError):
+        return False
 
 
 def _wait_for_true(topic, timeout):
