@@ -212,6 +212,7 @@ class SensorPlugins(unittest.TestCase):
         self.assertTrue(wait_for(lambda: odom.count >= 5, 60.0))
         # compare at rest: odom is a 50 Hz sample, model_states the pose of the last step, so a
         # falling body would differ by up to 20 ms of its motion between the two
+
         def at_rest():
             t = odom.get().twist.twist
             return max(abs(t.linear.x), abs(t.linear.y), abs(t.linear.z),
