@@ -24,7 +24,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 from visualization_msgs.msg import Marker, MarkerArray
 
 from katana_sim import kinematics as kin
-from katana_sim import waits
+from modrob_sim import waits
 from katana_sim.errors import KatanaError
 from katana_sim.planner import Grip, Move, judge_stack
 

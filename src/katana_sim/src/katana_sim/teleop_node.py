@@ -20,7 +20,7 @@ from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from katana_sim import kinematics as kin
-from katana_sim import waits
+from modrob_sim import waits
 from katana_sim.teleop import TeleopState, help_text
 
 

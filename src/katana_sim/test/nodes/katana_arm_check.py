@@ -24,6 +24,7 @@ from geometry_msgs.msg import PoseArray, PoseStamped
 from katana_sim import kinematics as kin
 from katana_sim.kinematics import JOINTS
 from katana_sim.srv import GetFK, GetIK
+from modrob_sim import waits
 
 TOLERANCE = 0.05  # katana_arm_controller's goal tolerance (rad)
 
@@ -50,11 +51,10 @@ class KatanaArm(unittest.TestCase):
         cls.gripper = actionlib.SimpleActionClient("/gripper_grasp_posture_controller", GripperCommandAction)
         # in wall time: actionlib's timeout is simulated time, which at real_time_factor 0 ran out
         # 0.4 s after start, before the spawner had started the controllers
-        end = time.monotonic() + 60
-        for client, name in ((cls.arm, "/katana_arm_controller/follow_joint_trajectory"),
-                             (cls.gripper, "/gripper_grasp_posture_controller")):
-            while not client.wait_for_server(rospy.Duration(0.1)):
-                assert time.monotonic() < end and not rospy.is_shutdown(), "no %s" % name
+        missing = waits.wait_for_action_servers(
+            ((cls.arm, "/katana_arm_controller/follow_joint_trajectory"),
+             (cls.gripper, "/gripper_grasp_posture_controller")), 60)
+        assert missing is None, "no %s" % missing
         wait_until(lambda: all(j in cls.positions for j in JOINTS + ("katana_r_finger_joint",)), 30,
                    "joint states of the arm and the fingers")
 

@@ -7,6 +7,8 @@ import rospy
 from controller_manager_msgs.srv import ListControllers
 from rosgraph_msgs.msg import Log
 
+from modrob_sim import waits
+
 
 def wait_until(pred, wall_timeout, what, period=0.01):
     start = time.monotonic()
@@ -18,13 +20,10 @@ def wait_until(pred, wall_timeout, what, period=0.01):
 
 
 def wait_for_action_server(client, wall_timeout, what):
-    """``client.wait_for_server`` in wall time: actionlib's timeout is simulated time, which at
-    real_time_factor 0 runs out in a fraction of a wall second (before the spawner has started the
-    controllers). Each call waits at most 0.1 s of simulated time; the loop bounds the wall time."""
-    start = time.monotonic()
-    while not client.wait_for_server(rospy.Duration(0.1)):
-        if time.monotonic() - start >= wall_timeout or rospy.is_shutdown():
-            raise AssertionError("timed out after %.0f s waiting for %s" % (wall_timeout, what))
+    """``client.wait_for_server`` in wall time (modrob_sim.waits): actionlib's timeout is simulated
+    time, which at real_time_factor 0 runs out in a fraction of a wall second."""
+    if waits.wait_for_action_servers(((client, what),), wall_timeout) is not None:
+        raise AssertionError("timed out after %.0f s waiting for %s" % (wall_timeout, what))
 
 
 def command_publisher(topic, cls, timeout=20):

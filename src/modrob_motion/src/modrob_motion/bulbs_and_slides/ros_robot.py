@@ -11,6 +11,7 @@ from gazebo_msgs.msg import ModelStates
 from sensor_msgs.msg import JointState
 
 from modrob_motion.bulbs_and_slides import ScenarioError
+from modrob_sim import waits
 
 
 class WorldMonitor(object):
@@ -260,12 +261,9 @@ class RosArm(object):
             raise ScenarioError("modrob%d: could not switch to %s (see the simulator's log)"
                                 % (self.info.robot_id, base))
         # actionlib's own timeout is simulated time, which at real-time factor 0 runs out at once
-        deadline = time.time() + wall_timeout
-        while not client.wait_for_server(rospy.Duration(0.01)):
-            if rospy.is_shutdown() or time.time() > deadline:
-                raise ScenarioError("modrob%d: %s/follow_joint_trajectory did not answer within %.0f s"
-                                    % (self.info.robot_id, base, wall_timeout))
-            time.sleep(0.02)
+        if waits.wait_for_action_servers(((client, base),), wall_timeout) is not None:
+            raise ScenarioError("modrob%d: %s/follow_joint_trajectory did not answer within %.0f s"
+                                % (self.info.robot_id, base, wall_timeout))
         self.trajectory_client = client
         q = self.measured()
         self.cmd.update(zip(self.info.arm_joints, q))

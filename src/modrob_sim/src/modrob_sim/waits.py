@@ -1,4 +1,4 @@
-"""Waits measured in wall-clock time.
+"""Waits measured in wall-clock time, for clients of the simulator (scenarios, teleops, tests).
 
 With ``use_sim_time`` set, actionlib's ``wait_for_server(timeout)``, ``rospy.sleep`` and
 ``rospy.get_time`` run on the simulator's clock: at ``real_time_factor`` 0 a minute of simulated

@@ -1,7 +1,7 @@
-"""katana_sim.waits: limits in wall time, whatever the simulated clock does."""
+"""modrob_sim.waits: limits in wall time, whatever the simulated clock does."""
 import time
 
-from katana_sim import waits
+from modrob_sim import waits
 
 
 class FakeClient(object):
