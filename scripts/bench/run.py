@@ -38,6 +38,7 @@ SCRIPTS = [("sensors", ["bash", "scripts/bench/sensors.sh"]),
            ("render", ["bash", "scripts/bench/render.sh", "--write", "docs/benchmarks.md"]),
            ("katana_stack", ["bash", "scripts/bench/katana_stack.sh", "10"]),
            ("polaris_lap", ["bash", "scripts/bench/polaris_lap.sh", "10"]),
+           ("ptrz_track", ["bash", "scripts/bench/ptrz_track.sh", "3"]),
            ("bulbs_20_runs", ["bash", "scripts/bench/bulbs_and_slides.sh"]),
            ("spawn_delete_memory", ["bash", "scripts/bench/spawn_delete_memory.sh"])]
 
