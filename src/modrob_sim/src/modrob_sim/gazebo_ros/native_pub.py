@@ -27,7 +27,8 @@ LIBRARY = "libmodrob_roscpp_pub.so"
 LOG = logging.getLogger("modrob_sim.gazebo_ros.native_pub")
 
 _lib = None
-_state = {"tried": False, "ok": False, "reason": "not started", "publish_addr": None}
+_state = {"tried": False, "ok": False, "reason": "not started", "publish_addr": None,
+          "deferred_addr": None}
 _lock = threading.Lock()
 
 
@@ -41,6 +42,10 @@ def _load():
     lib.mrp_advertise.restype = ctypes.c_void_p
     lib.mrp_publish.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_uint32]
     lib.mrp_publish.restype = ctypes.c_int
+    lib.mrp_publish_deferred.argtypes = [ctypes.c_void_p, ctypes.c_char_p, ctypes.c_uint32]
+    lib.mrp_publish_deferred.restype = ctypes.c_int
+    lib.mrp_flush.argtypes = [ctypes.c_void_p]
+    lib.mrp_flush.restype = ctypes.c_int
     lib.mrp_num_subscribers.argtypes = [ctypes.c_void_p]
     lib.mrp_num_subscribers.restype = ctypes.c_int
     lib.mrp_unadvertise.argtypes = [ctypes.c_void_p]
@@ -82,6 +87,7 @@ def start(node_name):
             return False
         _lib = lib
         _state["publish_addr"] = ctypes.cast(lib.mrp_publish, ctypes.c_void_p).value
+        _state["deferred_addr"] = ctypes.cast(lib.mrp_publish_deferred, ctypes.c_void_p).value
         _state["ok"] = True
         _state["reason"] = ""
         atexit.register(stop)
@@ -148,13 +154,21 @@ class NativePublisher(object):
             data = b.getvalue()
         _lib.mrp_publish(h, data[4:], len(data) - 4)
 
-    def native_handle(self):
+    def native_handle(self, deferred=False):
         """(address of mrp_publish, this publisher's handle) for C code that publishes serialised
-        messages itself (the C loop's /clock), or False when it cannot."""
+        messages itself (the states), or False when it cannot. ``deferred``: the address of
+        mrp_publish_deferred instead (the C loop's /clock in a batch of steps), whose messages
+        wait for :meth:`flush` (or the next ``publish``), then leave in order, in fewer writes."""
         h = self._h
         if not h or not _state["ok"]:
             return False
-        return _state["publish_addr"], h
+        return _state["deferred_addr" if deferred else "publish_addr"], h
+
+    def flush(self):
+        """Publish the messages deferred by C code through ``native_handle(deferred=True)``."""
+        h = self._h
+        if h and _state["ok"]:
+            _lib.mrp_flush(h)
 
     def unregister(self):
         h, self._h = self._h, None

@@ -108,7 +108,9 @@ class StatePublishers(object):
         throttled and only rospy can publish it (after_batch does), False when it is due at
         every step and only rospy can publish it (no batch)."""
         native = getattr(self._clock_pub, "native_handle", None)
-        native = native() if native is not None else False
+        # deferred: the batch's /clock messages leave together when it ends (after_batch flushes),
+        # one roscpp hand-off per batch instead of one per step
+        native = native(deferred=True) if native is not None else False
         if not native:
             self._batch_clock = None
             return None if self._clock_period > 0.0 else False
@@ -122,6 +124,7 @@ class StatePublishers(object):
         """After a batch of native steps: the wall-clock schedules (/clock throttled, scene),
         unless the caller runs after_step for the batch's last step (``wall_schedules`` False)."""
         if self._batch_clock is not None:
+            self._clock_pub.flush()
             self._last_clock_wall = self._batch_clock.last
             self._clock_sent_t = self.world.time if self._batch_clock.sent else None
         if not wall_schedules:
