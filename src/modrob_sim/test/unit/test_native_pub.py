@@ -253,3 +253,31 @@ def test_deferred_messages_arrive_complete_in_order_and_latch_the_last(master):
     # what the stalled subscriber got is in order and ends with the last message; the rest was dropped
     # on its full connection, not waited for
     assert out["stalled_in_order"] == "True True True", out
+
+
+def test_a_batchs_clock_is_deferred_and_flushed_when_the_batch_ends():
+    """StatePublishers hands the C loop the deferred entry point for /clock and flushes after the
+    batch (gazebo_ros.fast_steps calls after_batch after every batch), before anything else."""
+    import types
+    from modrob_sim.gazebo_ros.state_publishers import StatePublishers
+    calls = []
+
+    class ClockPub(object):
+        def native_handle(self, deferred=False):
+            calls.append(("handle", deferred))
+            return (1234, 5678)
+
+        def flush(self):
+            calls.append(("flush",))
+
+    out = StatePublishers.__new__(StatePublishers)
+    out.world = types.SimpleNamespace(time=1.5)
+    out._clock_pub = ClockPub()
+    out._clock_period, out._last_clock_wall, out._batch_clock, out._clock_sent_t = 0.0, -1e9, None, None
+    out._scene = types.SimpleNamespace(after_step=lambda t: calls.append(("scene", t)))
+    clock = out.batch_clock()
+    assert (clock.publish, clock.handle, clock.period) == (1234, 5678, 0.0)
+    clock.sent = True
+    out.after_batch()
+    assert calls == [("handle", True), ("flush",), ("scene", 1.5)]
+    assert out._clock_sent_t == 1.5
