@@ -69,8 +69,9 @@ class FastSteps(object):
         elif self._arr is None:
             return 0
         before_due = stop_due = INF
+        t = self.world.time
         for c in controls:
-            p = c.plan()
+            p = c.plan(t)
             if p is None:
                 return 0
             before_due = min(before_due, p[0])

@@ -10,16 +10,17 @@ Python step's (World._step_once), which stays the reference and runs every step 
 anything else; the C loop ends a batch where the World's guard has to look (a flagged step, a
 snapshot step) and this module runs the guard for that step.
 
-Only for worlds whose steps need nothing but the joints' efforts, damping, collide + quickStep and
-the guard: no mimic joints, soft limits, wrenches, anti-gravity groups,
-frozen models or queued efforts (:meth:`Batcher.eligible`); joints that count turns count them
-in C as Joint.track_turns does.
+Only for worlds whose steps need nothing but the joints' efforts, damping, mimic couplings, soft
+limits, collide + quickStep and the guard: no wrenches, anti-gravity groups, frozen models or
+queued efforts (:meth:`Batcher.eligible`); joints that count turns count them in C as
+Joint.track_turns does, mimic joints are driven as Joint.drive_mimic and soft limits moved as
+Joint.update_soft_limits does it.
 """
 import ctypes
 
 from . import native as native_mod
 from . import odelib
-from .model import FORCE_CAP
+from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN
 
 INF = float("inf")
 
@@ -27,7 +28,9 @@ INF = float("inf")
 class BatchJoint(ctypes.Structure):
     """One effort joint of the batch (MrBatchJoint). mode 0: constant effort ``command``; mode 1:
     PID on the position error towards ``command`` (err_kind 0 plain, 1 target clamped to
-    [lower, upper], 2 shortest angle)."""
+    [lower, upper], 2 shortest angle); mode 2: an effort JointTrajectoryController's joint, the
+    desired state from one piece of its trajectory (``traj_kind``, ``coef`` ...: see
+    ros_control.trajectory's ``piece``)."""
     _fields_ = [("joint", ctypes.c_void_p), ("slider", ctypes.c_int), ("mode", ctypes.c_int),
                 ("err_kind", ctypes.c_int), ("has_hw_limit", ctypes.c_int), ("antiwindup", ctypes.c_int),
                 ("turn", ctypes.c_int)] + \
@@ -35,11 +38,27 @@ class BatchJoint(ctypes.Structure):
             "lower", "upper", "hw_limit", "joint_limit", "force_cap", "command",
             "p", "i", "d", "i_max", "i_min",
             "p_error_last", "p_error", "i_error", "d_error", "cmd", "p_term", "i_term", "d_term",
-            "position", "velocity", "effort", "out", "applied")]
+            "position", "velocity", "effort", "out", "applied")] + \
+        [("traj_kind", ctypes.c_int), ("ncoef", ctypes.c_int), ("has_offset", ctypes.c_int),
+         ("coef", ctypes.c_double * 6)] + \
+        [(n, ctypes.c_double)
+         for n in ("seg_t0", "seg_t1", "rel_base", "offset", "ff", "abs_until", "rel_until")]
 
 
 class _Turn(ctypes.Structure):
     _fields_ = [("joint", ctypes.c_void_p), ("last_raw", ctypes.c_double), ("turns", ctypes.c_longlong)]
+
+
+class _Mimic(ctypes.Structure):
+    _fields_ = [("joint", ctypes.c_void_p), ("master", ctypes.c_void_p)] + \
+        [(n, ctypes.c_int)
+         for n in ("slider", "master_slider", "turn", "master_turn", "has_lower", "has_upper")] + \
+        [(n, ctypes.c_double) for n in ("mult", "offset", "lower", "upper", "child_inertia")]
+
+
+class _Soft(ctypes.Structure):
+    _fields_ = [("joint", ctypes.c_void_p), ("turn", ctypes.c_int), ("lower", ctypes.c_double),
+                ("upper", ctypes.c_double)]
 
 
 class _Batch(ctypes.Structure):
@@ -55,7 +74,11 @@ class _Batch(ctypes.Structure):
          ("publish", ctypes.c_void_p), ("clock_handle", ctypes.c_void_p), ("clock_period", ctypes.c_double),
          ("last_clock", ctypes.c_double), ("ncontacts", ctypes.c_int),
          ("guard", ctypes.c_int), ("world_step", ctypes.c_int), ("first_bad", ctypes.c_int),
-         ("after", ctypes.c_int), ("stop_due", ctypes.c_double), ("clock_sent", ctypes.c_int)]
+         ("after", ctypes.c_int), ("stop_due", ctypes.c_double), ("clock_sent", ctypes.c_int),
+         ("nmimic", ctypes.c_int), ("mimics", ctypes.POINTER(_Mimic)), ("nsoft", ctypes.c_int),
+         ("softs", ctypes.POINTER(_Soft))] + \
+        [(n, ctypes.c_int) for n in ("param_vel", "param_fmax", "param_lo_stop", "param_hi_stop")] + \
+        [("mimic_gain", ctypes.c_double), ("mimic_force", ctypes.c_double)]
 
 
 def _declare(lib):
@@ -98,14 +121,28 @@ class Batcher(object):
         self._b = _Batch()
         self._ref = ctypes.byref(self._b)
         self._turn_src = (None, None)   # (the World's turn-tracking joints, the joint array)
+        self._mimic_src = (None, None, None)    # (turn-tracking joints, mimics, soft-limit joints)
+        self._mimics = self._softs = None
+        self._turn_index = {}
         self.last_start = 0.0
         self.after_due = False
         self._turns = None
 
     def eligible(self):
         w = self.world
-        return (w.native and not w._mimics and not w._soft and not w._wrench_links
-                and not w._anti_gravity and not w._frozen and not w._effort_joints)
+        return (w.native and not w._wrench_links and not w._anti_gravity and not w._frozen
+                and not w._effort_joints and self._mimics_and_soft_ok(w))
+
+    @staticmethod
+    def _mimics_and_soft_ok(w):
+        for j, m in w._mimics:
+            if m.ode_joint is None or not (j.is_angular or j.type == "prismatic") or not (
+                    m.is_angular or m.type == "prismatic"):
+                return False
+        for j in w._soft:
+            if not j.is_angular:
+                return False
+        return True
 
     def run(self, n, joints, njoints, physics_joints, before_due, after_due, clock=None, stop_due=INF):
         """Up to ``n`` steps in C; returns the number done (0: the first step is due for Python).
@@ -166,6 +203,10 @@ class Batcher(object):
             turns[u].turns, turns[u].last_raw = j.turn_state
         b.turns = turns
         b.nturns = len(unwrap)
+        if w._mimics or w._soft:
+            self._arrange_mimics_and_soft(unwrap, w._mimics, w._soft)
+        b.mimics, b.nmimic = self._mimics, len(w._mimics)
+        b.softs, b.nsoft = self._softs, len(w._soft)
         k = _RUN(be.ctx, self._ref, int(n))
         if k <= 0:
             return 0
@@ -192,6 +233,35 @@ class Batcher(object):
             if w._frozen:
                 w._hold_frozen()
         return k
+
+    def _arrange_mimics_and_soft(self, unwrap, mimics, soft):
+        """The mimic and soft-limit joints into the batch (the arrays kept while the World's
+        lists are the same; the values refreshed at every batch)."""
+        b = self._b
+        if (self._mimic_src[0] is not unwrap or self._mimic_src[1] is not mimics
+                or self._mimic_src[2] is not soft):
+            self._mimic_src = (unwrap, mimics, soft)
+            self._mimics = (_Mimic * max(1, len(mimics)))()
+            self._softs = (_Soft * max(1, len(soft)))()
+            self._turn_index = {id(j): u for u, j in enumerate(unwrap)}
+        index = self._turn_index
+        for k, (j, m) in enumerate(mimics):
+            e = self._mimics[k]
+            e.joint, e.master = odelib.raw_pointer(j.ode_joint), odelib.raw_pointer(m.ode_joint)
+            e.slider, e.master_slider = (0 if j.is_angular else 1), (0 if m.is_angular else 1)
+            e.turn, e.master_turn = index.get(id(j), -1), index.get(id(m), -1)
+            e.mult, e.offset = j.mimic[1], j.mimic[2]
+            e.has_lower, e.has_upper = int(j.lower is not None), int(j.upper is not None)
+            e.lower = j.lower if j.lower is not None else 0.0
+            e.upper = j.upper if j.upper is not None else 0.0
+            e.child_inertia = j.child_inertia
+        for k, j in enumerate(soft):
+            e = self._softs[k]
+            e.joint, e.turn = odelib.raw_pointer(j.ode_joint), index.get(id(j), -1)
+            e.lower, e.upper = j.lower, j.upper
+        b.param_vel, b.param_fmax = odelib.PARAM_VEL, odelib.PARAM_FMAX
+        b.param_lo_stop, b.param_hi_stop = odelib.PARAM_LO_STOP, odelib.PARAM_HI_STOP
+        b.mimic_gain, b.mimic_force = MIMIC_GAIN, MIMIC_COUPLING_FORCE
 
     def run_after_hooks(self):
         """The World's after-step hooks for the last step of the batch (when ``after_due``: the

@@ -2,14 +2,19 @@
 (modrob_sim.physics.native_batch), for the steps at which nothing of it needs Python.
 
 Natively updated: effort joints driven by effort_controllers/JointPositionController (the PID of
-pid.py, the error of JointResource.position_error) or by effort_controllers/JointEffortController,
-and effort joints without a running controller (their last command). A JointPositionController
-needs a Python update only when its ``state`` message is due and subscribed. The
-joint_state_controller's update at its publish times needs only what that step read: the C loop
-makes the step and ends the batch there, and :meth:`NativeControl.finish` runs the controller's
-update and publishes its message from the step's read, as the Python update would have. Anything
-else (position or velocity joints, other controller types, a ``controlPeriod``) keeps every step
-in Python.
+pid.py, the error of JointResource.position_error), by effort_controllers/JointEffortController
+or by effort_controllers/JointTrajectoryController (the desired state from the piece of its
+trajectory that holds for the batch's steps, trajectory.Piece, evaluated in C as
+trajectory.Segment samples it; its PIDs with the velocity error and velocity_ff), and effort
+joints without a running controller (their last command). A JointPositionController needs a
+Python update only when its ``state`` message is due and subscribed; a trajectory controller
+when a goal or command waits in its adapter, while its goal has path tolerances and from its
+trajectory's end until the goal's outcome. The joint_state_controller's update at its publish
+times, and a trajectory controller's state sample and action feedback, need only what that
+step read: the C loop makes the step and ends the batch there, and :meth:`NativeControl.finish`
+takes the samples and publishes them from the step's read, as the Python update would have.
+Anything else (position or velocity joints, other controller types, a ``controlPeriod``) keeps
+every step in Python.
 
 Python stays the reference: before a batch the controllers' state (PID gains and errors, commands,
 the applied efforts) goes into the batch's joints; after it, what the updates did comes back
@@ -24,6 +29,8 @@ from modrob_sim.ros_control.controllers.effort_joint_position import EffortJoint
 from modrob_sim.ros_control.controllers.effort_joint_position import STATE_DECIMATION
 from modrob_sim.ros_control.controllers.forward_command import EffortJointEffortController
 from modrob_sim.ros_control.controllers.joint_state import JointStateController
+from modrob_sim.ros_control.controllers.joint_trajectory import EffortJointTrajectoryController
+from modrob_sim.ros_control.trajectory import HOLD
 from modrob_sim.ros_control.transmissions import EFFORT
 
 INF = float("inf")
@@ -39,8 +46,11 @@ class NativeControl(object):
         self._pid = []          # (index, controller, state adapter or None)
         self._forward = []      # (index, controller)
         self._idle = []         # (index, JointResource): no running controller
+        self._traj = []         # (controller, adapter, [indices]): effort trajectory controllers
+        self._pieces = {}       # controller name -> (trajectory, Piece, time) last put into the batch
         self._res = []          # (index, JointResource), every joint
         self._jsc = []
+        self._sampled = []
         self._mirrored = []
 
     def key(self):
@@ -63,7 +73,8 @@ class NativeControl(object):
                 return None
         for c in mgr.controllers.values():
             if c.state == "running" and type(c) not in (JointStateController, EffortJointPositionController,
-                                                        EffortJointEffortController):
+                                                        EffortJointEffortController,
+                                                        EffortJointTrajectoryController):
                 return None
         return len(hw.order), [hw.joints[n].sim for n in hw.order]
 
@@ -74,16 +85,26 @@ class NativeControl(object):
         hw, mgr = p.hw, p.manager
         owner = {}
         jsc = []
+        traj = {}
         for c in mgr.controllers.values():
             if c.state != "running":
                 continue
             if isinstance(c, JointStateController):
                 jsc.append(c)
+            elif isinstance(c, EffortJointTrajectoryController):
+                traj[c.name] = (c, p.adapters.get(c.name), [])
+                for k, j in enumerate(c.joints):
+                    owner[j.name] = (c, k)
             else:
                 owner[c.joint.name] = c
         self._arr, self._off = arr, offset
         self._jsc = [(c, p.adapters.get(c.name)) for c in jsc]
+        # the controllers whose samples finish() hands to their adapters, in the adapters' order
+        order = {name: k for k, name in enumerate(p.adapters)}
+        self._sampled = sorted(self._jsc + [(c, a) for c, a, _j in traj.values()],
+                               key=lambda ca: order.get(ca[0].name, len(order)))
         self._pid, self._forward, self._idle, self._res = [], [], [], []
+        self._pieces = {}
         for k, name in enumerate(hw.order):
             idx = offset + k
             res = hw.joints[name]
@@ -99,6 +120,13 @@ class NativeControl(object):
                 e.err_kind = 0
             self._res.append((idx, res))
             c = owner.get(name)
+            if isinstance(c, tuple):            # a trajectory controller's joint
+                c, k = c
+                e.mode = 2
+                e.err_kind = 2 if res.type == "continuous" else 0
+                e.ff = c.velocity_ff[k]
+                traj[c.name][2].append((idx, k))
+                continue
             if isinstance(c, EffortJointPositionController):
                 e.mode = 1
                 adapter = p.adapters.get(c.name)
@@ -112,6 +140,7 @@ class NativeControl(object):
             if c is not None:
                 c.command.mirror(e)
                 self._mirrored.append(c)
+        self._traj = list(traj.values())
         self.count = len(hw.order)
 
     def detach(self):
@@ -119,14 +148,19 @@ class NativeControl(object):
             c.command.mirror(None)
         self._mirrored = []
 
-    def plan(self):
-        """Before a batch: the controllers' state into the batch joints. Returns (time before
-        which the batch must stop, most steps, time from which a step ends the batch once made),
-        or None when the next update needs Python."""
+    def plan(self, t):
+        """Before a batch whose first step starts at ``t``: the controllers' state into the batch
+        joints. Returns (time before which the batch must stop, most steps, time from which a
+        step ends the batch once made), or None when the next update needs Python."""
         arr = self._arr
         steps = 1 << 30
         due = INF
         stop = INF
+        for c, adapter, joints in self._traj:
+            d = self._plan_trajectory(c, adapter, joints, t)
+            if d is None:
+                return None
+            due, stop = min(due, d[0]), min(stop, d[1])
         for c, _a in self._jsc:
             if c._last_publish is None:
                 return None
@@ -168,13 +202,83 @@ class NativeControl(object):
             c.last_effort = c.joint.command = e.out
         for idx, c in self._forward:
             c.joint.command = arr[idx].out
+        for c, _adapter, joints in self._traj:
+            for idx, k in joints:
+                e = arr[idx]
+                pid = c.pids[k]
+                pid.p_error_last, pid.p_error, pid.i_error, pid.d_error, pid.cmd = (
+                    e.p_error_last, e.p_error, e.i_error, e.d_error, e.cmd)
+                pid.terms = (e.p_term, e.i_term, e.d_term)
+                c.joints[k].command = e.out
         for idx, res in self._res:
             e = arr[idx]
             res.position, res.velocity, res.effort = e.position, e.velocity, e.effort
-        # a joint_state_controller due at the last step's start: its update from that step's read
-        # (res above), then its adapter publishes, as in GazeboRosControlPlugin.before_step
-        for c, adapter in self._jsc:
-            if t_last >= c._last_publish + 1.0 / c.publish_rate - 1e-9:
+        # what was due at the last step's start, from that step's read (res above), then the
+        # adapters publish, in their order, as in GazeboRosControlPlugin.before_step: a
+        # joint_state_controller's update, the trajectory controllers' state samples and feedback
+        for c, adapter in self._sampled:
+            if isinstance(c, JointStateController):
+                if t_last < c._last_publish + 1.0 / c.publish_rate - 1e-9:
+                    continue
                 c.update(t_last, dt)
-                if adapter is not None:
-                    adapter.after_update(t_last)
+            else:
+                due = c.samples_due(t_last)
+                c.native_update_done(t_last)
+                if not due:
+                    continue
+            if adapter is not None:
+                adapter.after_update(t_last)
+
+    def _plan_trajectory(self, c, adapter, joints, t):
+        """An effort JointTrajectoryController's state into its batch joints for steps from ``t``
+        on; returns (the time before which the batch must stop: its goal's check at the
+        trajectory's end, the time from which a step ends the batch once made: its state sample
+        or action feedback is due, as JointTrajectoryControllerBase.update decides it), or None
+        when the update at ``t`` needs Python: a goal or command waiting in the adapter, a goal
+        with path tolerances (checked at every update) or past its trajectory's end."""
+        traj, goal = c.trajectory, c.goal
+        if traj is None or c._next_state is None or (adapter is not None and adapter.inbox):
+            return None
+        due = INF
+        stop = c._next_state - 1e-9
+        if goal is not None:
+            if c._next_feedback is None or t >= goal.end_time:
+                return None
+            for tol in goal.path:
+                if tol.position > 0.0 or tol.velocity > 0.0:
+                    return None
+            due = goal.end_time
+            stop = min(stop, c._next_feedback - 1e-9)
+        arr = self._arr
+        last = self._pieces.get(c.name)
+        if (last is None or last[0] is not traj or t < last[2]
+                or not (t < last[1].abs_until and t - last[1].base < last[1].rel_until)):
+            piece = traj.piece(t)
+            self._pieces[c.name] = (traj, piece, t)
+            seg, off = piece.segment, piece.offsets
+            for idx, k in joints:
+                e = arr[idx]
+                e.traj_kind = piece.kind
+                if piece.kind == HOLD:
+                    e.ncoef = 1
+                    e.coef[0] = piece.positions[k]
+                else:
+                    coeffs = seg.coeffs[k]
+                    e.ncoef = len(coeffs)
+                    for m, v in enumerate(coeffs):
+                        e.coef[m] = v
+                    e.seg_t0, e.seg_t1 = seg.t0, seg.t1
+                e.rel_base = piece.base
+                e.has_offset = 0 if off is None else 1
+                e.offset = 0.0 if off is None else off[k]
+                e.abs_until, e.rel_until = piece.abs_until, piece.rel_until
+        for idx, k in joints:
+            e = arr[idx]
+            pid = c.pids[k]
+            g = pid.gains
+            e.p, e.i, e.d, e.i_max, e.i_min = g.p, g.i, g.d, g.i_max, g.i_min
+            e.antiwindup = int(g.antiwindup)
+            e.p_error_last, e.p_error, e.i_error = pid.p_error_last, pid.p_error, pid.i_error
+            e.d_error, e.cmd = pid.d_error, pid.cmd
+            e.p_term, e.i_term, e.d_term = pid.terms
+        return due, stop

@@ -146,7 +146,10 @@ def _points_from_msg(points):
 
 class TrajectoryAdapter(Adapter):
     """``command`` (trajectory_msgs/JointTrajectory), ``state`` (JointTrajectoryControllerState),
-    ``follow_joint_trajectory`` (control_msgs/FollowJointTrajectory action), ``query_state``."""
+    ``follow_joint_trajectory`` (control_msgs/FollowJointTrajectory action), ``query_state``.
+    NATIVE: before_update has work only with something in ``inbox`` (native_control then runs the
+    update in Python), after_update only after a Python update (events, feedback, state)."""
+    NATIVE = True
 
     def __init__(self, plugin, controller):
         super(TrajectoryAdapter, self).__init__(plugin, controller)

@@ -10,6 +10,24 @@ relative to the trajectory's start; pure, any thread, O(points)) and
 (O(joints) plus a bisection, in the loop thread). Sampling is a bisection, not a scan."""
 import bisect
 
+INF = float("inf")
+#: Piece kinds: a segment's polynomial in absolute time, in time relative to ``base``, or a hold
+ABSOLUTE, RELATIVE, HOLD = 0, 1, 2
+
+
+class Piece(object):
+    """What ``sample`` does from time ``t`` on, for as long as the same branch of it holds (the C
+    loop's batches evaluate it: ros_control.native_control): for a step starting at t' with
+    t' < ``abs_until`` and t' - ``base`` < ``rel_until`` (the same float operations as sample's
+    own tests), sample(t') is ``segment.sample(t')`` (ABSOLUTE), ``segment.sample(t' - base)``
+    plus ``offsets`` when not None (RELATIVE), or ``positions`` with zero velocity (HOLD)."""
+    __slots__ = ("kind", "segment", "base", "offsets", "positions", "abs_until", "rel_until")
+
+    def __init__(self, kind, segment=None, base=0.0, offsets=None, positions=None, abs_until=INF,
+                 rel_until=INF):
+        self.kind, self.segment, self.base, self.offsets = kind, segment, base, offsets
+        self.positions, self.abs_until, self.rel_until = positions, abs_until, rel_until
+
 
 class State(object):
     __slots__ = ("positions", "velocities", "accelerations")
@@ -96,6 +114,13 @@ class Trajectory(object):
         i = bisect.bisect_right(self._ends, t)
         return self.segments[min(i, len(self.segments) - 1)].sample(t)
 
+    def piece(self, t):
+        """The Piece of sample() from ``t`` on."""
+        if not self.segments or t >= self.end_time:
+            return Piece(HOLD, positions=self.final.positions)
+        seg = self.segments[min(bisect.bisect_right(self._ends, t), len(self.segments) - 1)]
+        return Piece(ABSOLUTE, seg, abs_until=seg.t1)
+
 
 class PreparedTrajectory(object):
     """The segments between consecutive ``states`` at relative ``times`` (strictly increasing),
@@ -163,6 +188,18 @@ class _PlacedTrajectory(object):
         if self._off is not None:
             pos = [p + o for p, o in zip(pos, self._off)]
         return pos, vel, acc
+
+    def piece(self, t):
+        """The Piece of sample() from ``t`` on."""
+        if t >= self.end_time:
+            return Piece(HOLD, positions=self.final.positions)
+        if t < self._first.t1:
+            return Piece(ABSOLUTE, self._first, abs_until=min(self._first.t1, self.end_time))
+        rel = t - self._start
+        n = len(self._segments)
+        i = min(max(bisect.bisect_right(self._times, rel, self._k) - 1, self._k), n - 1)
+        return Piece(RELATIVE, self._segments[i], self._start, self._off, abs_until=self.end_time,
+                     rel_until=self._times[i + 1] if i + 1 < n else INF)
 
 
 def hold_trajectory(t, positions, velocities=None, stop_duration=0.0):

@@ -653,12 +653,14 @@ double mr_max_depth(dGeomID a, dGeomID b)
 /* ---- batched steps with native effort controllers ------------------------------------------
  * Several whole steps in one call, for the stretches in which no Python hook is due (the /gazebo
  * node decides that: modrob_sim.physics.native_batch). Each step does what World._step_once
- * does for a world without mimics, soft limits, wrenches, anti-gravity groups or frozen models,
+ * does for a world without wrenches, anti-gravity groups or frozen models,
  * with the ros_control effort joints of MrBatchJoint and the turn counts of MrBatchTurn:
  *   before: per joint, hw read (position, velocity, the effort applied in the previous step),
- *           the controller (PID on the position error, or a constant effort command),
+ *           the controller (PID on the position error, a trajectory's PID, or a constant effort
+ *           command),
  *           RobotHWSim.write's clamp, Joint.set_effort's clamp, the torque or force applied;
- *   explicit damping, collide + quickStep or dWorldStep with the guard's velocity scan
+ *   explicit damping, the mimic joints' couplings and the soft limits' stops (MrBatchMimic,
+ *   MrBatchSoft), collide + quickStep or dWorldStep with the guard's velocity scan
  *   (mr_step_checked), time and iteration count;
  *   /clock (8 bytes: secs, nsecs, as rospy serialises rosgraph_msgs/Clock) through `publish`, at
  *   every step or throttled to a wall-clock period as StatePublishers.after_step does, also at
@@ -671,7 +673,7 @@ double mr_max_depth(dGeomID a, dGeomID b)
 typedef struct {
     dJointID joint;
     int slider;          /* 0 hinge, 1 slider */
-    int mode;            /* 0 constant effort command, 1 PID on the position error */
+    int mode;            /* 0 constant effort command, 1 PID on the position error, 2 trajectory */
     int err_kind;        /* 0 target - position, 1 target clamped to [lower, upper], 2 shortest angle */
     int has_hw_limit;    /* RobotHWSim.clamp_effort applies hw_limit */
     int antiwindup;
@@ -683,6 +685,16 @@ typedef struct {
     double position, velocity, effort;   /* what the last update read */
     double out;          /* the controller's command of the last update (joint.command) */
     double applied;      /* the effort applied in the last step (Joint.effort) */
+    /* mode 2: a joint of an effort JointTrajectoryController (controllers/joint_trajectory.py):
+     * the desired position and velocity from one piece of its trajectory (trajectory.py, Piece),
+     * PID on (desired - actual, desired velocity - actual velocity) plus velocity_ff * desired
+     * velocity. The piece is valid for steps starting at t < abs_until with t - rel_base <
+     * rel_until; a step outside it ends the batch before it starts (Python places the next). */
+    int traj_kind;       /* 0 polynomial in t, 1 polynomial in t - rel_base, 2 hold coef[0] */
+    int ncoef;           /* 1..6 */
+    int has_offset;      /* add `offset` to the polynomial's position */
+    double coef[6];
+    double seg_t0, seg_t1, rel_base, offset, ff, abs_until, rel_until;
 } MrBatchJoint;
 
 typedef struct {
@@ -690,6 +702,21 @@ typedef struct {
     double last_raw;
     long long turns;
 } MrBatchTurn;
+
+/* a mimic joint (Joint.drive_mimic) and its master; positions as Joint.position: the raw angle
+ * plus 2 pi times the turns counted in the batch's MrBatchTurn `turn` (-1: none counted) */
+typedef struct {
+    dJointID joint, master;
+    int slider, master_slider, turn, master_turn, has_lower, has_upper;
+    double mult, offset, lower, upper, child_inertia;
+} MrBatchMimic;
+
+/* a revolute joint with limits beyond +-pi (Joint.update_soft_limits) */
+typedef struct {
+    dJointID joint;
+    int turn;
+    double lower, upper;
+} MrBatchSoft;
 
 typedef int (*mr_publish_fn)(void *handle, const uint8_t *data, uint32_t size);
 
@@ -727,6 +754,12 @@ typedef struct {
     double stop_due;     /* a step that starts at t >= stop_due ends the batch once made (Python
                           * then does what was due at its start from what the step read) */
     int clock_sent;      /* out: 1 when /clock went out after the last step */
+    int nmimic;
+    MrBatchMimic *mimics;
+    int nsoft;
+    MrBatchSoft *softs;
+    int param_vel, param_fmax, param_lo_stop, param_hi_stop;   /* odelib.PARAM_* of this libode */
+    double mimic_gain, mimic_force;                           /* MIMIC_GAIN, MIMIC_COUPLING_FORCE */
 } MrBatch;
 
 #define MR_TWO_PI 6.283185307179586
@@ -745,14 +778,10 @@ static inline double mr_clamp(double x, double lo, double hi)
     return hi < v ? hi : v;
 }
 
-/* Pid.compute(error, dt) */
-static double mr_pid(MrBatchJoint *j, double error, double dt)
+/* Pid.compute(error, dt, error_dot) past its checks */
+static double mr_pid_terms(MrBatchJoint *j, double error, double error_dot, double dt)
 {
-    double error_dot, i_term;
-    if (dt <= 0.0 || !isfinite(error)) return 0.0;
-    error_dot = (error - j->p_error_last) / dt;
-    j->p_error_last = error;
-    if (!isfinite(error_dot)) return 0.0;
+    double i_term;
     j->p_error = error;
     j->d_error = error_dot;
     j->p_term = j->p * error;
@@ -768,6 +797,48 @@ static double mr_pid(MrBatchJoint *j, double error, double dt)
     j->d_term = j->d * error_dot;
     j->cmd = j->p_term + i_term + j->d_term;
     return j->cmd;
+}
+
+/* Pid.compute(error, dt) */
+static double mr_pid(MrBatchJoint *j, double error, double dt)
+{
+    double error_dot;
+    if (dt <= 0.0 || !isfinite(error)) return 0.0;
+    error_dot = (error - j->p_error_last) / dt;
+    j->p_error_last = error;
+    if (!isfinite(error_dot)) return 0.0;
+    return mr_pid_terms(j, error, error_dot, dt);
+}
+
+/* Pid.compute(error, dt, error_dot) */
+static double mr_pid_dot(MrBatchJoint *j, double error, double error_dot, double dt)
+{
+    if (dt <= 0.0 || !isfinite(error)) return 0.0;
+    if (!isfinite(error_dot)) return 0.0;
+    return mr_pid_terms(j, error, error_dot, dt);
+}
+
+/* The trajectory's desired position and velocity at t (trajectory.py: Segment.sample's clamp of
+ * t to the segment and _eval's sums of ck * s ** k in the same order; Python's float ** int is
+ * C's pow) */
+static void mr_traj_sample(const MrBatchJoint *j, double t, double *pos, double *vel)
+{
+    double tt, s, lo, p = 0.0, v = 0.0;
+    int k;
+    if (j->traj_kind == 2) {
+        *pos = j->coef[0];
+        *vel = 0.0;
+        return;
+    }
+    tt = j->traj_kind == 1 ? t - j->rel_base : t;
+    lo = j->seg_t0 > tt ? j->seg_t0 : tt;                     /* min(max(t, t0), t1) - t0 */
+    s = (j->seg_t1 < lo ? j->seg_t1 : lo) - j->seg_t0;
+    for (k = 0; k < j->ncoef; ++k) {
+        p += j->coef[k] * pow(s, (double)k);
+        if (k >= 1) v += (double)k * j->coef[k] * pow(s, (double)(k - 1));
+    }
+    *pos = j->has_offset ? p + j->offset : p;
+    *vel = v;
 }
 
 static void mr_batch_controllers(MrBatch *b)
@@ -792,6 +863,11 @@ static void mr_batch_controllers(MrBatch *b)
             else if (j->err_kind == 1) error = mr_clamp(target, j->lower, j->upper) - j->position;
             else error = target - j->position;
             f = mr_pid(j, error, b->dt);
+        } else if (j->mode == 2) {
+            double dpos, dvel, error;
+            mr_traj_sample(j, b->time, &dpos, &dvel);
+            error = j->err_kind == 2 ? mr_shortest_angle(j->position, dpos) : dpos - j->position;
+            f = mr_pid_dot(j, error, dvel - j->velocity, b->dt) + j->ff * dvel;
         } else {
             f = *command;
         }
@@ -841,6 +917,57 @@ static void mr_batch_track_turns(MrBatch *b)
     }
 }
 
+static double mr_batch_position(const MrBatch *b, dJointID j, int slider, int turn)
+{
+    if (slider) return dJointGetSliderPosition(j);
+    return dJointGetHingeAngle(j) + MR_TWO_PI * (double)(turn >= 0 ? b->turns[turn].turns : 0);
+}
+
+static void mr_set_param(dJointID j, int slider, int param, double v)
+{
+    if (slider) dJointSetSliderParam(j, param, v);
+    else dJointSetHingeParam(j, param, v);
+}
+
+/* World._apply_forces after the damping: Joint.drive_mimic of every mimic joint, then
+ * Joint.update_soft_limits of every joint with limits beyond +-pi */
+static void mr_batch_mimics_and_soft_limits(MrBatch *b)
+{
+    int k;
+    for (k = 0; k < b->nmimic; ++k) {
+        const MrBatchMimic *m = &b->mimics[k];
+        double q = mr_batch_position(b, m->joint, m->slider, m->turn);
+        double qm = mr_batch_position(b, m->master, m->master_slider, m->master_turn);
+        double v = b->mimic_gain * (qm * m->mult + m->offset - q) / b->dt;
+        double fmax = b->mimic_force;
+        if ((m->has_lower && q <= m->lower) || (m->has_upper && q >= m->upper)) {
+            double vel = m->slider ? dJointGetSliderPositionRate(m->joint) : dJointGetHingeAngleRate(m->joint);
+            double f = m->child_inertia * fabs(v - vel) / b->dt;
+            if (f < fmax) fmax = f;                               /* min(fmax, f) */
+        }
+        mr_set_param(m->joint, m->slider, b->param_vel, v);
+        mr_set_param(m->joint, m->slider, b->param_fmax, fmax);
+    }
+    for (k = 0; k < b->nsoft; ++k) {
+        const MrBatchSoft *u = &b->softs[k];
+        double turns = MR_TWO_PI * (double)(u->turn >= 0 ? b->turns[u->turn].turns : 0);
+        double lo = u->lower - turns, hi = u->upper - turns;
+        dJointSetHingeParam(u->joint, b->param_lo_stop, lo > -3.141592653589793 ? lo : -dInfinity);
+        dJointSetHingeParam(u->joint, b->param_hi_stop, hi < 3.141592653589793 ? hi : dInfinity);
+    }
+}
+
+/* 1 when a trajectory joint's piece does not hold for a step starting at t */
+static int mr_batch_pieces_end(const MrBatch *b, double t)
+{
+    int k;
+    for (k = 0; k < b->njoints; ++k) {
+        const MrBatchJoint *j = &b->joints[k];
+        if (j->mode == 2 && (t >= j->abs_until || t - j->rel_base >= j->rel_until)) return 1;
+    }
+    return 0;
+}
+
 /* Up to n steps; returns the number done (0 when the first step is due for Python). */
 int mr_run_batch(MrCtx *c, MrBatch *b, int n)
 {
@@ -850,10 +977,11 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
     for (k = 0; k < n; ++k) {
         double t = b->time, tn = t + b->dt;
         int after = tn + 1e-12 >= b->after_due;
-        if (t >= b->before_due) break;
+        if (t >= b->before_due || mr_batch_pieces_end(b, t)) break;
         b->last_start = t;
         mr_batch_controllers(b);
         if (b->ndamp) mr_apply_damping(b->damp_joints, b->damp_kinds, b->damp_coef, b->ndamp);
+        if (b->nmimic || b->nsoft) mr_batch_mimics_and_soft_limits(b);
         b->ncontacts = mr_step_checked(c, b->dt, b->gx, b->gy, b->gz, b->layer, b->max_contacts, b->world_step,
                                        b->bodies, b->nbodies, b->vmax2, b->wmax2, &b->first_bad);
         b->iterations += 1;

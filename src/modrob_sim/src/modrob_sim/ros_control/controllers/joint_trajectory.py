@@ -103,12 +103,27 @@ class JointTrajectoryControllerBase(Controller):
         self.goal = None
         self.events = []
         self.pending_feedback = None
-        self.desired = ([0.0] * self.n, [0.0] * self.n, [0.0] * self.n)
+        self._desired = ([0.0] * self.n, [0.0] * self.n, [0.0] * self.n)
+        self._desired_t = None
         self._next_state = None
         self._next_feedback = None
         self._now = 0.0
 
     # -- state -----------------------------------------------------------------------------
+    @property
+    def desired(self):
+        """(positions, velocities, accelerations) the last update commanded."""
+        if self._desired_t is not None:
+            traj, t = self._desired_t
+            self._desired = traj.sample(t)
+            self._desired_t = None
+        return self._desired
+
+    def desired_at(self, t):
+        """The last update ran in the C loop at ``t`` (ros_control.native_control): ``desired``
+        samples the trajectory it followed there when asked."""
+        self._desired_t = (self.trajectory, t)
+
     def _actual(self):
         return [j.position for j in self.joints], [j.velocity for j in self.joints]
 
@@ -294,11 +309,34 @@ class JointTrajectoryControllerBase(Controller):
         if self.trajectory is None:
             self._hold(t)
         dpos, dvel, dacc = self.trajectory.sample(t)
-        self.desired = (dpos, dvel, dacc)
+        self._desired = (dpos, dvel, dacc)
+        self._desired_t = None
         epos, evel = self._errors(dpos, dvel)
         self._write(dpos, dvel, epos, evel, dt)
         if self.goal is not None:
             self._check_goal(t, epos, evel)
+        self._samples(t, dpos, dvel, dacc, epos, evel)
+
+    def samples_due(self, t):
+        """True when the update at ``t`` leaves a state sample or action feedback."""
+        if self._next_state is None or t >= self._next_state - 1e-9:
+            return True
+        return self.goal is not None and (self._next_feedback is None or t >= self._next_feedback - 1e-9)
+
+    def native_update_done(self, t):
+        """The update at ``t`` ran in the C loop (ros_control.native_control) from the joints'
+        read of that step, now in ``joints``: what it leaves for the ROS layer, as update()."""
+        self._now = t
+        if not self.samples_due(t):
+            self.desired_at(t)
+            return
+        dpos, dvel, dacc = self.trajectory.sample(t)
+        self._desired = (dpos, dvel, dacc)
+        self._desired_t = None
+        epos, evel = self._errors(dpos, dvel)
+        self._samples(t, dpos, dvel, dacc, epos, evel)
+
+    def _samples(self, t, dpos, dvel, dacc, epos, evel):
         if self._next_state is None or t >= self._next_state - 1e-9:
             self._next_state = (self._next_state or t) + 1.0 / self.state_publish_rate
             if self._next_state < t:

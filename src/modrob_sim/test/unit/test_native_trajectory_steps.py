@@ -1,0 +1,274 @@
+"""An effort JointTrajectoryController in the C loop's batches (ros_control.native_control, mode 2
+of physics.native_batch): the steps, PID internals, goal outcomes, state and feedback samples are
+those of the Python path bit for bit, through goals of every spline order (linear, cubic,
+quintic), a continuous joint taking the short way, a partial goal, a goal with path tolerances
+(every update in Python), a preemption, a cancel that decelerates over stop_trajectory_duration
+and goals past their end (their goal checks in Python); and most steps do run in the batches.
+Also: Trajectory.piece describes sample() exactly over the times it claims."""
+import collections
+import math
+import os
+import random
+import types
+
+import pytest
+
+from modrob_sim.gazebo_ros.fast_steps import FastSteps
+from modrob_sim.physics import native_batch
+from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
+from modrob_sim.ros_control.hardware import RobotHWSim
+from modrob_sim.ros_control.manager import STRICT, ControllerManager
+from modrob_sim.ros_control.native_control import NativeControl
+from modrob_sim.ros_control.trajectory import ABSOLUTE, HOLD, RELATIVE, PreparedTrajectory, State
+from modrob_sim.ros_control.transmissions import parse_transmissions
+
+physics = pytest.importorskip("modrob_sim.physics")
+FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
+JOINTS = ["yaw", "shoulder", "elbow"]
+needs_c = pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+
+
+class Rig(object):
+    """The 3-joint effort arm (yaw continuous) with a joint_state_controller and an effort
+    trajectory controller; the adapter records what the ROS layer would publish."""
+
+    def __init__(self, fast, gripper=False):
+        with open(os.path.join(FIX, "arm_3dof.urdf")) as f:
+            xml = f.read().replace("PositionJointInterface", "EffortJointInterface")
+        if gripper:     # yaw with limits beyond +-pi (soft limits), two fingers, one a mimic
+            xml = xml.replace('<limit lower="-3" upper="3" effort="50"',
+                              '<limit lower="-4.5" upper="4.5" effort="50"')
+            xml = xml.replace("</robot>", GRIPPER + "</robot>")
+        else:
+            xml = xml.replace('name="yaw" type="revolute"', 'name="yaw" type="continuous"')
+        self.world = physics.World(time_step=0.001)
+        self.model = self.world.add_urdf("arm", xml)
+        self.hw = RobotHWSim(self.model.joints, parse_transmissions(self.model.source_xml))
+        self.mgr = ControllerManager(self.hw, "/arm")
+        self.plugin = types.SimpleNamespace(config=types.SimpleNamespace(control_period=None), hw=self.hw,
+                                            manager=self.mgr, adapters={}, _last_update=None)
+        self.log = []
+        self.jsc = self.mgr.load("jsc", {"type": "joint_state_controller/JointStateController",
+                                         "publish_rate": 50})
+        gains = {"yaw": {"p": 80.0, "i": 30.0, "d": 4.0, "i_clamp": 5.0, "antiwindup": True},
+                 "shoulder": {"p": 200.0, "i": 50.0, "d": 10.0, "i_clamp": 8.0},
+                 "elbow": {"p": 120.0, "d": 6.0}}
+        self.jtc = self.mgr.load("arm_controller", {
+            "type": "effort_controllers/JointTrajectoryController", "joints": JOINTS, "gains": gains,
+            "velocity_ff": {"shoulder": 0.5}, "stop_trajectory_duration": 0.15,
+            "state_publish_rate": 25.0, "action_monitor_rate": 10.0, "allow_partial_joints_goal": True,
+            "constraints": {"goal_time": 0.5, "stopped_velocity_tolerance": 0.2, "elbow": {"goal": 0.05}}})
+        self.plugin.adapters["jsc"] = types.SimpleNamespace(NATIVE=True, after_update=self.jsc_after_update)
+        if gripper:
+            self.finger = self.mgr.load("finger", {"type": "effort_controllers/JointPositionController",
+                                                   "joint": "finger1", "pid": {"p": 400.0, "d": 2.0}})
+            self.plugin.adapters["finger"] = types.SimpleNamespace(NATIVE=True, after_update=lambda t: None)
+            assert self.mgr.switch(["finger"], [], STRICT)[0]
+        self.inbox = collections.deque()
+        self.plugin.adapters["arm_controller"] = types.SimpleNamespace(
+            NATIVE=True, inbox=self.inbox, before_update=self.jtc_before_update,
+            after_update=self.jtc_after_update)
+        assert self.mgr.switch(["jsc", "arm_controller"], [], STRICT)[0]
+        self.world.add_step_hook(before=self.before)
+        self.fast = None
+        if fast:
+            self.nc = NativeControl(self.plugin)
+            host = types.SimpleNamespace(native_controls=lambda: (self.nc,))
+            outputs = types.SimpleNamespace(batch_after_due=lambda: float("inf"), batch_clock=lambda: None,
+                                            after_batch=lambda **_kw: None)
+            self.fast = FastSteps(self.world, host, types.SimpleNamespace(idle=True), outputs)
+
+    def before(self, t, dt):
+        # as GazeboRosControlPlugin.before_step
+        self.plugin._last_update = t
+        for a in self.plugin.adapters.values():
+            getattr(a, "before_update", lambda t: None)(t)
+        self.mgr.update(t, dt)
+        for a in self.plugin.adapters.values():
+            a.after_update(t)
+
+    def jtc_before_update(self, t):
+        while self.inbox:
+            kind, args = self.inbox.popleft()
+            if kind == "goal":
+                self.log.append(("submit", t, self.jtc.submit(*args[:2], start_time=0.0, now=t, **args[2])))
+            else:
+                self.log.append(("cancel", t, self.jtc.cancel(args, t)))
+
+    def jtc_after_update(self, t):
+        c = self.jtc
+        self.log.extend(("event", t) + e for e in c.events)
+        del c.events[:]
+        fb, c.pending_feedback = c.pending_feedback, None
+        if fb is not None:
+            self.log.append(("feedback", t, fb))
+        data, c.pending = c.pending, None
+        if data is not None:
+            self.log.append(("state", t, data))
+
+    def jsc_after_update(self, t):
+        data, self.jsc.pending = self.jsc.pending, None
+        if data is not None:
+            self.log.append(("joint_states", t, data))
+
+    def step(self, n):
+        (self.fast.step if self.fast else self.world.step)(n)
+
+    def snapshot(self):
+        c = self.jtc
+        pids = [(p.p_error_last, p.p_error, p.i_error, p.d_error, p.cmd, p.terms) for p in c.pids]
+        hw = [(r.position, r.velocity, r.effort, r.command) for r in self.hw.joints.values()]
+        return (self.world.time, self.world.iterations, self.world.state_digest(), pids, hw, self.mgr.time,
+                c.desired, c._now, c._next_state, c._next_feedback, c.goal and c.goal.goal_id)
+
+
+INERTIA = '<inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/>'
+FINGER_LINK = ('<link name="%s"><inertial><mass value="0.05"/>' + INERTIA + '</inertial>'
+               '<collision><geometry><box size="0.01 0.01 0.03"/></geometry></collision></link>')
+GRIPPER = (FINGER_LINK % "f1") + (FINGER_LINK % "f2") + """
+  <joint name="finger1" type="prismatic"><parent link="l3"/><child link="f1"/><origin xyz="0.3 0.03 0"/>
+    <axis xyz="0 1 0"/><limit lower="0" upper="0.03" effort="20" velocity="0.5"/></joint>
+  <joint name="finger2" type="prismatic"><parent link="l3"/><child link="f2"/><origin xyz="0.3 -0.03 0"/>
+    <axis xyz="0 -1 0"/><limit lower="0" upper="0.03" effort="20" velocity="0.5"/>
+    <mimic joint="finger1" multiplier="1" offset="0.002"/></joint>
+  <transmission name="finger1_trans">
+    <type>transmission_interface/SimpleTransmission</type>
+    <joint name="finger1">
+      <hardwareInterface>hardware_interface/EffortJointInterface</hardwareInterface></joint>
+    <actuator name="finger1_motor"><mechanicalReduction>1</mechanicalReduction></actuator>
+  </transmission>
+"""
+
+
+def _points(kind, scale, n=6, dt=0.06, joints=3):
+    pts = []
+    for k in range(1, n + 1):
+        pos = [scale * math.sin(0.4 * k + j) for j in range(joints)]
+        vel = [scale * 0.4 / dt * math.cos(0.4 * k + j) * 0.2 for j in range(joints)] if kind >= 3 else None
+        acc = [0.3 * scale * math.sin(k - j) for j in range(joints)] if kind == 5 else None
+        pts.append(TrajectoryPoint(pos, vel, acc, k * dt))
+    return pts
+
+
+def run(fast):
+    rig = Rig(fast)
+
+    def goal(gid, names, pts, **kw):
+        rig.inbox.append(("goal", (names, pts, dict(goal_id=gid, **kw))))
+    script = {
+        5: lambda: goal("cubic", JOINTS, _points(3, 0.8)),
+        60: lambda: goal("quintic", JOINTS, _points(5, -0.6)),                  # after the cubic's end
+        95: lambda: goal("linear", JOINTS, _points(1, 1.1, n=8)),
+        100: lambda: goal("preempts", ["shoulder", "yaw"], _points(3, 0.5, joints=2)),   # partial
+        130: lambda: goal("path_tol", JOINTS, _points(3, 0.3, n=4),
+                          path_tolerance=[types.SimpleNamespace(name="elbow", position=2.0, velocity=0.0)]),
+        160: lambda: goal("wrap", JOINTS, [TrajectoryPoint([6.0, 0.2, -0.3], [0.0] * 3, None, 0.4)]),
+        185: lambda: goal("canceled", JOINTS, _points(3, -0.9, n=10)),
+        192: lambda: rig.inbox.append(("cancel", "canceled")),
+    }
+    for chunk in range(260):
+        if chunk in script:
+            script[chunk]()
+        if chunk == 185:
+            rig.yaw_after_wrap = rig.model.joints["yaw"].position
+        rig.step(10)
+    return rig
+
+
+@needs_c
+def test_trajectory_controller_batches_equal_python_steps_bit_for_bit():
+    ref, fast = run(False), run(True)
+    assert fast.fast.batcher is not None
+    assert len(ref.log) == len(fast.log) > 200
+    for a, b in zip(ref.log, fast.log):
+        assert a == b
+    assert ref.snapshot() == fast.snapshot()
+    events = [e for e in ref.log if e[0] == "event"]
+    outcomes = {e[2]: e[3] for e in events}
+    assert outcomes["linear"] == "preempted" and outcomes["canceled"] == "canceled"
+    assert sum(1 for e in ref.log if e[0] == "feedback") > 10
+    assert all(e[2][0] for e in ref.log if e[0] == "submit"), "a goal was rejected"
+    # most steps ran in C: the Python updates are those with a goal past its end or with path
+    # tolerances, and those with a goal waiting (the state and feedback samples are taken from
+    # the C loop's steps)
+    assert fast.fast.steps > 0.75 * fast.world.iterations, "%d of %d steps batched" % (
+        fast.fast.steps, fast.world.iterations)
+    q = ref.yaw_after_wrap
+    assert abs(math.remainder(q - 6.0, 2 * math.pi)) < 0.2, "yaw did not follow the short way to 6.0 (%g)" % q
+
+
+@needs_c
+def test_a_goal_with_path_tolerances_runs_every_update_in_python():
+    rig = Rig(True)
+    rig.inbox.append(("goal", (JOINTS, _points(3, 0.3, n=8), dict(
+        goal_id="g", path_tolerance=[types.SimpleNamespace(name="yaw", position=3.0, velocity=0.0)]))))
+    rig.step(300)
+    assert rig.fast.steps == 0 and rig.jtc.goal is not None
+    rig.step(700)               # the goal succeeds after 0.48 s of motion and some settling
+    done = [e for e in rig.log if e[0] == "event"]
+    assert rig.jtc.goal is None and done and done[-1][3] == "succeeded"
+    assert rig.fast.steps > 0.9 * (1000 - 1000 * done[-1][1])
+
+
+def _check_pieces(traj, times):
+    for t in times:
+        pc = traj.piece(t)
+        for t2 in times:
+            if t2 < t or not (t2 < pc.abs_until and t2 - pc.base < pc.rel_until):
+                continue
+            want = traj.sample(t2)
+            if pc.kind == HOLD:
+                got_pos, got_vel = list(pc.positions), [0.0] * len(pc.positions)
+            else:
+                s = t2 - pc.base if pc.kind == RELATIVE else t2
+                pos, vel, _acc = pc.segment.sample(s)
+                got_pos = pos if pc.offsets is None else [p + o for p, o in zip(pos, pc.offsets)]
+                got_vel = vel
+            assert (got_pos, got_vel) == (want[0], want[1]), (t, t2)
+        assert pc.kind in (ABSOLUTE, RELATIVE, HOLD)
+
+
+def test_a_piece_samples_as_the_trajectory_does_for_as_long_as_it_claims():
+    rng = random.Random(3)
+    times = [0.7 + 0.001 * k for k in range(700)]
+    for order in (1, 3, 5):
+        for offsets in ([0.0, 0.0], [0.25, -6.283185307179586]):
+            pts = sorted(rng.uniform(0.05, 0.5) for _ in range(5))
+            states = [State([rng.uniform(-1, 1), rng.uniform(-1, 1)],
+                            [rng.uniform(-1, 1), 0.3] if order >= 3 else None,
+                            [0.1, rng.uniform(-1, 1)] if order == 5 else None) for _ in range(6)]
+            prep = PreparedTrajectory([0.0] + pts, states)
+            placed = prep.activate(0.75, 0.8, State([0.1, 0.2], [0.0, 0.1]), offsets)
+            _check_pieces(placed, times)
+
+
+@needs_c
+def test_mimic_joints_and_soft_limits_in_batches_equal_python_steps_bit_for_bit():
+    """The mimic finger's coupling (also at its stop, where its force is bounded by what reaches
+    the target velocity) and a revolute joint with limits beyond +-pi whose stops move with its
+    turns, in the C loop's steps."""
+    def go(fast):
+        rig = Rig(fast, gripper=True)
+        world = rig.world
+        assert world._mimics and world._soft
+        at_stop = 0
+        for chunk in range(150):
+            if chunk == 2:
+                rig.inbox.append(("goal", (JOINTS, [TrajectoryPoint([4.8, 0.3, 0.2], [0.0] * 3, None, 0.9)],
+                                           dict(goal_id="past_pi"))))   # beyond its 4.5 limit
+            if chunk == 10:
+                rig.finger.set_command(0.03)         # the mimic finger (offset 0.002) meets its stop
+            if chunk == 100:
+                rig.finger.set_command(0.01)
+            rig.step(10)
+            f2 = rig.model.joints["finger2"]
+            at_stop += f2.position >= f2.upper
+        return rig, at_stop
+    (ref, ref_stop), (fast, fast_stop) = go(False), go(True)
+    assert ref.log == fast.log and ref.snapshot() == fast.snapshot()
+    assert ref_stop == fast_stop > 5, "the mimic finger never reached its stop"
+    yaw = ref.model.joints["yaw"]
+    assert 4.3 < yaw.position < 4.52 and yaw.turn_state[0] == 1, "yaw passed pi to %g, not to its stop" % (
+        yaw.position)
+    assert fast.fast.steps > 0.6 * fast.world.iterations, "%d of %d steps batched" % (
+        fast.fast.steps, fast.world.iterations)
