@@ -18,6 +18,7 @@ from std_msgs.msg import String
 from modrob_build.build import build_robot_set, write_outputs
 from modrob_build.errors import BuildError
 from modrob_build.robot_set_config import load_robots_file, specs_from_strings
+from modrob_sim.waits import stop_following_clock
 
 
 def _bool(value):
@@ -123,5 +124,8 @@ def run_build_and_spawn():
     launch = roslaunch.parent.ROSLaunchParent(uuid, [os.path.join(out_dir, "modrob_spawn.launch")])
     launch.start()
     rospy.on_shutdown(launch.shutdown)
+    # from here on it only keeps the spawn launch running: /clock would cost it CPU at every
+    # message, beside the simulator
+    stop_following_clock()
     rospy.spin()
     return 0

@@ -35,3 +35,13 @@ def test_wait_until():
     assert waits.wait_until(lambda: calls.append(1) or len(calls) > 2, 10.0)
     assert len(calls) == 3
     assert not waits.wait_until(lambda: False, 0.1)
+
+
+def test_stop_following_clock_drops_rospys_clock_subscription_once(monkeypatch):
+    from rospy.impl import simtime
+    dropped = []
+    sub = type("Sub", (), {"unregister": lambda self: dropped.append(1)})()
+    monkeypatch.setattr(simtime, "_clock_sub", sub, raising=False)
+    assert waits.stop_following_clock() is True
+    assert dropped == [1] and simtime._clock_sub is None
+    assert waits.stop_following_clock() is False and dropped == [1]

@@ -21,6 +21,8 @@ from controller_manager_msgs.srv import (ListControllers, ListControllerTypes, L
                                          UnloadController)
 from std_msgs.msg import Bool
 
+from modrob_sim.waits import stop_following_clock
+
 STRICT = SwitchControllerRequest.STRICT
 BEST_EFFORT = SwitchControllerRequest.BEST_EFFORT
 
@@ -181,6 +183,9 @@ def spawner_main(argv=None):
             rospy.loginfo("Started controllers: %s" % ", ".join(loaded))
         else:
             rospy.logerr("Failed to start controllers: %s" % ", ".join(loaded))
+    # from here on it only waits to take the controllers down (wall-clock timeouts): /clock would
+    # cost it CPU at every message, beside the simulator
+    stop_following_clock()
     rospy.spin()
     return 0
 
