@@ -36,6 +36,23 @@ from modrob_sim.ros_control.transmissions import EFFORT
 INF = float("inf")
 
 
+def _load_pid(e, pid):
+    """A PID's gains and state into its C entry ``e`` before a batch."""
+    g = pid.gains
+    e.p, e.i, e.d, e.i_max, e.i_min = g.p, g.i, g.d, g.i_max, g.i_min
+    e.antiwindup = int(g.antiwindup)
+    e.p_error_last, e.p_error, e.i_error = pid.p_error_last, pid.p_error, pid.i_error
+    e.d_error, e.cmd = pid.d_error, pid.cmd
+    e.p_term, e.i_term, e.d_term = pid.terms
+
+
+def _store_pid(pid, e):
+    """The PID's state back from its C entry ``e`` after a batch."""
+    pid.p_error_last, pid.p_error, pid.i_error, pid.d_error, pid.cmd = (e.p_error_last, e.p_error,
+                                                                        e.i_error, e.d_error, e.cmd)
+    pid.terms = (e.p_term, e.i_term, e.d_term)
+
+
 class NativeControl(object):
     def __init__(self, plugin):
         self.plugin = plugin
@@ -171,14 +188,7 @@ class NativeControl(object):
                 if k == 0:
                     return None
                 steps = min(steps, k)
-            e = arr[idx]
-            pid = c.pid
-            g = pid.gains
-            e.p, e.i, e.d, e.i_max, e.i_min = g.p, g.i, g.d, g.i_max, g.i_min
-            e.antiwindup = int(g.antiwindup)
-            e.p_error_last, e.p_error, e.i_error = pid.p_error_last, pid.p_error, pid.i_error
-            e.d_error, e.cmd = pid.d_error, pid.cmd
-            e.p_term, e.i_term, e.d_term = pid.terms
+            _load_pid(arr[idx], c.pid)
         for idx, res in self._idle:
             cmd = res.command
             arr[idx].command = cmd if math.isfinite(cmd) else 0.0
@@ -194,10 +204,7 @@ class NativeControl(object):
         p._last_update = t_last
         for idx, c, _pub in self._pid:
             e = arr[idx]
-            pid = c.pid
-            pid.p_error_last, pid.p_error, pid.i_error, pid.d_error, pid.cmd = (e.p_error_last, e.p_error,
-                                                                                e.i_error, e.d_error, e.cmd)
-            pid.terms = (e.p_term, e.i_term, e.d_term)
+            _store_pid(c.pid, e)
             c._count += steps
             c.last_effort = c.joint.command = e.out
         for idx, c in self._forward:
@@ -205,10 +212,7 @@ class NativeControl(object):
         for c, _adapter, joints in self._traj:
             for idx, k in joints:
                 e = arr[idx]
-                pid = c.pids[k]
-                pid.p_error_last, pid.p_error, pid.i_error, pid.d_error, pid.cmd = (
-                    e.p_error_last, e.p_error, e.i_error, e.d_error, e.cmd)
-                pid.terms = (e.p_term, e.i_term, e.d_term)
+                _store_pid(c.pids[k], e)
                 c.joints[k].command = e.out
         for idx, res in self._res:
             e = arr[idx]
@@ -273,12 +277,5 @@ class NativeControl(object):
                 e.offset = 0.0 if off is None else off[k]
                 e.abs_until, e.rel_until = piece.abs_until, piece.rel_until
         for idx, k in joints:
-            e = arr[idx]
-            pid = c.pids[k]
-            g = pid.gains
-            e.p, e.i, e.d, e.i_max, e.i_min = g.p, g.i, g.d, g.i_max, g.i_min
-            e.antiwindup = int(g.antiwindup)
-            e.p_error_last, e.p_error, e.i_error = pid.p_error_last, pid.p_error, pid.i_error
-            e.d_error, e.cmd = pid.d_error, pid.cmd
-            e.p_term, e.i_term, e.d_term = pid.terms
+            _load_pid(arr[idx], c.pids[k])
         return due, stop
