@@ -61,8 +61,7 @@ def main(argv=None):
 
     recorder = PlotRecorder(store, lambda text: say(text))
     try:
-        for spec in args.series:
-            recorder.add(spec)
+        recorder.add(*args.series)
     except PlotError as err:
         sys.stderr.write("rqt_plot: %s\n" % err)
         return 2

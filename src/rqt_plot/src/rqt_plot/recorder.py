@@ -28,11 +28,13 @@ class PlotRecorder(object):
         self._thread = threading.Thread(target=self._resolve_loop, name="rqt_plot resolve", daemon=True)
         self._thread.start()
 
-    def add(self, spec):
-        """Add ``spec`` (``/topic/field[i]`` or ``/topic/a:b``); returns the series names."""
-        names = expand(spec.strip())
+    def add(self, *specs):
+        """Add each spec (``/topic/field[i]`` or ``/topic/a:b``); returns the series names. The
+        specs are resolved together, so that series of one topic start with the same message."""
+        names = [name for spec in specs for name in expand(spec.strip())]
         for name in names:
             parse_fields(name.lstrip("/"))     # early syntax check, PlotError on bad text
+        for name in names:
             self.store.add_name(name)
             with self.lock:
                 self.pending.append(name)
@@ -62,6 +64,7 @@ class PlotRecorder(object):
         except (OSError, rospy.ROSException) as err:
             self.on_message("cannot ask the master for topics: %s" % err)
             return
+        resolved = {}                     # topic -> (message class, [(name, fields)])
         for name in todo:
             found = split_topic(name, published)
             if found is None:
@@ -84,17 +87,22 @@ class PlotRecorder(object):
                 with self.lock:
                     self.pending.remove(name)
                 continue
+            resolved.setdefault(topic, (cls, []))[1].append((name, fields))
+        # subscribe once every field of a topic resolved in this pass is known: fields of one topic
+        # added together then have samples from the same messages, none from before the others
+        for topic, (cls, targets) in resolved.items():
             with self.lock:
-                self.pending.remove(name)
+                for name, _fields in targets:
+                    self.pending.remove(name)
                 if topic in self.subs:
-                    self.subs[topic][1].append((name, fields))
+                    self.subs[topic][1].extend(targets)
                 else:
-                    targets = [(name, fields)]
                     sub = rospy.Subscriber(topic, cls, self._callback, callback_args=targets,
                                            queue_size=self.queue_size)
                     self.subs[topic] = (sub, targets)
-            if name in self.waiting_said:
-                self.on_message("plotting %s" % name)
+            for name, _fields in targets:
+                if name in self.waiting_said:
+                    self.on_message("plotting %s" % name)
 
     def _callback(self, msg, targets):
         stamp = getattr(getattr(msg, "header", None), "stamp", None)
