@@ -23,7 +23,7 @@ PERIOD = 0.01           # the "state publisher": every 10 ms of simulated time
 class Rig(object):
     """A 3-joint effort arm with ros_control, the node's hooks reduced to what matters here."""
 
-    def __init__(self, fast):
+    def __init__(self, fast, first_state=0.0):
         with open(os.path.join(FIX, "arm_3dof.urdf")) as f:
             xml = f.read().replace("PositionJointInterface", "EffortJointInterface")
         self.world = physics.World(time_step=0.001)
@@ -33,7 +33,7 @@ class Rig(object):
         self.plugin = types.SimpleNamespace(config=types.SimpleNamespace(control_period=None), hw=self.hw,
                                             manager=self.mgr, adapters={}, _last_update=None)
         self.log = []
-        self.next_t = 0.0
+        self.next_t = first_state
         self.ctl = {}
         for name, params in (
                 ("jsc", {"type": "joint_state_controller/JointStateController", "publish_rate": 50}),
@@ -73,8 +73,11 @@ class Rig(object):
             joints = [j for j in self.model.joints_in_order if j.ode_joint is not None]
             self.log.append(("states", t, [(j.position, j.velocity, j.effort) for j in joints]))
 
-    def step(self, n):
-        (self.fast.step if self.fast else self.world.step)(n)
+    def step(self, n, whole=True):
+        if self.fast is None:
+            self.world.step(n)
+            return n
+        return self.fast.step(n, whole=whole)
 
     def snapshot(self):
         pids = [(c.pid.p_error_last, c.pid.i_error, c.pid.d_error, c.pid.cmd, c.pid.terms, c._count,
@@ -83,21 +86,29 @@ class Rig(object):
         return (self.world.time, self.world.iterations, self.world.state_digest(), pids, hw, self.mgr.time)
 
 
-def run(fast, guard_speed=None):
-    rig = Rig(fast)
+def run(fast, guard_speed=None, whole=True, first=10, first_state=0.0):
+    """1200 steps in passes of 10 (the first of ``first``), commands changed after steps 200, 600
+    and 900; ``whole`` False: a pass may end early, as the simulation loop's do (the next pass
+    starts there)."""
+    rig = Rig(fast, first_state)
     if guard_speed is not None:             # the guard restores the arm again and again
         rig.world.set_physics_params(guard_max_angular_velocity=guard_speed)
-    for chunk in range(120):
-        if chunk == 20:
+    events = [200, 600, 900, 1200]
+    n = first
+    while rig.world.iterations < 1200:
+        i = rig.world.iterations
+        if i == 200:
             rig.ctl["yaw"].set_command(1.2)
             rig.ctl["shoulder"].set_command(-0.7)
-        if chunk == 60:
+        if i == 600:
             rig.ctl["yaw"].set_command(-2.0)
             rig.hw.joints["elbow"].command = 3.0       # the joint without a controller
-        if chunk == 90:
+        if i == 900:
             gains = type(rig.ctl["shoulder"].pid.gains)(150.0, 20.0, 8.0, 4.0, -4.0)
             rig.ctl["shoulder"].pid.set_gains(gains)
-        rig.step(10)
+        n = min(n, min(e for e in events if e > i) - i)
+        assert 0 < rig.step(n, whole=whole) <= n
+        n = 10
     return rig
 
 
@@ -115,6 +126,31 @@ def test_batched_steps_equal_python_steps_bit_for_bit():
     assert ref.snapshot() == fast.snapshot()
     q = ref.model.joints["yaw"].position
     assert abs(q + 2.0) < 0.3, "the yaw joint did not follow its command (%g)" % q
+
+
+@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+@pytest.mark.parametrize("first", [10, 3, 9])
+@pytest.mark.parametrize("first_state", [0.0, PERIOD])
+def test_passes_fall_in_step_with_the_publishers(first, first_state):
+    """As the node's loop runs them: a pass ends where a batch ended at a state message, and a
+    joint_states sample due at a batch's first step is taken before it. Whatever the first
+    pass's phase, the 1200 steps then take one batch per 10-step state period (not 9 + 1 steps,
+    or 1 + 9 around each joint_states sample) and per guard snapshot, and give the Python path's
+    results bit for bit."""
+    # first_state PERIOD: the states after the steps ending at 10, 20, .. ms, the joint_states
+    # samples at the steps starting at 20, 40, .. ms: the step after a state message
+    ref = run(False, first_state=first_state)
+    fast = run(True, whole=False, first=first, first_state=first_state)
+    assert fast.fast.steps == fast.world.iterations == 1200
+    assert ref.log == fast.log and ref.snapshot() == fast.snapshot()
+    # + the guard's snapshot every 50 steps, which ends a batch wherever it falls
+    snapshots = 1200 // int(fast.world.physics_params["snapshot_interval"])
+    assert fast.fast.batches <= 1200 // 10 + snapshots + 2, "%d batches" % fast.fast.batches
+    # the same steps in whole passes of 10 started off the state period's phase are cut in two
+    cut = run(True, first=first, first_state=first_state) if first != 10 else None
+    if cut is not None:
+        assert ref.log == cut.log and ref.snapshot() == cut.snapshot()
+        assert cut.fast.batches > fast.fast.batches
 
 
 @pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")

@@ -174,7 +174,7 @@ class GazeboRosNode(object):
 
     # ---- the World's step hooks (loop thread) ----------------------------------------------------
     def _step(self, n):
-        self.fast.step(n)
+        return self.fast.step(n, whole=False)
 
     def _before_step(self, t, dt):
         if self._own_sim_time:

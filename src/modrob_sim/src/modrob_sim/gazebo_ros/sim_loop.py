@@ -182,13 +182,14 @@ class SimulationLoop(object):
             if due - sim > 0.25 * self._rtf:    # far behind (slow machine, debugger): don't burst
                 self._ref = (now, sim)
         try:
-            self._step(n)
+            taken = self._step(n)
         except Exception as exc:  # noqa: B902 - the node must keep serving; reported via on_error
             self._paused = True
             if self._on_error is not None:
                 self._on_error(exc)
             return 0
-        return n
+        # a step function may end the pass early (at a step whose publishers were due)
+        return n if taken is None else taken
 
     def _measure(self, now):
         if self._meas is None:

@@ -2,6 +2,7 @@
 ~pub_clock_frequency of wall time), model and link states (~publish_rate of simulated time, built
 only when subscribed), guard events, world markers (~marker_rate), the scene of every model's
 visuals with per-link tf (~scene_rate) and performance metrics."""
+import math
 import time
 
 import rospy
@@ -41,6 +42,15 @@ def link_states_msg(world):
 class _BatchClock(object):
     """/clock for the C loop's batches (physics.native_batch.Batcher.run)."""
     __slots__ = ("publish", "handle", "period", "last", "sent")
+
+
+def _next_on_grid(t, period):
+    """The first multiple of ``period`` after ``t`` (0 with no period: every step). The states and
+    markers fall on their period's grid of simulated time (10, 20, .. ms at 100 Hz), as do the
+    guard's snapshots (every 50 steps of 1 ms), so that a batch of native steps ends at one step
+    for all of them instead of at one for each; the callers compare with half a step to spare,
+    which absorbs the drift of the simulated time's float sum."""
+    return (math.floor(t / period) + 1) * period if period > 0 else 0.0
 
 
 class StatePublishers(object):
@@ -85,12 +95,13 @@ class StatePublishers(object):
             if wall - self._last_clock_wall >= self._clock_period:
                 self._last_clock_wall = wall
                 self.publish_clock()
-        if now_t + 1e-12 >= self._next_state_t:
-            self._next_state_t = now_t + self._state_period if self._state_period > 0 else 0.0
+        half = 0.5 * self.world.time_step
+        if now_t + half >= self._next_state_t:
+            self._next_state_t = _next_on_grid(now_t + half, self._state_period)
             self.publish_states()
             self.report_guard_events()
-        if self._marker_period > 0.0 and now_t + 1e-12 >= self._next_marker_t:
-            self._next_marker_t = now_t + self._marker_period
+        if self._marker_period > 0.0 and now_t + half >= self._next_marker_t:
+            self._next_marker_t = _next_on_grid(now_t + half, self._marker_period)
             self.publish_markers()
         self._scene.after_step(now_t)
 
@@ -100,7 +111,7 @@ class StatePublishers(object):
         due = self._next_state_t
         if self._marker_period > 0.0 and self._next_marker_t < due:
             due = self._next_marker_t
-        return due
+        return due - 0.5 * self.world.time_step
 
     def batch_clock(self):
         """/clock for a batch: a _BatchClock when the C loop publishes it through roscpp (at every

@@ -115,11 +115,12 @@ class NativeControl(object):
             else:
                 owner[c.joint.name] = c
         self._arr, self._off = arr, offset
-        self._jsc = [(c, p.adapters.get(c.name)) for c in jsc]
         # the controllers whose samples finish() hands to their adapters, in the adapters' order
         order = {name: k for k, name in enumerate(p.adapters)}
-        self._sampled = sorted(self._jsc + [(c, a) for c, a, _j in traj.values()],
+        self._sampled = sorted([(c, p.adapters.get(c.name)) for c in jsc] +
+                               [(c, a) for c, a, _j in traj.values()],
                                key=lambda ca: order.get(ca[0].name, len(order)))
+        self._jsc = [ca for ca in self._sampled if isinstance(ca[0], JointStateController)]
         self._pid, self._forward, self._idle, self._res = [], [], [], []
         self._pieces = {}
         for k, name in enumerate(hw.order):
@@ -165,9 +166,9 @@ class NativeControl(object):
             c.command.mirror(None)
         self._mirrored = []
 
-    def plan(self, t):
-        """Before a batch whose first step starts at ``t``: the controllers' state into the batch
-        joints. Returns (time before which the batch must stop, most steps, time from which a
+    def plan(self, t, dt):
+        """Before a batch whose first step starts at ``t`` (steps of ``dt``): the controllers' state
+        into the batch joints. Returns (time before which the batch must stop, most steps, time from which a
         step ends the batch once made), or None when the next update needs Python."""
         arr = self._arr
         steps = 1 << 30
@@ -178,10 +179,15 @@ class NativeControl(object):
             if d is None:
                 return None
             due, stop = min(due, d[0]), min(stop, d[1])
-        for c, _a in self._jsc:
+        jsc_due = []
+        for c, adapter in self._jsc:
             if c._last_publish is None:
                 return None
-            stop = min(stop, c._last_publish + 1.0 / c.publish_rate - 1e-9)
+            due_at = c._last_publish + 1.0 / c.publish_rate - 1e-9
+            if t >= due_at:
+                jsc_due.append((c, adapter))
+            else:
+                stop = min(stop, due_at)
         for idx, c, pub in self._pid:
             if pub is not None and pub.get_num_connections() > 0:
                 k = (STATE_DECIMATION - c._count % STATE_DECIMATION) % STATE_DECIMATION
@@ -189,6 +195,21 @@ class NativeControl(object):
                     return None
                 steps = min(steps, k)
             _load_pid(arr[idx], c.pid)
+        if jsc_due:
+            if stop <= t:
+                # a trajectory controller's sample is due at the first step as well: that step
+                # ends the batch and finish() hands every sample over in the adapters' order
+                stop = t
+            else:
+                # due at the batch's first step only: that step's read is the joints' state now,
+                # so the sample is taken and published here, as the Python step would do it before
+                # that step's physics (not a batch of that one step, the sample, then the rest)
+                self.plugin.hw.read()
+                for c, adapter in jsc_due:
+                    c.update(t, dt)
+                    if adapter is not None:
+                        adapter.after_update(t)
+                    stop = min(stop, c._last_publish + 1.0 / c.publish_rate - 1e-9)
         for idx, res in self._idle:
             cmd = res.command
             arr[idx].command = cmd if math.isfinite(cmd) else 0.0
