@@ -75,6 +75,10 @@ class PlotMatchesBag(unittest.TestCase):
                     plot.kill()
                 bag.send_signal(signal.SIGINT)
                 bag.wait(30)
+        # the rosbag script passes SIGINT on to its recorder and leaves without waiting for it:
+        # the recorder closes the bag (state.bag.active -> state.bag) after that
+        wait(lambda: os.path.exists(bag_path) and not os.path.exists(bag_path + ".active"), 30,
+             "rosbag record to close " + bag_path)
         self.assertEqual(plot.returncode, 0, "rqt_plot failed: %s %s" % (out, err))
         plotted = read_csv(csv_path)
         pv, sp = plotted[STATE + "/process_value"], plotted[STATE + "/set_point"]
