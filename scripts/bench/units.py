@@ -321,7 +321,12 @@ def unit_bulbs(scenario, args, roscpp="1"):
     alone = res.get("sim_alone_rtf")
     alone = alone if isinstance(alone, float) and alone > 0 and not math.isnan(alone) else None
     line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT")]
-    return {"success": bool(proc.returncode == 0 and res.get("success")), "sim_time": sim,
+    # the pace while a bulb is gripped (the grasp's pad contacts) and over the rest of the run
+    held_sim, held_wall = res.get("held_sim_time") or 0.0, res.get("held_wall_time") or 0.0
+    free_sim, free_wall = sim - held_sim, scen_wall - held_wall
+    return {"held_per_wall": held_sim / held_wall if held_wall > 0 else None,
+            "free_per_wall": free_sim / free_wall if held_wall > 0 and free_wall > 0 else None,
+            "success": bool(proc.returncode == 0 and res.get("success")), "sim_time": sim,
             "scenario_wall": scen_wall, "wall_incl_startup": wall,
             "sim_per_wall": sim / scen_wall if scen_wall > 0 else 0.0, "sim_alone_per_wall": alone,
             "sim_per_wall_incl_startup": sim / wall if wall > 0 else 0.0, "node_cpu_s": node_cpu,

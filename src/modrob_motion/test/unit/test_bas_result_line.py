@@ -24,3 +24,20 @@ def test_line_and_dict_with_late_setpoints_and_reference():
     d = r.as_dict()
     assert (d["setpoints"], d["late_setpoints"], d["sim_alone_rtf"]) == (1400, 61, 2.5)
     assert math.isnan(Result().as_dict()["sim_alone_rtf"])
+
+
+def test_holding_spans_the_first_close_to_the_last_open(monkeypatch):
+    from modrob_motion.bulbs_and_slides import scenario
+    clock = {"sim": 10.0, "wall": 100.0}
+    monkeypatch.setattr(scenario.rospy, "get_time", lambda: clock["sim"])
+    monkeypatch.setattr(scenario.time, "time", lambda: clock["wall"])
+    r = Result()
+    r.holding(False)                            # an open before any close: nothing held
+    assert r.as_dict()["held_sim_time"] == 0.0
+    r.holding(True)
+    clock.update(sim=12.0, wall=100.5)
+    r.holding(True)                             # a second robot closing later: still from the first
+    clock.update(sim=16.0, wall=102.0)
+    r.holding(False)
+    d = r.as_dict()
+    assert (d["held_sim_time"], d["held_wall_time"]) == (6.0, 2.0)

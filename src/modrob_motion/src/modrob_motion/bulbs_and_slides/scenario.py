@@ -45,6 +45,21 @@ class Result(object):
         self.sim_alone_rtf = float("nan")  # the simulator's pace right after the run (measure_pace)
         self.setpoints = 0                 # arm set-points streamed, and those more than 20 ms of
         self.late_setpoints = 0            # simulated time after the one before (the stream fell behind)
+        # from the first gripper close to the last open: simulated and wall s (the grasp's contacts
+        # make these steps the costliest of the run: docs/benchmarks.md)
+        self.held_sim_time = 0.0
+        self.held_wall_time = 0.0
+        self._held_from = None
+
+    def holding(self, closing):
+        """Mark a gripper close (``closing``) or open, at the current simulated and wall time."""
+        now = (rospy.get_time(), time.time())
+        if closing:
+            if self._held_from is None:
+                self._held_from = now
+        elif self._held_from is not None:
+            self.held_sim_time = now[0] - self._held_from[0]
+            self.held_wall_time = now[1] - self._held_from[1]
 
     def line(self, scenario):
         return ("RESULT %s: %s, sim time %.2f s, wall %.1f s (real-time factor %.2f), grasp force %.2f N, "
@@ -66,6 +81,7 @@ class Result(object):
                 "placement_error": self.placement_error, "bulb": self.bulb,
                 "clearance": self.clearance, "sim_alone_rtf": self.sim_alone_rtf,
                 "setpoints": self.setpoints, "late_setpoints": self.late_setpoints,
+                "held_sim_time": self.held_sim_time, "held_wall_time": self.held_wall_time,
                 "final_position": None if self.final_position is None else
                 [float(v) for v in self.final_position]}
 
@@ -260,6 +276,7 @@ class Scenario(object):
                 off = 1000 * np.linalg.norm(c - np.array(robot.fk(arm.measured())))
                 self.log("  modrob%d: at the grasp pose, bulb %.1f mm from the grasp centre"
                          % (robot.info.robot_id, off))
+                result.holding(True)
                 arm.gripper("close", wait=0.8)
                 fingers = robot.info.gripper.joints
                 result.grasp_force = float(np.mean(np.abs(arm.efforts(fingers))))
@@ -272,6 +289,7 @@ class Scenario(object):
                                                1000 * np.linalg.norm(c - tcp)))
             elif seg.gripper_after == "open":
                 arm.gripper("open", wait=0.4)
+                result.holding(False)
                 c, _ = self.glass_centre(bulb)
                 self.log("  modrob%d: gripper opened, %s at (%.3f, %.3f, %.3f)"
                          % ((robot.info.robot_id, bulb) + tuple(c)))
