@@ -8,76 +8,38 @@ import types
 
 import pytest
 
-from modrob_sim.gazebo_ros.fast_steps import FastSteps
+from modrob_sim.gazebo_ros.testing import ControlRig
 from modrob_sim.physics import native_batch
-from modrob_sim.ros_control.hardware import RobotHWSim
-from modrob_sim.ros_control.manager import STRICT, ControllerManager
-from modrob_sim.ros_control.native_control import NativeControl
-from modrob_sim.ros_control.transmissions import parse_transmissions
+from modrob_sim.ros_control.manager import STRICT
 
 physics = pytest.importorskip("modrob_sim.physics")
 FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
 PERIOD = 0.01           # the "state publisher": every 10 ms of simulated time
 
 
-class Rig(object):
+class Rig(ControlRig):
     """A 3-joint effort arm with ros_control, the node's hooks reduced to what matters here."""
 
     def __init__(self, fast, first_state=0.0):
         with open(os.path.join(FIX, "arm_3dof.urdf")) as f:
-            xml = f.read().replace("PositionJointInterface", "EffortJointInterface")
-        self.world = physics.World(time_step=0.001)
-        self.model = self.world.add_urdf("arm", xml)
-        self.hw = RobotHWSim(self.model.joints, parse_transmissions(self.model.source_xml))
-        self.mgr = ControllerManager(self.hw, "/arm")
-        self.plugin = types.SimpleNamespace(config=types.SimpleNamespace(control_period=None), hw=self.hw,
-                                            manager=self.mgr, adapters={}, _last_update=None)
-        self.log = []
+            super(Rig, self).__init__(f.read().replace("PositionJointInterface", "EffortJointInterface"))
         self.next_t = first_state
-        self.ctl = {}
+        self.ctl = {"jsc": self.joint_state_controller(publish_rate=50)}
         for name, params in (
-                ("jsc", {"type": "joint_state_controller/JointStateController", "publish_rate": 50}),
                 ("yaw", {"type": "effort_controllers/JointPositionController", "joint": "yaw",
                          "pid": {"p": 80.0, "i": 30.0, "d": 4.0, "i_clamp": 5.0, "antiwindup": True}}),
                 ("shoulder", {"type": "effort_controllers/JointPositionController", "joint": "shoulder",
                               "pid": {"p": 200.0, "i": 50.0, "d": 10.0, "i_clamp": 8.0}})):
             self.ctl[name] = self.mgr.load(name, params)
-            self.plugin.adapters[name] = types.SimpleNamespace(NATIVE=True, after_update=lambda t: None)
-        # the joint_state_controller's adapter publishes its pending sample (JointStateAdapter)
-        self.plugin.adapters["jsc"].after_update = self.jsc_after_update
+            self.adapter(name)
         assert self.mgr.switch(list(self.ctl), [], STRICT)[0]
-        self.world.add_step_hook(before=self.before, after=self.after)
-        self.fast = None
-        if fast:
-            self.nc = NativeControl(self.plugin)
-            host = types.SimpleNamespace(native_controls=lambda: (self.nc,))
-            outputs = types.SimpleNamespace(batch_after_due=lambda: self.next_t, batch_clock=lambda: None,
-                                            after_batch=lambda **_kw: None)
-            self.fast = FastSteps(self.world, host, types.SimpleNamespace(idle=True), outputs)
-
-    def before(self, t, dt):
-        # as GazeboRosControlPlugin.before_step
-        self.plugin._last_update = t
-        self.mgr.update(t, dt)
-        for a in self.plugin.adapters.values():
-            a.after_update(t)
-
-    def jsc_after_update(self, t):
-        data, self.ctl["jsc"].pending = self.ctl["jsc"].pending, None
-        if data is not None:
-            self.log.append(("joint_states", t, data))
+        self.start(fast, batch_after_due=lambda: self.next_t, after=self.after)
 
     def after(self, t, dt):
         if t + 1e-12 >= self.next_t:
             self.next_t = t + PERIOD
             joints = [j for j in self.model.joints_in_order if j.ode_joint is not None]
             self.log.append(("states", t, [(j.position, j.velocity, j.effort) for j in joints]))
-
-    def step(self, n, whole=True):
-        if self.fast is None:
-            self.world.step(n)
-            return n
-        return self.fast.step(n, whole=whole)
 
     def snapshot(self):
         pids = [(c.pid.p_error_last, c.pid.i_error, c.pid.d_error, c.pid.cmd, c.pid.terms, c._count,

@@ -13,14 +13,11 @@ import types
 
 import pytest
 
-from modrob_sim.gazebo_ros.fast_steps import FastSteps
+from modrob_sim.gazebo_ros.testing import ControlRig
 from modrob_sim.physics import native_batch
 from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
-from modrob_sim.ros_control.hardware import RobotHWSim
-from modrob_sim.ros_control.manager import STRICT, ControllerManager
-from modrob_sim.ros_control.native_control import NativeControl
+from modrob_sim.ros_control.manager import STRICT
 from modrob_sim.ros_control.trajectory import ABSOLUTE, HOLD, RELATIVE, PreparedTrajectory, State
-from modrob_sim.ros_control.transmissions import parse_transmissions
 
 physics = pytest.importorskip("modrob_sim.physics")
 FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
@@ -28,7 +25,7 @@ JOINTS = ["yaw", "shoulder", "elbow"]
 needs_c = pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
 
 
-class Rig(object):
+class Rig(ControlRig):
     """The 3-joint effort arm (yaw continuous) with a joint_state_controller and an effort
     trajectory controller; the adapter records what the ROS layer would publish."""
 
@@ -41,15 +38,8 @@ class Rig(object):
             xml = xml.replace("</robot>", GRIPPER + "</robot>")
         else:
             xml = xml.replace('name="yaw" type="revolute"', 'name="yaw" type="continuous"')
-        self.world = physics.World(time_step=0.001)
-        self.model = self.world.add_urdf("arm", xml)
-        self.hw = RobotHWSim(self.model.joints, parse_transmissions(self.model.source_xml))
-        self.mgr = ControllerManager(self.hw, "/arm")
-        self.plugin = types.SimpleNamespace(config=types.SimpleNamespace(control_period=None), hw=self.hw,
-                                            manager=self.mgr, adapters={}, _last_update=None)
-        self.log = []
-        self.jsc = self.mgr.load("jsc", {"type": "joint_state_controller/JointStateController",
-                                         "publish_rate": 50})
+        super(Rig, self).__init__(xml)
+        self.joint_state_controller(publish_rate=50)
         gains = {"yaw": {"p": 80.0, "i": 30.0, "d": 4.0, "i_clamp": 5.0, "antiwindup": True},
                  "shoulder": {"p": 200.0, "i": 50.0, "d": 10.0, "i_clamp": 8.0},
                  "elbow": {"p": 120.0, "d": 6.0}}
@@ -58,34 +48,16 @@ class Rig(object):
             "velocity_ff": {"shoulder": 0.5}, "stop_trajectory_duration": 0.15,
             "state_publish_rate": 25.0, "action_monitor_rate": 10.0, "allow_partial_joints_goal": True,
             "constraints": {"goal_time": 0.5, "stopped_velocity_tolerance": 0.2, "elbow": {"goal": 0.05}}})
-        self.plugin.adapters["jsc"] = types.SimpleNamespace(NATIVE=True, after_update=self.jsc_after_update)
         if gripper:
             self.finger = self.mgr.load("finger", {"type": "effort_controllers/JointPositionController",
                                                    "joint": "finger1", "pid": {"p": 400.0, "d": 2.0}})
-            self.plugin.adapters["finger"] = types.SimpleNamespace(NATIVE=True, after_update=lambda t: None)
+            self.adapter("finger")
             assert self.mgr.switch(["finger"], [], STRICT)[0]
         self.inbox = collections.deque()
-        self.plugin.adapters["arm_controller"] = types.SimpleNamespace(
-            NATIVE=True, inbox=self.inbox, before_update=self.jtc_before_update,
-            after_update=self.jtc_after_update)
+        self.adapter("arm_controller", inbox=self.inbox, before_update=self.jtc_before_update,
+                     after_update=self.jtc_after_update)
         assert self.mgr.switch(["jsc", "arm_controller"], [], STRICT)[0]
-        self.world.add_step_hook(before=self.before)
-        self.fast = None
-        if fast:
-            self.nc = NativeControl(self.plugin)
-            host = types.SimpleNamespace(native_controls=lambda: (self.nc,))
-            outputs = types.SimpleNamespace(batch_after_due=lambda: float("inf"), batch_clock=lambda: None,
-                                            after_batch=lambda **_kw: None)
-            self.fast = FastSteps(self.world, host, types.SimpleNamespace(idle=True), outputs)
-
-    def before(self, t, dt):
-        # as GazeboRosControlPlugin.before_step
-        self.plugin._last_update = t
-        for a in self.plugin.adapters.values():
-            getattr(a, "before_update", lambda t: None)(t)
-        self.mgr.update(t, dt)
-        for a in self.plugin.adapters.values():
-            a.after_update(t)
+        self.start(fast)
 
     def jtc_before_update(self, t):
         while self.inbox:
@@ -105,14 +77,6 @@ class Rig(object):
         data, c.pending = c.pending, None
         if data is not None:
             self.log.append(("state", t, data))
-
-    def jsc_after_update(self, t):
-        data, self.jsc.pending = self.jsc.pending, None
-        if data is not None:
-            self.log.append(("joint_states", t, data))
-
-    def step(self, n):
-        (self.fast.step if self.fast else self.world.step)(n)
 
     def snapshot(self):
         c = self.jtc
