@@ -168,8 +168,8 @@ class NativeControl(object):
 
     def plan(self, t, dt):
         """Before a batch whose first step starts at ``t`` (steps of ``dt``): the controllers' state
-        into the batch joints. Returns (time before which the batch must stop, most steps, time from which a
-        step ends the batch once made), or None when the next update needs Python."""
+        into the batch joints. Returns (time before which the batch must stop, most steps, time
+        from which a step ends the batch once made), or None when the next update needs Python."""
         arr = self._arr
         steps = 1 << 30
         due = INF
@@ -181,9 +181,9 @@ class NativeControl(object):
             due, stop = min(due, d[0]), min(stop, d[1])
         jsc_due = []
         for c, adapter in self._jsc:
-            if c._last_publish is None:
+            due_at = c.next_due()
+            if due_at is None:
                 return None
-            due_at = c._last_publish + 1.0 / c.publish_rate - 1e-9
             if t >= due_at:
                 jsc_due.append((c, adapter))
             else:
@@ -195,21 +195,18 @@ class NativeControl(object):
                     return None
                 steps = min(steps, k)
             _load_pid(arr[idx], c.pid)
-        if jsc_due:
-            if stop <= t:
-                # a trajectory controller's sample is due at the first step as well: that step
-                # ends the batch and finish() hands every sample over in the adapters' order
-                stop = t
-            else:
-                # due at the batch's first step only: that step's read is the joints' state now,
-                # so the sample is taken and published here, as the Python step would do it before
-                # that step's physics (not a batch of that one step, the sample, then the rest)
-                self.plugin.hw.read()
-                for c, adapter in jsc_due:
-                    c.update(t, dt)
-                    if adapter is not None:
-                        adapter.after_update(t)
-                    stop = min(stop, c._last_publish + 1.0 / c.publish_rate - 1e-9)
+        # a trajectory controller's sample due at the first step as well (stop <= t): that step
+        # ends the batch and finish() hands every sample over in the adapters' order
+        if jsc_due and stop > t:
+            # due at the batch's first step only: that step's read is the joints' state now, so
+            # the sample is taken and published here, as the Python step would do it before that
+            # step's physics (not a batch of that one step, the sample, then the rest)
+            self.plugin.hw.read()
+            for c, adapter in jsc_due:
+                c.update(t, dt)
+                if adapter is not None:
+                    adapter.after_update(t)
+                stop = min(stop, c.next_due())
         for idx, res in self._idle:
             cmd = res.command
             arr[idx].command = cmd if math.isfinite(cmd) else 0.0
@@ -243,7 +240,7 @@ class NativeControl(object):
         # joint_state_controller's update, the trajectory controllers' state samples and feedback
         for c, adapter in self._sampled:
             if isinstance(c, JointStateController):
-                if t_last < c._last_publish + 1.0 / c.publish_rate - 1e-9:
+                if t_last < c.next_due():
                     continue
                 c.update(t_last, dt)
             else:

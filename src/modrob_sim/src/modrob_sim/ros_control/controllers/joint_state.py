@@ -30,8 +30,14 @@ class JointStateController(Controller):
     def starting(self, t):
         self._last_publish = t - 1.0 / self.publish_rate
 
+    def next_due(self):
+        """The time from which an update publishes (None before the controller has started)."""
+        if self._last_publish is None:
+            return None
+        return self._last_publish + 1.0 / self.publish_rate - 1e-9
+
     def update(self, t, dt):
-        if self._last_publish is not None and t < self._last_publish + 1.0 / self.publish_rate - 1e-9:
+        if self._last_publish is not None and t < self.next_due():
             return
         # ros_controllers advances by whole periods, so the average rate stays exact
         if self._last_publish is None or t - self._last_publish > 2.0 / self.publish_rate:
