@@ -34,7 +34,14 @@ _lock = threading.Lock()
 
 def _load():
     from modrob_sim.physics.native import find_library
-    lib = ctypes.CDLL(find_library(LIBRARY))
+    path = find_library(LIBRARY)
+    lib = ctypes.CDLL(path)
+    # The calls the simulation thread makes in every pass keep the GIL (ctypes.PyDLL): each takes
+    # microseconds, and releasing the GIL for it let a rospy thread of the node take it, so that
+    # the simulation thread then waited for it. roscpp's threads never need the GIL.
+    held = ctypes.PyDLL(path)
+    for name in ("mrp_publish", "mrp_publish_deferred", "mrp_flush", "mrp_num_subscribers"):
+        setattr(lib, name, getattr(held, name))
     lib.mrp_init.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p]
     lib.mrp_init.restype = ctypes.c_int
     lib.mrp_error.restype = ctypes.c_char_p

@@ -37,7 +37,7 @@ def _declare(lib):
     return f
 
 
-_PUBLISH = _declare(native_mod.LIB)
+_PUBLISH = _declare(native_mod.LIB_HELD)   # keeps the GIL: see native_pub._load
 
 
 def available(world):

@@ -20,6 +20,9 @@ BUILD_HINT = ("build the workspace (catkin_make, or colcon build and source inst
               "then start again")
 
 LIB = None
+#: the same library loaded through ctypes.PyDLL: its calls keep the GIL (for calls of microseconds
+#: that the simulation thread makes between batches)
+LIB_HELD = None
 REASON = None
 
 
@@ -87,8 +90,8 @@ def _declare(lib):
 
 
 def load():
-    global LIB, REASON
-    LIB, REASON = None, None
+    global LIB, LIB_HELD, REASON
+    LIB, LIB_HELD, REASON = None, None, None
     if os.environ.get("MODROB_PHYSICS_NATIVE", "1").strip().lower() in ("0", "false", "no", "off"):
         REASON = "disabled by MODROB_PHYSICS_NATIVE=0"
         return None
@@ -96,7 +99,9 @@ def load():
         REASON = "PyODE's object layout could not be verified"
         return None
     try:
-        LIB = _declare(ctypes.CDLL(find_library(LIBRARY)))
+        path = find_library(LIBRARY)
+        LIB = _declare(ctypes.CDLL(path))
+        LIB_HELD = _declare(ctypes.PyDLL(path))
     except FileNotFoundError as e:
         REASON = str(e)
     except (OSError, AttributeError) as e:
