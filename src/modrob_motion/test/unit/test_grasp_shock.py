@@ -4,7 +4,7 @@ the real bulb model (glass cylinder across the pads, as the scenario grasps it),
 sinusoidally at 5 Hz with a given peak acceleration along one of the gripper's axes.
 
 Across the closing axis (gripper x and z) friction holds the bulb: mu 2 F = 6 N against 0.05 kg,
-and along z the tilted normals at the pad tiles' edges (docs/modules.md), since friction alone
+and along z the tilted normals at the pad rows' edges (docs/modules.md), since friction alone
 would let go at 76 m/s^2: the bulb's centre of mass is 14 mm off the grasp centre.
 Along the closing axis (gripper y) friction does not help: finger 2 is driven to finger 1's position
 against the gripper base (the mimic coupling), so a load towards finger 1 is carried by finger 1's
