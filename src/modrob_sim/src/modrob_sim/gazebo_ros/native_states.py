@@ -25,8 +25,9 @@ class _Entry(ctypes.Structure):
 
 
 def _declare(lib):
+    """(mr_states_publish, mr_states_write) of ``lib`` with their signatures, or (None, None)."""
     if lib is None or not hasattr(lib, "mr_states_publish"):
-        return None
+        return None, None
     f = lib.mr_states_publish
     f.restype = ctypes.c_int
     f.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p, ctypes.c_uint32, ctypes.c_void_p,
@@ -34,10 +35,10 @@ def _declare(lib):
     w = lib.mr_states_write
     w.restype = None
     w.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p]
-    return f
+    return f, w
 
 
-_PUBLISH = _declare(native_mod.LIB_HELD)   # keeps the GIL: see native_pub._load
+_PUBLISH, _WRITE = _declare(native_mod.LIB_HELD)   # keep the GIL: see native_pub._load
 
 
 def available(world):
@@ -97,7 +98,7 @@ class StatesMessage(object):
     def serialized(self):
         """The message's bytes as of now (tests)."""
         self._refresh_static()
-        native_mod.LIB.mr_states_write(self._entries, self._n, self._buf)
+        _WRITE(self._entries, self._n, self._buf)
         return bytes(self._buf)
 
 

@@ -21,7 +21,7 @@ BUILD_HINT = ("build the workspace (catkin_make, or colcon build and source inst
 
 LIB = None
 #: the same library loaded through ctypes.PyDLL: its calls keep the GIL (for calls of microseconds
-#: that the simulation thread makes between batches)
+#: that the simulation thread makes between batches); its users declare the signatures they call
 LIB_HELD = None
 REASON = None
 
@@ -101,7 +101,7 @@ def load():
     try:
         path = find_library(LIBRARY)
         LIB = _declare(ctypes.CDLL(path))
-        LIB_HELD = _declare(ctypes.PyDLL(path))
+        LIB_HELD = ctypes.PyDLL(path)
     except FileNotFoundError as e:
         REASON = str(e)
     except (OSError, AttributeError) as e:
