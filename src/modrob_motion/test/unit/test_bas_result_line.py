@@ -41,3 +41,12 @@ def test_holding_spans_the_first_close_to_the_last_open(monkeypatch):
     r.holding(False)
     d = r.as_dict()
     assert (d["held_sim_time"], d["held_wall_time"]) == (6.0, 2.0)
+
+
+def test_lift_offset_keeps_the_largest_of_the_lifts():
+    r = Result()
+    assert math.isnan(r.as_dict()["lift_offset"])       # no lift yet (a run that failed before it)
+    r.lifted(0.004)
+    r.lifted(0.0125)                                    # the second robot's lift slipped more
+    r.lifted(0.001)
+    assert r.as_dict()["lift_offset"] == 0.0125

@@ -28,6 +28,7 @@ from modrob_motion.cartesian import default_tip
 from modrob_motion.robot_info import robot_info_from_urdf
 
 
+LIFT_LOST = 0.02    # m: a bulb further than this from the grasp centre after a lift is lost
 ARMS_TOUCH = 0.10   # m: two module radii (housings up to 100 mm across); closer skeletons may touch
 
 
@@ -50,6 +51,15 @@ class Result(object):
         self.held_sim_time = 0.0
         self.held_wall_time = 0.0
         self._held_from = None
+        # how far the bulb's glass centre is from the grasp centre after a lift [m] (the largest of
+        # the run's lifts): the grasp slips along the approach in some lifts, and a lift fails above
+        # LIFT_LOST; the margin shows here before it shows as a failure
+        self.lift_offset = float("nan")
+
+    def lifted(self, offset):
+        """Record the bulb's offset from the grasp centre after a lift [m]."""
+        if math.isnan(self.lift_offset) or offset > self.lift_offset:
+            self.lift_offset = float(offset)
 
     def holding(self, closing):
         """Mark a gripper close (``closing``) or open, at the current simulated and wall time."""
@@ -82,6 +92,7 @@ class Result(object):
                 "clearance": self.clearance, "sim_alone_rtf": self.sim_alone_rtf,
                 "setpoints": self.setpoints, "late_setpoints": self.late_setpoints,
                 "held_sim_time": self.held_sim_time, "held_wall_time": self.held_wall_time,
+                "lift_offset": self.lift_offset,
                 "final_position": None if self.final_position is None else
                 [float(v) for v in self.final_position]}
 
@@ -296,9 +307,14 @@ class Scenario(object):
             if seg.name == "lift":
                 tcp = np.array(robot.fk(arm.measured()))
                 c, _ = self.glass_centre(bulb)
-                if np.linalg.norm(c - tcp) > 0.02:
+                off = c - tcp
+                dist = float(np.linalg.norm(off))
+                result.lifted(dist)
+                self.log("  modrob%d: lifted, bulb %.1f mm from the grasp centre (world x y z: %+.1f %+.1f "
+                         "%+.1f mm)" % ((robot.info.robot_id, 1000 * dist) + tuple(1000 * off)))
+                if dist > LIFT_LOST:
                     raise ScenarioError("the bulb is not in the gripper after the lift (%.1f mm from the "
-                                        "grasp centre)" % (1000 * np.linalg.norm(c - tcp)))
+                                        "grasp centre)" % (1000 * dist))
 
     def finish(self, result, bulb, slide="blue_slide", ahead=1):
         rest = self.wait_at_rest([bulb], timeout=10.0)
