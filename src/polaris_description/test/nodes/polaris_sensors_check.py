@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """Checks for polaris_sensors.test (see there)."""
 import math
+import threading
+import time
 import unittest
 
 import numpy as np
 import rospy
 import rostest
+from controller_manager_msgs.srv import ListControllers
 from gazebo_msgs.msg import ModelStates
 from geometry_msgs.msg import Vector3Stamped
 from sensor_msgs.msg import Imu, NavSatFix, PointCloud2
@@ -23,7 +26,50 @@ class PolarisSensors(unittest.TestCase):
         return ((p.position.x, p.position.y, p.position.z),
                 (p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w))
 
+    def wait_at_rest(self, still=0.2, timeout=120.0):
+        """Wait until the vehicle has settled on its suspension after the spawn: its twist in
+        /gazebo/model_states below 5 mm/s and 0.01 rad/s for ``still`` simulated seconds."""
+        since = [None]
+        rested = threading.Event()
+
+        def on_states(ms):
+            if "polaris" not in ms.name:
+                return
+            tw = ms.twist[ms.name.index("polaris")]
+            v = math.sqrt(tw.linear.x ** 2 + tw.linear.y ** 2 + tw.linear.z ** 2)
+            w = math.sqrt(tw.angular.x ** 2 + tw.angular.y ** 2 + tw.angular.z ** 2)
+            now = rospy.Time.now()
+            if v > 0.005 or w > 0.01:
+                since[0] = None
+            elif since[0] is None:
+                since[0] = now
+            elif (now - since[0]).to_sec() >= still:
+                rested.set()
+
+        sub = rospy.Subscriber("/gazebo/model_states", ModelStates, on_states, queue_size=1)
+        try:
+            self.assertTrue(rested.wait(timeout), "the vehicle did not come to rest within %.0f s" % timeout)
+        finally:
+            sub.unregister()
+
+    def wait_for_controllers(self, count=5, timeout=120.0):
+        """Wait until the spawner has started the steering and wheel controllers: each moves the
+        vehicle a little as it takes hold, which the IMU reads."""
+        rospy.wait_for_service("/controller_manager/list_controllers", timeout)
+        listing = rospy.ServiceProxy("/controller_manager/list_controllers", ListControllers)
+        end = time.monotonic() + timeout
+        running = []
+        while time.monotonic() < end and not rospy.is_shutdown():
+            running = [c.name for c in listing().controller if c.state == "running"]
+            if len(running) >= count:
+                return
+            rospy.sleep(0.1)
+        self.fail("%d controllers running after %.0f s, expected %d: %s"
+                  % (len(running), timeout, count, running))
+
     def test_1_imu_reads_gravity_at_100_hz(self):
+        self.wait_for_controllers()
+        self.wait_at_rest()
         msgs = []
         sub = rospy.Subscriber("/imu", Imu, msgs.append)
         rospy.wait_for_message("/imu", Imu, timeout=120)
