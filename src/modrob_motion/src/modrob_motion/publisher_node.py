@@ -10,7 +10,10 @@ Parameters:
     ~wait_timeout      wall-clock seconds to wait for the controller parameters at start (default 30)
 The joint -> controller map comes from the controller parameters in the robot namespace
 (``type: effort_controllers/JointPositionController``, ``joint: ...``); joint limits from
-``<ns>/robot_description`` when present. A bad message is logged (what and why) and dropped.
+``<ns>/robot_description`` when present. Controllers whose parameters appear later (roslaunch sets a
+controller YAML one parameter at a time, and a robot built at run time loads its YAML after this
+node started) are picked up within a second of wall time, and at once by a command naming their
+joint. A bad message is logged (what and why) and dropped.
 """
 import threading
 import time
@@ -35,12 +38,15 @@ class MotionPublisher(object):
         self._lock = threading.Lock()
         self.matcher = None
         self.publishers = {}
+        self._names = frozenset()
         self._last_refresh = 0.0
         self._wait_for_controllers(wait_timeout)
         topic = input_topic if input_topic.startswith("/") else "%s/%s" % (self.namespace, input_topic)
         self.sub = rospy.Subscriber(topic, JointState, self._on_command, queue_size=10)
         rospy.loginfo("motion_publisher: %s -> %d joint controllers under %s",
                       topic, len(self.publishers), self.namespace or "/")
+        self._watcher = threading.Thread(target=self._watch, name="controller_watch", daemon=True)
+        self._watcher.start()
 
     def _wait_for_controllers(self, timeout):
         # wall-clock time: with use_sim_time at real_time_factor 0 the simulation runs on while the
@@ -60,7 +66,25 @@ class MotionPublisher(object):
             time.sleep(0.2)
         raise ModrobError("motion_publisher for %s: %s" % (self.namespace or "/", last_error))
 
+    def _param_names(self):
+        prefix = self.namespace + "/"
+        return frozenset(n for n in rospy.get_param_names() if n.startswith(prefix))
+
+    def _watch(self):
+        """Re-read the controllers whenever the set of parameter names in the namespace changes
+        (checked once a second of wall time: the simulation may be paused or far ahead)."""
+        while not rospy.is_shutdown():
+            time.sleep(REFRESH_PERIOD)
+            try:
+                changed = self._param_names() != self._names
+            except (OSError, rospy.ROSException) as exc:
+                rospy.logwarn_throttle(30.0, "motion_publisher: cannot list the parameters: %s" % exc)
+                continue
+            if changed:
+                self._reread("the parameters under %s changed" % (self.namespace or "/"))
+
     def _configure(self):
+        self._names = self._param_names()
         params = rospy.get_param(self.namespace or "/", {})
         controllers = position_controllers(params, self.namespace or "/")
         limits, order = {}, sorted(controllers, key=natural_key)
@@ -87,18 +111,22 @@ class MotionPublisher(object):
         if not unknown or now - self._last_refresh < REFRESH_PERIOD:
             return False
         self._last_refresh = now
+        return self._reread("a command names %s" % ", ".join(unknown))
+
+    def _reread(self, why):
+        """Read the controller parameters again; True if the joint set changed."""
         before = set(self.publishers)
         try:
             with self._lock:
                 self._configure()
         except (ModrobError, KeyError) as exc:
-            rospy.logwarn("motion_publisher: re-reading the controllers under %s failed: %s",
-                          self.namespace or "/", exc)
+            rospy.logwarn("motion_publisher: re-reading the controllers under %s (%s) failed: %s",
+                          self.namespace or "/", why, exc)
             return False
         if set(self.publishers) == before:
             return False
-        rospy.loginfo("motion_publisher: controllers under %s re-read: %d joint controllers (%s)",
-                      self.namespace or "/", len(self.publishers), ", ".join(self.publishers))
+        rospy.loginfo("motion_publisher: controllers under %s re-read (%s): %d joint controllers (%s)",
+                      self.namespace or "/", why, len(self.publishers), ", ".join(self.publishers))
         return True
 
     def _on_command(self, msg):

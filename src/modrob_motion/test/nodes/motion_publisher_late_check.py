@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """A controller that appears after motion_publisher started is picked up on the first command that
-names its joint; a joint that never appears is still refused and the node keeps running."""
+names its joint, and without any command by the node's watch on the parameters (a command without
+joint names, every joint in order, reaches it); a joint that never appears is still refused and the
+node keeps running."""
 import sys
 import threading
 import unittest
@@ -15,7 +17,7 @@ class LateControllers(unittest.TestCase):
     def test_controller_added_after_start_gets_commands(self):
         rospy.init_node("motion_publisher_late_check")
         got = {}
-        events = {"joint1": threading.Event(), "joint2": threading.Event()}
+        events = {j: threading.Event() for j in ("joint1", "joint2", "joint3")}
 
         def on(joint):
             def cb(msg):
@@ -24,6 +26,7 @@ class LateControllers(unittest.TestCase):
             return cb
         rospy.Subscriber("/late_bot/joint1_position_controller/command", Float64, on("joint1"))
         rospy.Subscriber("/late_bot/joint2_position_controller/command", Float64, on("joint2"))
+        rospy.Subscriber("/late_bot/joint3_position_controller/command", Float64, on("joint3"))
         pub = rospy.Publisher("/late_bot/motion_command", JointState, queue_size=10)
         # the node is up once it subscribes to motion_command
         deadline = rospy.get_time() + 30.0
@@ -51,6 +54,18 @@ class LateControllers(unittest.TestCase):
             events["joint1"].wait(0.2)
             events["joint1"].clear()
         self.assertAlmostEqual(got["joint1"], 0.4)
+        # joint3's controller appears and no command names it: commands without names (every joint
+        # in order) reach it once the node has seen the new parameters
+        rospy.set_param("/late_bot/joint3_position_controller",
+                        {"type": "effort_controllers/JointPositionController", "joint": "joint3",
+                         "pid": {"p": 100.0, "i": 0.0, "d": 1.0}})
+        deadline = rospy.get_time() + 20.0
+        while not events["joint3"].is_set() and rospy.get_time() < deadline:
+            pub.publish(JointState(position=[0.5, 0.6, 0.7]))
+            events["joint3"].wait(0.3)
+        self.assertTrue(events["joint3"].is_set(), "joint3's controller, added without a command naming it, "
+                        "never got a command")
+        self.assertAlmostEqual(got["joint3"], 0.7)
 
 
 if __name__ == "__main__":
