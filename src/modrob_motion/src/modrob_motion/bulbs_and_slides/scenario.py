@@ -305,6 +305,12 @@ class Scenario(object):
                 self.log("  modrob%d: gripper opened, %s at (%.3f, %.3f, %.3f)"
                          % ((robot.info.robot_id, bulb) + tuple(c)))
             if seg.name == "lift":
+                # the bulb's pose (model_states) and the arm's (joint_states) come on two topics; in a
+                # fast run this process can be behind the simulator by tens of milliseconds, and the
+                # two need not be equally late: compared while the bulb still rises, a model_states
+                # message older than the joint_states put the bulb up to 19 mm below the grasp
+                # centre when it had not moved in the grasp. Once it is at rest, both are the same.
+                self.wait_at_rest([bulb], timeout=3.0, window=0.2)
                 tcp = np.array(robot.fk(arm.measured()))
                 c, _ = self.glass_centre(bulb)
                 off = c - tcp
