@@ -26,3 +26,18 @@ def expected_rest(layout, slide_name, bulbs_ahead, socket_first=False):
 def at_rest(speeds, threshold=0.005):
     """speeds: recent linear speeds (m/s) of a bulb; at rest when all are below the threshold."""
     return len(speeds) > 0 and max(speeds) < threshold
+
+
+def fingers_done(positions, goal, efforts, effort_limits, moved, tol=0.002, share=0.8, still=5e-4):
+    """Whether a gripper command has taken effect, from one joint_states sample of its fingers:
+    every finger within ``tol`` of its goal (open, or closed on nothing), or every finger still
+    (``moved``: how far it went since the previous sample, per finger, under ``still``; the caller
+    asks for several samples in a row) while pressing with at least ``share`` of its effort limit
+    (closed on an object: the grip force is the limit)."""
+    positions, goal = np.asarray(positions, float), np.asarray(goal, float)
+    if np.all(np.abs(positions - goal) <= tol):
+        return True
+    if moved is None or effort_limits is None or np.any(~np.isfinite(effort_limits)):
+        return False
+    return bool(np.all(np.abs(moved) < still)
+                and np.all(np.abs(np.asarray(efforts, float)) >= share * np.asarray(effort_limits, float)))

@@ -10,7 +10,7 @@ import rospy
 from gazebo_msgs.msg import ModelStates
 from sensor_msgs.msg import JointState
 
-from modrob_motion.bulbs_and_slides import ScenarioError
+from modrob_motion.bulbs_and_slides import ScenarioError, outcome
 from modrob_sim import waits
 
 
@@ -163,12 +163,15 @@ class RosArm(object):
         self.pub = rospy.Publisher(self.ns + "/motion_command", JointState, queue_size=10)
         self.sub = rospy.Subscriber(self.ns + "/joint_states", JointState, self._on_js, queue_size=5)
         self.trajectory_client = None   # actionlib client while the trajectory controller runs
+        self.js_stamp = None
+        self._effort_limits = None
         self._position_controllers = []  # the arm's position controllers it replaced
         self.trajectories = 0
         self._commanded = None
 
     def _on_js(self, msg):
         with self._lock:
+            self.js_stamp = msg.header.stamp.to_sec()
             self.q.update(zip(msg.name, msg.position))
             if msg.effort:
                 self.effort.update(zip(msg.name, msg.effort))
@@ -412,8 +415,64 @@ class RosArm(object):
                     break
                 sim_sleep(0.01)
         self.command(names, goal)
+        self._wait_fingers(action, names, goal)
         end = rospy.get_time() + wait
         while rospy.get_time() < end and not rospy.is_shutdown():
             if self.recorder:
                 self.recorder.sample(self)
             sim_sleep(0.01)
+
+    def _wait_fingers(self, action, names, goal, timeout=10.0, wall_guard=20.0):
+        """Wait until the fingers show in joint_states that the command took effect
+        (outcome.fingers_done: at the goal, or stopped on the object at the grip force).
+
+        The command goes through motion_publisher, another process: on a loaded machine at
+        real-time factor 0 the simulation can run on for seconds of simulated time before it lands,
+        and a fixed wait in simulated time then let the lift start with the fingers still open (the
+        bulb left on the slide, seen with two runs side by side; joint_states themselves reached
+        this process up to 3 simulated s late then). At most ``timeout`` s of simulated time or
+        ``wall_guard`` s of wall time (then a warning)."""
+        limits = self._finger_effort_limits(names)
+        end = rospy.get_time() + timeout
+        wall_end = time.time() + wall_guard
+        last_q = last_stamp = None
+        settled = 0                 # fresh joint_states samples in a row that say done
+        while not rospy.is_shutdown():
+            with self._lock:
+                stamp = self.js_stamp
+            q = self.measured(names)
+            if stamp != last_stamp:
+                moved = None if last_q is None else q - last_q
+                last_q, last_stamp = q, stamp
+                done = outcome.fingers_done(q, goal, self.efforts(names), limits, moved)
+                settled = settled + 1 if done else 0
+                if settled >= 3:
+                    return True
+            if rospy.get_time() > end or time.time() > wall_end:
+                rospy.logwarn("modrob%d: the gripper did not %s within %.1f s "
+                              "(fingers at %s mm, efforts %s N)",
+                              self.info.robot_id, action, timeout,
+                              "/".join("%.1f" % (1000 * v) for v in q),
+                              "/".join("%.2f" % v for v in self.efforts(names)))
+                return False
+            if self.recorder:
+                self.recorder.sample(self)
+            sim_sleep(0.01)
+        return False
+
+    def _finger_effort_limits(self, names):
+        """The fingers' effort limits from <ns>/robot_description (the grip force), NaN where none."""
+        if self._effort_limits is None:
+            import xml.etree.ElementTree as ET
+            limits = {}
+            try:
+                root = ET.fromstring(rospy.get_param(self.ns + "/robot_description"))
+                for j in root.iter("joint"):
+                    lim = j.find("limit")
+                    if lim is not None and lim.get("effort") is not None:
+                        limits[j.get("name")] = float(lim.get("effort"))
+            except (KeyError, ET.ParseError, ValueError) as exc:
+                rospy.logwarn("modrob%d: no effort limits from %s/robot_description (%s): the gripper "
+                              "counts as done only at its goal" % (self.info.robot_id, self.ns, exc))
+            self._effort_limits = limits
+        return np.array([self._effort_limits.get(n, np.nan) for n in names])
