@@ -3,7 +3,9 @@
 - ``/gazebo/scene_markers`` (visualization_msgs/MarkerArray, latched): every visual of every
   model (robots included, whether or not they have a robot_description), meshes with scale,
   URDF / ``Gazebo/<Name>`` colours. Each marker is frame-locked to its link's tf frame, so it is
-  re-sent only when models are spawned or deleted.
+  re-sent when models are spawned or deleted, and otherwise every ``MARKERS_AGAIN`` s of wall time
+  while someone listens: RViz clears its displays when the clock jumps back (a simulator restart),
+  and a latched message that reached it just before that was lost until the scene changed.
 - tf ``world -> <prefix><model>/<link>`` for every link (and camera sensors' optical frames), at
   ``rate`` per wall-clock second, stamped with sim time, only while someone listens to /tf.
 """
@@ -21,6 +23,7 @@ from modrob_sim.gazebo_ros import transforms as tf
 from modrob_sim.gazebo_ros.native_pub import publisher
 
 WORLD = "world"
+MARKERS_AGAIN = 2.0     # s of wall time between two sends of an unchanged scene (while subscribed)
 
 
 def link_frame(prefix, model_name, link_name):
@@ -98,6 +101,7 @@ class ScenePublisher(object):
         self._markers_pub = publisher("/gazebo/scene_markers", MarkerArray, queue_size=1, latch=True)
         self._tf_pub = publisher("/tf", TFMessage, queue_size=10)
         self._next_wall = 0.0
+        self._markers_again = 0.0
         self._links = []
 
     def link_frame(self, model_name, link_name):
@@ -130,6 +134,12 @@ class ScenePublisher(object):
         if self.model.changed():
             self._links = self.model.links()
             self._markers_pub.publish(self.model.marker_array())
+            self._markers_again = wall + MARKERS_AGAIN
+        elif wall >= self._markers_again and self._markers_pub.get_num_connections() > 0:
+            again = self.model.marker_array()
+            del again.markers[:1]           # the same markers again, without DELETEALL: RViz
+            self._markers_pub.publish(again)    # modifies them in place, nothing blinks
+            self._markers_again = wall + MARKERS_AGAIN
         if self._tf_pub.get_num_connections() == 0:
             return
         msg = TFMessage()
