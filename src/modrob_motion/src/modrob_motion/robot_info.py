@@ -34,7 +34,7 @@ def _mat_vec(m, v):
 
 
 class UrdfJoint(object):
-    __slots__ = ("name", "type", "parent", "child", "xyz", "rpy", "axis", "limits", "mimic")
+    __slots__ = ("name", "type", "parent", "child", "xyz", "rpy", "axis", "limits", "effort", "mimic")
 
     def __init__(self, elem):
         self.name = elem.get("name")
@@ -52,6 +52,8 @@ class UrdfJoint(object):
             lower = float(lim.get("lower", 0.0))
             upper = float(lim.get("upper", 0.0))
         self.limits = JointLimits(lower, upper)
+        # <limit effort>: the largest effort the simulator applies (a gripper's grip force); None if not given
+        self.effort = float(lim.get("effort")) if lim is not None and lim.get("effort") is not None else None
         self.mimic = elem.find("mimic") is not None
 
 

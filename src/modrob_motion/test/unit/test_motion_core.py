@@ -7,7 +7,7 @@ import pytest
 from modrob_motion.errors import MotionError, UnknownJointError
 from modrob_motion.joint_matching import JointCommandMatcher, JointLimits
 from modrob_motion.controller_map import position_controllers, command_topic
-from modrob_motion.robot_info import robot_info_from_urdf
+from modrob_motion.robot_info import parse_urdf_joints, robot_info_from_urdf
 
 ARM_URDF_PATH = os.path.join(os.path.dirname(os.path.abspath(__file__)), "test_motion_arm_gripper.urdf")
 with open(ARM_URDF_PATH) as _f:
@@ -88,6 +88,12 @@ def test_robot_info_chain_order_and_gripper():
     assert info.gripper.open_positions == {"finger_left_joint": 0.03, "finger_right_joint": 0.03}
     assert info.home == [0.0, 0.0]
     assert info.limits["joint1"].lower is None
+
+
+def test_urdf_joints_carry_their_effort_limit():
+    effort = {j.name: j.effort for j in parse_urdf_joints(ARM_URDF)}
+    assert effort["finger_left_joint"] == 3.0 and effort["joint2"] == 10.0
+    assert effort["joint1"] is None         # no <limit>: none given
 
 
 def test_robot_info_home_respects_limits():

@@ -11,6 +11,8 @@ from gazebo_msgs.msg import ModelStates
 from sensor_msgs.msg import JointState
 
 from modrob_motion.bulbs_and_slides import ScenarioError, outcome
+from modrob_motion.errors import MotionError
+from modrob_motion.robot_info import parse_urdf_joints
 from modrob_sim import waits
 
 
@@ -463,16 +465,11 @@ class RosArm(object):
     def _finger_effort_limits(self, names):
         """The fingers' effort limits from <ns>/robot_description (the grip force), NaN where none."""
         if self._effort_limits is None:
-            import xml.etree.ElementTree as ET
-            limits = {}
+            self._effort_limits = {}
             try:
-                root = ET.fromstring(rospy.get_param(self.ns + "/robot_description"))
-                for j in root.iter("joint"):
-                    lim = j.find("limit")
-                    if lim is not None and lim.get("effort") is not None:
-                        limits[j.get("name")] = float(lim.get("effort"))
-            except (KeyError, ET.ParseError, ValueError) as exc:
+                joints = parse_urdf_joints(rospy.get_param(self.ns + "/robot_description"))
+                self._effort_limits = {j.name: j.effort for j in joints if j.effort is not None}
+            except (KeyError, MotionError, ValueError) as exc:
                 rospy.logwarn("modrob%d: no effort limits from %s/robot_description (%s): the gripper "
                               "counts as done only at its goal" % (self.info.robot_id, self.ns, exc))
-            self._effort_limits = limits
         return np.array([self._effort_limits.get(n, np.nan) for n in names])
