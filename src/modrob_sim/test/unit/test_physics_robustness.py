@@ -328,6 +328,56 @@ def test_sleeping_bodies_wake_when_their_support_goes():
     assert can.pose[0][2] == pytest.approx(0.06, abs=0.003)  # on the ground slab now
 
 
+_SLIPPERY_GROUND = """<robot name="ground"><link name="world"/><link name="slab">
+ <collision><origin xyz="0 0 -0.05"/><geometry><box size="4 4 0.1"/></geometry></collision></link>
+ <joint name="fix" type="fixed"><parent link="world"/><child link="slab"/></joint>
+ <gazebo reference="slab"><mu1>0.08</mu1><mu2>0.08</mu2></gazebo></robot>"""
+
+_PADDLE = """<robot name="paddle"><link name="world"/>
+ <link name="rail"><inertial><mass value="1"/>
+  <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+ <joint name="mount" type="fixed"><parent link="world"/><child link="rail"/>
+  <origin xyz="-0.115 0 0.06"/></joint>
+ <link name="blade"><inertial><mass value="0.5"/>
+  <inertia ixx="0.001" ixy="0" ixz="0" iyy="0.001" iyz="0" izz="0.001"/></inertial>
+  <collision><geometry><box size="0.03 0.4 0.06"/></geometry></collision></link>
+ <joint name="slide" type="prismatic"><parent link="rail"/><child link="blade"/><axis xyz="1 0 0"/>
+  <limit lower="-1" upper="0.5" effort="200" velocity="2"/></joint></robot>"""
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_a_body_held_still_by_a_robot_slides_off_when_let_go(native):
+    """A free body held still by a robot's link for longer than the sleep time (0.2 s) must be
+    awake when the link lets go. Gravity tilted by 10 degrees on a ground of mu 0.08 is a slope it
+    slides down at 0.93 m/s^2 (a bulb released on a slide). ODE's islands wake a held body for
+    each step without resetting its idle count; it used to be asleep in the step the paddle left
+    and stayed where it was."""
+    def build(with_paddle):
+        world = World(native=native)
+        world.gravity = (-1.7, 0.0, -9.66)
+        world.add_urdf("ground", _SLIPPERY_GROUND)
+        box = world.add_urdf("box", H.fixture("box.urdf"), pose=((0, 0, 0.0505), (0, 0, 0, 1)))
+        return world, box, (world.add_urdf("paddle", _PADDLE).joints["slide"] if with_paddle else None)
+
+    def run(world, joint, n, v):
+        for _ in range(n):
+            if joint is not None:
+                joint.set_velocity_target(v, 200.0)
+            world.step(1)
+
+    world, box, joint = build(True)
+    run(world, joint, 1000, 0.0)                    # held for 1 s
+    assert box.pose[0][0] == pytest.approx(0.0, abs=1e-3)
+    run(world, joint, 600, -0.5)                    # the paddle leaves at 0.5 m/s
+    free_world, free_box, _ = build(False)
+    run(free_world, None, 600, 0.0)                 # the same slide with nothing holding it
+    assert free_box.pose[0][0] == pytest.approx(-0.5 * (1.7 - 0.08 * 9.66) * 0.6 ** 2, abs=0.01)
+    assert box.pose[0][0] == pytest.approx(free_box.pose[0][0], abs=0.005)
+    world.gravity = (0.0, 0.0, -9.81)               # level again: it stops, then sleeps
+    run(world, joint, 1500, -0.5)
+    assert not box.bodies[0].isEnabled()
+
+
 @pytest.mark.parametrize("native", [None, False])
 def test_solver_type_world_steps_with_odes_exact_stepper(native):
     """<solver><type>world</type>: dWorldStep instead of quickStep; a resting box rests the same,

@@ -116,7 +116,21 @@ class PureBackend(object):
         else:
             world._ode_world.quickStep(dt)
         self.seed = odelib.get_seed()
+        self._wake_held(world)
         return self.ncontacts
+
+    def _wake_held(self, world):
+        """As the C loop's mr_wake_held: a body that may sleep, touching an awake body that never
+        does (a robot's link), has its idle count reset after the step (enable())."""
+        for i1, i2, _p, _n, _d in self.contact_log:
+            b1, b2 = i1.body, i2.body
+            if b1 is None or b2 is None:
+                continue
+            if world.may_sleep(i1.model):
+                if b2.isEnabled() and not world.may_sleep(i2.model):
+                    b1.enable()
+            elif world.may_sleep(i2.model) and b1.isEnabled():
+                b2.enable()
 
     def find_blowups(self, world):
         vmax2, wmax2 = world._vmax2, world._wmax2

@@ -248,11 +248,16 @@ class World(object):
         for m in self.models.values():
             self._apply_auto_disable(m)
 
+    def may_sleep(self, model):
+        """Whether ``model``'s body may fall asleep: only a free single-body model, and only while the
+        world's auto_disable is on."""
+        return bool(self._params["auto_disable"]) and len(model.bodies) == 1 and not model.articulated
+
     def _apply_auto_disable(self, model):
         """Auto-disable (as Gazebo's allow_auto_disable) only for free single-body models: an
         articulated robot under control must never fall asleep."""
         bodies = model.bodies
-        on = bool(self._params["auto_disable"]) and len(bodies) == 1 and not model.articulated
+        on = self.may_sleep(model)
         for b in bodies:
             _set_auto_disable(b, on)
 

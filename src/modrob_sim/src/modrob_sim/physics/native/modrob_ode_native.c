@@ -505,11 +505,32 @@ unsigned long mr_quickstep(dWorldID w, double dt, unsigned long seed)
 void mr_set_seed(MrCtx *c, unsigned long seed) { c->seed = seed; }
 unsigned long mr_get_seed(MrCtx *c) { return c->seed; }
 
+/* After a step: a body that may sleep (auto-disable on) and touches an awake body that never
+ * sleeps (a robot's link, auto-disable off) has its idle count reset (dBodyEnable). ODE counts a
+ * body idle while something holds it still; once the count has run out, each step disables it
+ * first and then wakes it again for its island, by the disabled flag alone, so the count stays run
+ * out: a bulb held still by a gripper for 0.2 s fell asleep in the step the fingers let go, and
+ * stayed where they left it, on a slope it should have slid down. */
+static void mr_wake_held(MrCtx *c)
+{
+    int i;
+    for (i = 0; i < c->nlog; ++i) {
+        dBodyID b1 = dGeomGetBody(c->log[i].g1), b2 = dGeomGetBody(c->log[i].g2);
+        if (!b1 || !b2) continue;
+        if (dBodyGetAutoDisableFlag(b1)) {
+            if (dBodyIsEnabled(b2) && !dBodyGetAutoDisableFlag(b2)) dBodyEnable(b1);
+        } else if (dBodyGetAutoDisableFlag(b2) && dBodyIsEnabled(b1)) {
+            dBodyEnable(b2);
+        }
+    }
+}
+
 /* collide + quickStep (with this world's seed) in one call; returns the number of contacts */
 int mr_step(MrCtx *c, double dt, double gx, double gy, double gz, double layer, int max_contacts)
 {
     int n = mr_collide(c, dt, gx, gy, gz, layer, max_contacts);
     c->seed = mr_quickstep(c->world, dt, c->seed);
+    mr_wake_held(c);
     return n;
 }
 
@@ -528,6 +549,7 @@ int mr_step_checked(MrCtx *c, double dt, double gx, double gy, double gz, double
     } else {
         c->seed = mr_quickstep(c->world, dt, c->seed);
     }
+    mr_wake_held(c);
     *first_bad = nbodies > 0 ? mr_check_bodies(bodies, 0, nbodies, vmax2, wmax2) : -1;
     return n;
 }
