@@ -50,3 +50,13 @@ def test_lift_offset_keeps_the_largest_of_the_lifts():
     r.lifted(0.0125)                                    # the second robot's lift slipped more
     r.lifted(0.001)
     assert r.as_dict()["lift_offset"] == 0.0125
+
+
+def test_line_tells_late_joint_states_from_half_a_second():
+    r = Result()
+    r.sim_time, r.wall_time, r.success = 20.0, 10.0, True
+    r.js_lag = 0.3
+    assert "joint_states" not in r.line("one_robot")
+    r.js_lag = 2.44
+    assert r.line("one_robot").endswith("placement error nan mm, joint_states up to 2.4 s late")
+    assert r.as_dict()["js_lag"] == 2.44

@@ -57,6 +57,17 @@ class Recorder(object):
                     count += 1
         return count
 
+    def broken_at_gaps(self, t, *series, gap=None):
+        """The samples with a row of NaN wherever ``gap`` (10 sampling periods, at least 0.5 s) or
+        more of simulated time passed without one (the scenario samples only while a robot moves,
+        settles or grips; not while it waits for a bulb or plans), so that a plot shows no line
+        across time that was not recorded. Returns (t, *series, [(gap start, gap end), ...])."""
+        gap = max(10 * self.period, 0.5) if gap is None else gap
+        starts = np.nonzero(np.diff(t) >= gap)[0] if len(t) else np.array([], dtype=int)
+        out_t = np.insert(np.asarray(t, dtype=float), starts + 1, np.nan)
+        out = [np.insert(np.asarray(s, dtype=float), starts + 1, np.nan, axis=0) for s in series]
+        return (out_t,) + tuple(out) + ([(t[i], t[i + 1]) for i in starts],)
+
     def plot_joints(self, path, joint_names_by_robot, title="commanded vs measured joint angles"):
         import matplotlib
         matplotlib.use("Agg")
@@ -67,11 +78,15 @@ class Recorder(object):
                                  sharex="col")
         for c, rid in enumerate(robots):
             t, cmd, meas, _, _ = self.arrays(rid)
+            err_all = np.abs(cmd - meas)
+            t, cmd, meas, gaps = self.broken_at_gaps(t, cmd, meas)
             for j, name in enumerate(joint_names_by_robot[rid]):
                 ax = axes[j][c]
+                for k, (a, b) in enumerate(gaps):
+                    ax.axvspan(a, b, color="0.9", lw=0, label="not recorded" if k == 0 else None)
                 ax.plot(t, cmd[:, j], "k--", lw=1, label="commanded")
                 ax.plot(t, meas[:, j], lw=1.3, label="measured")
-                err = np.nanmax(np.abs(cmd[:, j] - meas[:, j])) if len(t) else 0.0
+                err = np.nanmax(err_all[:, j]) if len(err_all) else 0.0
                 ax.set_ylabel("%s [rad]" % name, fontsize=8)
                 ax.text(0.01, 0.85, "max |error| %.3f rad" % err, transform=ax.transAxes, fontsize=7)
                 ax.grid(True, alpha=0.3)

@@ -166,14 +166,19 @@ class RosArm(object):
         self.sub = rospy.Subscriber(self.ns + "/joint_states", JointState, self._on_js, queue_size=5)
         self.trajectory_client = None   # actionlib client while the trajectory controller runs
         self.js_stamp = None
+        self.js_lag = 0.0           # the most simulated time a joint_states message arrived after its stamp
+        self.js_lag_at = None       # and the scenario's clock then
         self._effort_limits = None
         self._position_controllers = []  # the arm's position controllers it replaced
         self.trajectories = 0
         self._commanded = None
 
     def _on_js(self, msg):
+        now = rospy.get_time()
         with self._lock:
             self.js_stamp = msg.header.stamp.to_sec()
+            if now > 0.0 and now - self.js_stamp > self.js_lag:
+                self.js_lag, self.js_lag_at = now - self.js_stamp, now
             self.q.update(zip(msg.name, msg.position))
             if msg.effort:
                 self.effort.update(zip(msg.name, msg.effort))
@@ -376,18 +381,34 @@ class RosArm(object):
         finally:
             self.late_setpoints += clock.capped
 
-    def settle(self, tol=0.01, timeout=4.0):
-        """Wait until every arm joint is within ``tol`` of its command; returns the largest error."""
-        end = rospy.get_time() + timeout
+    def settle(self, tol=0.01, timeout=4.0, wall_guard=30.0):
+        """Wait until every arm joint is within ``tol`` of its command; returns the largest error.
+
+        Judged on joint_states stamped after the wait began, and timed by their stamps: on a loaded
+        machine the stream can reach this process seconds of simulated time late, and old positions
+        then used up a timeout counted on the clock (a run failed with the arm "0.089 rad" from a
+        pose it had reached). At most ``timeout`` s of the arm's simulated time, or ``wall_guard``
+        s of wall time without that (then a warning)."""
+        start = rospy.get_time()
+        wall_end = time.time() + wall_guard
         names = self.info.arm_joints
         target = np.array([self.cmd.get(n, 0.0) for n in names])
         err = float("inf")
-        while not rospy.is_shutdown() and rospy.get_time() < end:
-            err = float(np.max(np.abs(self.measured(names) - target)))
+        while not rospy.is_shutdown():
+            with self._lock:
+                stamp = self.js_stamp
+            if stamp is not None and stamp >= start:
+                err = float(np.max(np.abs(self.measured(names) - target)))
+                if err < tol or stamp >= start + timeout:
+                    return err
+            if time.time() > wall_end:
+                rospy.logwarn("modrob%d: no joint_states of %.1f s after the motion within %.0f s of wall "
+                              "time (the latest stamped %.2f s, the clock at %.2f s)",
+                              self.info.robot_id, timeout, wall_guard, stamp or float("nan"),
+                              rospy.get_time())
+                return err
             if self.recorder:
                 self.recorder.sample(self)
-            if err < tol:
-                return err
             sim_sleep(0.01)
         return err
 
@@ -433,9 +454,10 @@ class RosArm(object):
         and a fixed wait in simulated time then let the lift start with the fingers still open (the
         bulb left on the slide, seen with two runs side by side; joint_states themselves reached
         this process up to 3 simulated s late then). At most ``timeout`` s of simulated time or
-        ``wall_guard`` s of wall time (then a warning)."""
+        ``wall_guard`` s of wall time (then a warning). Only joint_states stamped after the command
+        count, and they time the wait (see :meth:`settle`)."""
         limits = self._finger_effort_limits(names)
-        end = rospy.get_time() + timeout
+        start = rospy.get_time()
         wall_end = time.time() + wall_guard
         last_q = last_stamp = None
         settled = 0                 # fresh joint_states samples in a row that say done
@@ -443,14 +465,14 @@ class RosArm(object):
             with self._lock:
                 stamp = self.js_stamp
             q = self.measured(names)
-            if stamp != last_stamp:
+            if stamp != last_stamp and stamp >= start:
                 moved = None if last_q is None else q - last_q
                 last_q, last_stamp = q, stamp
                 done = outcome.fingers_done(q, goal, self.efforts(names), limits, moved)
                 settled = settled + 1 if done else 0
                 if settled >= 3:
                     return True
-            if rospy.get_time() > end or time.time() > wall_end:
+            if (last_stamp is not None and last_stamp > start + timeout) or time.time() > wall_end:
                 rospy.logwarn("modrob%d: the gripper did not %s within %.1f s "
                               "(fingers at %s mm, efforts %s N)",
                               self.info.robot_id, action, timeout,

@@ -30,6 +30,7 @@ from modrob_motion.robot_info import robot_info_from_urdf
 
 LIFT_LOST = 0.02    # m: a bulb further than this from the grasp centre after a lift is lost
 ARMS_TOUCH = 0.10   # m: two module radii (housings up to 100 mm across); closer skeletons may touch
+JS_LAG_SHOWN = 0.5  # s: the RESULT line tells when joint_states reached the scenario this late
 
 
 class Result(object):
@@ -46,6 +47,7 @@ class Result(object):
         self.sim_alone_rtf = float("nan")  # the simulator's pace right after the run (measure_pace)
         self.setpoints = 0                 # arm set-points streamed, and those more than 20 ms of
         self.late_setpoints = 0            # simulated time after the one before (the stream fell behind)
+        self.js_lag = 0.0                  # the latest a joint_states message reached the scenario [sim s]
         # from the first gripper close to the last open: simulated and wall s (the grasp's contacts
         # make these steps the costliest of the run: docs/benchmarks.md)
         self.held_sim_time = 0.0
@@ -73,7 +75,7 @@ class Result(object):
 
     def line(self, scenario):
         return ("RESULT %s: %s, sim time %.2f s, wall %.1f s (real-time factor %.2f), grasp force %.2f N, "
-                "placement error %.1f mm%s%s%s%s"
+                "placement error %.1f mm%s%s%s%s%s"
                 % (scenario, "SUCCESS" if self.success else "FAILURE", self.sim_time, self.wall_time,
                    self.sim_time / self.wall_time if self.wall_time > 0 else 0.0, self.grasp_force,
                    1000 * self.placement_error,
@@ -81,6 +83,7 @@ class Result(object):
                    ", arms' closest approach %.0f mm" % (1000 * self.clearance),
                    ", %d of %d set-points late" % (self.late_setpoints, self.setpoints)
                    if self.late_setpoints else "",
+                   ", joint_states up to %.1f s late" % self.js_lag if self.js_lag >= JS_LAG_SHOWN else "",
                    "" if math.isnan(self.sim_alone_rtf) else
                    ", simulator alone %.2f" % self.sim_alone_rtf,
                    (" -- " + self.message) if self.message else ""))
@@ -90,7 +93,7 @@ class Result(object):
                 "wall_time": self.wall_time, "grasp_force": self.grasp_force,
                 "placement_error": self.placement_error, "bulb": self.bulb,
                 "clearance": self.clearance, "sim_alone_rtf": self.sim_alone_rtf,
-                "setpoints": self.setpoints, "late_setpoints": self.late_setpoints,
+                "setpoints": self.setpoints, "late_setpoints": self.late_setpoints, "js_lag": self.js_lag,
                 "held_sim_time": self.held_sim_time, "held_wall_time": self.held_wall_time,
                 "lift_offset": self.lift_offset,
                 "final_position": None if self.final_position is None else
@@ -198,6 +201,11 @@ class Scenario(object):
         """Copy the robots' set-point counts into ``result``."""
         result.setpoints = sum(r.arm.setpoints for r in self.robots.values())
         result.late_setpoints = sum(r.arm.late_setpoints for r in self.robots.values())
+        lag = max(self.robots.values(), key=lambda r: r.arm.js_lag, default=None)
+        if lag is not None and lag.arm.js_lag_at is not None:
+            result.js_lag = lag.arm.js_lag
+            self.log("  joint_states reached the scenario up to %.2f s of simulated time late (modrob%d, at "
+                     "%.2f s)" % (lag.arm.js_lag, lag.info.robot_id, lag.arm.js_lag_at - self.t0))
 
     def measure_pace(self, seconds):
         """The simulator's real-time factor over ``seconds`` of wall time with nothing commanded (the
