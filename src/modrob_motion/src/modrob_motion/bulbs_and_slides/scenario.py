@@ -7,6 +7,7 @@ two_robots: modrob0 (3-DoF) takes the bulb at the red tip and lays it in the cra
             Only one arm is near the cradle at any time (the other waits turned away).
 Success: the bulb comes to rest inside the blue slide's channel.
 """
+import contextlib
 import math
 import random
 import time
@@ -31,6 +32,28 @@ from modrob_motion.robot_info import robot_info_from_urdf
 LIFT_LOST = 0.02    # m: a bulb further than this from the grasp centre after a lift is lost
 ARMS_TOUCH = 0.10   # m: two module radii (housings up to 100 mm across); closer skeletons may touch
 JS_LAG_SHOWN = 0.5  # s: the RESULT line tells when joint_states reached the scenario this late
+
+
+@contextlib.contextmanager
+def physics_paused():
+    """The simulation paused (/gazebo/pause_physics) for a stretch of pure computation such as the
+    planning: at real-time factor 0 the simulator would otherwise run on idle for as long as the
+    plan takes, competing with it for the CPU, piling up joint_states that this process does not
+    read meanwhile (it then reads them seconds late), and adding simulated seconds in which
+    nothing happens to the run's pace. Unpaused afterwards, whatever happens. Without the services
+    (another simulator), it warns and computes with the simulation running."""
+    from std_srvs.srv import Empty
+    try:
+        rospy.wait_for_service("/gazebo/pause_physics", timeout=5.0)
+        rospy.ServiceProxy("/gazebo/pause_physics", Empty)()
+    except (rospy.ROSException, rospy.ServiceException) as exc:
+        rospy.logwarn("could not pause the simulation (%s); planning with it running", exc)
+        yield
+        return
+    try:
+        yield
+    finally:
+        rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
 
 
 class Result(object):
@@ -366,9 +389,13 @@ class Scenario(object):
         self.log("  %s glass centre at (%.3f, %.3f, %.3f)" % ((bulb,) + tuple(grasp)))
         self.log("[3/5] planning (grasp IK with KDL forward kinematics)")
         blue = self.layout.slides["blue_slide"]
-        segs = plan_pick_and_place(r.planner, r.arm.measured(), grasp, axis, self.layout.place_point,
-                                   blue.uphill, fast=self.arm_speed)
-        self.log("[4/5] pick and place")
+        q_start = r.arm.measured()
+        wall = time.time()
+        with physics_paused():
+            segs = plan_pick_and_place(r.planner, q_start, grasp, axis, self.layout.place_point,
+                                       blue.uphill, fast=self.arm_speed)
+        self.log("[4/5] pick and place (planned in %.1f s of wall time, the simulation paused)"
+                 % (time.time() - wall))
         try:
             self.run_segments(r, segs, bulb, result)
         except ScenarioError as exc:
