@@ -34,6 +34,10 @@ from modrob_viz.errors import ConfigError
 from modrob_viz.render import camera_spec, pinhole, scene_sync
 from modrob_viz.render.video import VideoRecorder, save_png
 
+#: s a camera given to RViz may take to come up before it is given again (RViz resets its displays
+#: when the time jumps back, and a CameraInfo sent before that, or before RViz subscribed, is lost)
+SHOW_AGAIN = 2.0
+
 
 class _Camera(object):
     def __init__(self, spec):
@@ -41,6 +45,7 @@ class _Camera(object):
         self.info = None            # latest input CameraInfo (or None)
         self.intrinsics = spec["intrinsics"]
         self.shown = None           # (frame, intrinsics) given to RViz last
+        self.shown_at = None        # and when (monotonic s)
         self.rviz_ready = False     # RViz has had its CameraInfo and placeholder
         self.blank = None           # the 1x1 background image whose header names the frame
         self.next_t = 0.0
@@ -95,6 +100,7 @@ class CameraRendererNode(object):
         self.batches = 0
         self.resyncs = 0            # times RViz's time had moved away from T (set again)
         self.redraws = 0            # placeholders sent again (the camera was not drawn at T)
+        self.shown_again = 0        # CameraInfo given to RViz again (its display had reset or not come up)
         self.tf_wait_since = None   # when the batch waiting for RViz's tf at T began to wait
         self.tf_waits = 0           # batches that waited for RViz's tf to reach their time
         self.tf_waits_expired = 0   # batches that went ahead after waiting 1 s for it
@@ -275,6 +281,7 @@ class CameraRendererNode(object):
         if cam.shown == (frame, intr):
             return
         cam.shown = (frame, intr)
+        cam.shown_at = time.monotonic()
         info = CameraInfo()
         info.header.frame_id = frame
         info.width, info.height = intr.width, intr.height
@@ -343,11 +350,15 @@ class CameraRendererNode(object):
             if not shown_before:
                 continue            # RViz renders the new pinhole on its next frame
             if not self.scene.ready(cam.spec["id"]):
-                if cam.rviz_ready:
+                if cam.rviz_ready or now - cam.shown_at > SHOW_AGAIN:
                     # RViz resets its displays when the time jumps back (a simulator restart)
-                    # and forgets the CameraInfo: give it again at the camera's next frame
+                    # and forgets the CameraInfo: give it again at the camera's next frame. Also
+                    # when a camera given to RViz has not come up within SHOW_AGAIN: a camera
+                    # made anew by that restart was given its CameraInfo just before RViz reset
+                    # (or before RViz subscribed), and waited for it for ever
                     cam.shown = None
                     cam.rviz_ready = False
+                    self.shown_again += 1
                 continue
             cam.rviz_ready = True
             due.append((cam, frame, intr))
@@ -536,9 +547,9 @@ class CameraRendererNode(object):
         print("camera_renderer: %d batches of frames (%.0f ms each on average, %d frames dropped); "
               "RViz's time set to a batch's again %d times, placeholders sent again %d times (RViz's "
               "tf was behind); %d batches waited for RViz's tf to reach their time, %d of them 1 s and were "
-              "drawn anyway" % (self.batches, 1000.0 * self.batch_time / max(1, self.batches),
-                                self.dropped, self.resyncs, self.redraws, self.tf_waits,
-                                self.tf_waits_expired), flush=True)
+              "drawn anyway; cameras given to RViz again %d times"
+              % (self.batches, 1000.0 * self.batch_time / max(1, self.batches), self.dropped, self.resyncs,
+                 self.redraws, self.tf_waits, self.tf_waits_expired, self.shown_again), flush=True)
         self._on_shutdown()
 
     def _on_shutdown(self):
