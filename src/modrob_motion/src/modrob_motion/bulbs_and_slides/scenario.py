@@ -40,20 +40,24 @@ def physics_paused():
     planning: at real-time factor 0 the simulator would otherwise run on idle for as long as the
     plan takes, competing with it for the CPU, piling up joint_states that this process does not
     read meanwhile (it then reads them seconds late), and adding simulated seconds in which
-    nothing happens to the run's pace. Unpaused afterwards, whatever happens. Without the services
-    (another simulator), it warns and computes with the simulation running."""
+    nothing happens to the run's pace. Unpaused afterwards, whatever happens, unless it was paused
+    already (someone paused it: it stays paused). Without the services (another simulator), it warns
+    and computes with the simulation running."""
+    from gazebo_msgs.srv import GetPhysicsProperties
     from std_srvs.srv import Empty
+    paused_here = False
     try:
         rospy.wait_for_service("/gazebo/pause_physics", timeout=5.0)
-        rospy.ServiceProxy("/gazebo/pause_physics", Empty)()
+        if not rospy.ServiceProxy("/gazebo/get_physics_properties", GetPhysicsProperties)().pause:
+            rospy.ServiceProxy("/gazebo/pause_physics", Empty)()
+            paused_here = True
     except (rospy.ROSException, rospy.ServiceException) as exc:
         rospy.logwarn("could not pause the simulation (%s); planning with it running", exc)
-        yield
-        return
     try:
         yield
     finally:
-        rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
+        if paused_here:
+            rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
 
 
 class Result(object):
