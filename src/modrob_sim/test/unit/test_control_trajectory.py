@@ -291,3 +291,43 @@ def test_the_loop_only_places_a_prepared_trajectory_in_time():
     assert len(calls) == 1  # the segment from the current state only: nothing O(points) in the loop
     model.run(mgr, 0.5)
     assert joints[0].position == pytest.approx(0.499 - 0.001, abs=0.02)
+
+
+def _samples_during_goal(extra, goal_at, seconds):
+    """Times of the state samples and of the action feedback while a goal runs that was accepted
+    at ``goal_at`` (off the state samples' grid)."""
+    joints, mgr, ctl, model = rig(extra=extra)
+    model.run(mgr, goal_at)
+    ok, _, text = ctl.submit(JOINTS, three_points(), 0.0, model.time, goal_id="g1")
+    assert ok, text
+    states, feedback = [], []
+
+    def grab(t):
+        if ctl.pending is not None:
+            states.append(ctl.pending["stamp"])
+            ctl.pending = None
+        if ctl.pending_feedback is not None:
+            feedback.append(ctl.pending_feedback[1]["stamp"])
+            ctl.pending_feedback = None
+    model.run(mgr, seconds, record=grab)
+    return states, feedback
+
+
+def test_action_feedback_comes_with_state_samples_at_its_rate_on_average():
+    # defaults: state 50 Hz, feedback 20 Hz. A feedback between two state samples would end a batch
+    # of native steps of its own, so it is taken at state sample times, 20 Hz on average
+    states, feedback = _samples_during_goal(None, 0.0137, 1.4)
+    assert len(states) == pytest.approx(1.4 * 50, abs=1)
+    assert set(feedback) <= set(states)
+    assert feedback[0] - 0.0137 <= 0.02 + 1e-9          # the goal's first feedback: the next sample
+    gaps = [b - a for a, b in zip(feedback, feedback[1:])]
+    assert max(gaps) <= 0.06 + 1e-9 and min(gaps) >= 0.04 - 1e-9
+    assert (feedback[-1] - feedback[0]) / (len(feedback) - 1) == pytest.approx(0.05, abs=0.003)
+
+
+def test_action_feedback_faster_than_the_state_keeps_its_own_times():
+    states, feedback = _samples_during_goal({"state_publish_rate": 10.0, "action_monitor_rate": 20.0},
+                                            0.0137, 1.0)
+    assert len(states) == pytest.approx(10, abs=1)
+    gaps = [b - a for a, b in zip(feedback, feedback[1:])]
+    assert gaps and all(g == pytest.approx(0.05, abs=1.5e-3) for g in gaps)

@@ -174,6 +174,28 @@ def test_a_goal_with_path_tolerances_runs_every_update_in_python():
     assert rig.fast.steps > 0.9 * (1000 - 1000 * done[-1][1])
 
 
+@needs_c
+def test_a_motion_ends_no_more_batches_than_a_hold():
+    # the action feedback comes with a state sample (joint_trajectory._samples): during a motion a
+    # batch ends where it would while the arm holds still (the samples, joint_states, the states)
+    rig = Rig(True)
+    rig.step(30)
+
+    def batches(steps):
+        n0, s0 = rig.fast.batches, rig.fast.steps
+        for _ in range(steps // 10):
+            rig.step(10)
+        assert rig.fast.steps - s0 == steps
+        return rig.fast.batches - n0
+    hold = batches(400)
+    rig.inbox.append(("goal", (JOINTS, _points(3, 0.4, n=8), dict(goal_id="g"))))
+    rig.step(10)                # the goal's arrival: one step in Python
+    motion = batches(400)
+    assert rig.jtc.goal is not None
+    assert sum(1 for e in rig.log if e[0] == "feedback") >= 4
+    assert motion <= hold, "%d batches in a motion, %d while holding still" % (motion, hold)
+
+
 def _check_pieces(traj, times):
     for t in times:
         pc = traj.piece(t)

@@ -270,7 +270,8 @@ class NativeControl(object):
                 if tol.position > 0.0 or tol.velocity > 0.0:
                     return None
             due = goal.end_time
-            stop = min(stop, c._next_feedback - 1e-9)
+            if not c._feedback_with_state:     # else the feedback comes with a state sample
+                stop = min(stop, c._next_feedback - 1e-9)
         arr = self._arr
         last = self._pieces.get(c.name)
         if (last is None or last[0] is not traj or t < last[2]

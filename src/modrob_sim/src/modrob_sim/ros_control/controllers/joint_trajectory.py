@@ -319,9 +319,19 @@ class JointTrajectoryControllerBase(Controller):
 
     def samples_due(self, t):
         """True when the update at ``t`` leaves a state sample or action feedback."""
-        if self._next_state is None or t >= self._next_state - 1e-9:
+        if self._state_due(t):
             return True
-        return self.goal is not None and (self._next_feedback is None or t >= self._next_feedback - 1e-9)
+        return (self.goal is not None and not self._feedback_with_state
+                and (self._next_feedback is None or t >= self._next_feedback - 1e-9))
+
+    def _state_due(self, t):
+        return self._next_state is None or t >= self._next_state - 1e-9
+
+    @property
+    def _feedback_with_state(self):
+        """The action feedback is taken at state sample times (see _samples): unless the feedback
+        is asked for more often than the state."""
+        return self.action_monitor_rate <= self.state_publish_rate
 
     def native_update_done(self, t):
         """The update at ``t`` ran in the C loop (ros_control.native_control) from the joints'
@@ -337,15 +347,30 @@ class JointTrajectoryControllerBase(Controller):
         self._samples(t, dpos, dvel, dacc, epos, evel)
 
     def _samples(self, t, dpos, dvel, dacc, epos, evel):
-        if self._next_state is None or t >= self._next_state - 1e-9:
+        state_due = self._state_due(t)
+        if state_due:
             self._next_state = (self._next_state or t) + 1.0 / self.state_publish_rate
             if self._next_state < t:
                 self._next_state = t + 1.0 / self.state_publish_rate
             apos, avel = self._actual()
             self.pending = dict(stamp=t, joint_names=list(self.joint_names), desired=(dpos, dvel, dacc),
                                 actual=(apos, avel), error=(epos, evel))
-        if self.goal is not None and (self._next_feedback is None or t >= self._next_feedback - 1e-9):
-            self._next_feedback = t + 1.0 / self.action_monitor_rate
+        # ros_controllers sends the action feedback from a timer of action_monitor_rate (simulated
+        # time) beside the control loop, with the last update's sample, so its phase against the
+        # updates is arbitrary. Here it is taken at the first state sample once its period has
+        # passed, on a schedule kept from the goal's first feedback (at 50 and 20 Hz: 60 and 40 ms
+        # apart in turn, 20 Hz on average): a feedback between two state samples would end a batch
+        # of native steps of its own (ros_control.native_control), a fifth more batches in a motion.
+        if self.goal is None or not (state_due or not self._feedback_with_state):
+            return
+        if self._next_feedback is None or t >= self._next_feedback - 1e-9:
+            period = 1.0 / self.action_monitor_rate
+            if self._feedback_with_state:
+                # a schedule older than one period is a previous goal's: this goal's starts now
+                nxt = (self._next_feedback or t) + period
+                self._next_feedback = nxt if nxt > t else t + period
+            else:
+                self._next_feedback = t + period
             apos, avel = self._actual()
             self.pending_feedback = (self.goal.goal_id, dict(stamp=t, joint_names=list(self.joint_names),
                                                              desired=(dpos, dvel, dacc), actual=(apos, avel),
