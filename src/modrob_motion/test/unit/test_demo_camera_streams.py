@@ -236,6 +236,49 @@ def test_demo_without_streams(monkeypatch, tmp_path, capsys):
     assert code == 0 and calls == ["scenario", "stop_simulation"]
 
 
+def test_demo_writes_the_bag_and_plots_while_the_simulation_stops(monkeypatch, tmp_path, capsys):
+    # roslaunch's teardown takes 2-3 s of wall time; the bag and the plots need no simulation
+    import threading
+    from modrob_motion.bulbs_and_slides import scenario
+    stopping, written = threading.Event(), threading.Event()
+    seen = {}
+
+    def stop_simulation(*a):
+        stopping.set()
+        seen["written while stopping"] = written.wait(10.0)
+
+    class Recorder(object):
+        rows = {"modrob0": [1]}
+
+        def write_bag(self, path):
+            seen["stopping while writing"] = stopping.wait(10.0)
+            written.set()
+            return 1
+
+        def plot_joints(self, *a, **k):
+            pass
+
+    class FakeScenario(object):
+        def __init__(self, *a, **k):
+            self.recorder, self.robots = Recorder(), {}
+
+        def run_one_robot(self):
+            return _Result()
+
+        def stream_stats(self, result):
+            pass
+    monkeypatch.setattr(demo, "start_simulation", lambda *a, **k: (None, None))
+    monkeypatch.setattr(demo, "stop_simulation", stop_simulation)
+    monkeypatch.setattr(demo, "wait_for_master", lambda: True)
+    monkeypatch.setattr(demo, "wait_for_param", lambda name: True)
+    import rospy
+    monkeypatch.setattr(rospy, "init_node", lambda *a, **k: None)
+    monkeypatch.setattr(scenario, "Scenario", FakeScenario)
+    assert demo.main(["--out", str(tmp_path), "--no-streams"]) == 0
+    assert seen == {"stopping while writing": True, "written while stopping": True}
+    assert "RESULT one_robot: SUCCESS" in capsys.readouterr().out
+
+
 def test_make_streams_size_and_focal_length(tmp_path):
     args = demo.main.__globals__["argparse"].Namespace(stream_size="640x480", stream_rate=4.0)
     s = demo.make_streams(args, str(tmp_path / "x"))

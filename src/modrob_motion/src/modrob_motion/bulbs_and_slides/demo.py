@@ -22,6 +22,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
 
 import yaml
@@ -87,6 +88,12 @@ def stop_simulation(proc, log):
     log.close()
 
 
+def stop_all(streams, proc, log):
+    if streams is not None:
+        streams.stop()
+    stop_simulation(proc, log)
+
+
 def _plot_two_robot_paths(sc, layout, path):
     from modrob_motion.bulbs_and_slides.paths_plot import plot_paths
     paths = {}
@@ -141,6 +148,7 @@ def main(argv=None):
     result = None
     streams = None if args.no_streams else make_streams(args, stem)
     stream_files = None
+    stopping = None
     try:
         if not wait_for_master() or not wait_for_param("/use_sim_time"):
             raise ScenarioError("the simulation did not start: see %s_sim.log" % stem)
@@ -162,6 +170,11 @@ def main(argv=None):
             stream_files = streams.finish()
             for path in stream_files:
                 print("wrote %s" % path, flush=True)
+        # what is left needs no simulation: the streams' and roslaunch's teardown (2-3 s of wall
+        # time) run while the bag and the plots are written
+        stopping = threading.Thread(target=stop_all, args=(streams, proc, log), name="stop_simulation")
+        streams = None
+        stopping.start()
         if sc.recorder and sc.recorder.rows:
             n = sc.recorder.write_bag(stem + "_ee.bag")
             names = {rid: r.info.arm_joints for rid, r in sc.robots.items()}
@@ -175,7 +188,10 @@ def main(argv=None):
     finally:
         if streams is not None:
             streams.stop()
-        stop_simulation(proc, log)
+        if stopping is None:
+            stop_simulation(proc, log)
+        else:
+            stopping.join()
     if result is None:
         print("RESULT %s: FAILURE -- the scenario did not run (see above)" % args.scenario, flush=True)
         return 1
