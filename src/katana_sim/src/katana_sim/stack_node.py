@@ -127,13 +127,18 @@ class CanStackNode(object):
         return cans
 
     def model_near(self, can):
-        """The simulator's can model nearest to a can (for judging the result)."""
+        """The simulator's can model nearest to a can (for judging the result). The detector's
+        message can come before the first /gazebo/model_states: this waits for the cans there."""
+        names = self.can_names()
+        if not names:
+            raise StackError("/gazebo/model_states named no model with 'can' in its name within %.0f s "
+                             "(is the simulator running?)" % self.wait)
         tf = _lookup(self.tf_buffer, BASE_FRAME, "world", self.wait)
         best, dist = None, float("inf")
         with self.arm.lock:
             items = list(self.arm.models.items())
         for name, (p, _) in items:
-            if "can" not in name:
+            if name not in names:
                 continue
             c = apply_transform(tf, p)
             d = math.hypot(c[0] - can.x, c[1] - can.y)
