@@ -69,3 +69,20 @@ def test_a_subscriber_gets_the_world_as_it_is_at_the_next_marker_time(monkeypatc
     assert len(sp._marker_pub.sent) >= 2
     z = sp._marker_pub.sent[1].markers[1].pose.position.z
     assert z < z0 - 0.05 and abs(z - box.pose[0][2]) < 0.05
+
+
+def test_a_pause_brings_the_latched_markers_up_to_date(monkeypatch):
+    # a subscriber that comes while the simulation is paused gets the latched array at once
+    world, box, sp = _publishers(monkeypatch)
+    sp.on_pause()
+    assert sp._marker_pub.sent == []        # nothing was skipped: nothing to do
+    for _ in range(300):
+        world.step(1)
+        sp.after_step()
+    assert sp._marker_pub.sent == []
+    sp.on_pause()
+    assert len(sp._marker_pub.sent) == 1
+    z = sp._marker_pub.sent[0].markers[1].pose.position.z
+    assert abs(z - box.pose[0][2]) < 1e-9
+    sp.on_pause()                           # up to date: not sent again
+    assert len(sp._marker_pub.sent) == 1

@@ -80,6 +80,7 @@ class StatePublishers(object):
         self._state_period = 1.0 / params.publish_rate if params.publish_rate > 0 else 0.0
         self._next_state_t = 0.0
         self._marker_period = 1.0 / params.marker_rate if params.marker_rate > 0 else 0.0
+        self._markers_behind = False    # marker times passed with nobody subscribed
         self._next_marker_t = 0.0
         self._last_rtf_log = time.monotonic()
 
@@ -204,10 +205,18 @@ class StatePublishers(object):
         # for the latch). A subscriber gets the latched array, then a fresh one at the next marker
         # time (the poses are compared with those last sent).
         if not force and self._marker_pub.get_num_connections() == 0:
+            self._markers_behind = True
             return
+        self._markers_behind = False
         arr = self._markers.update(force=force)
         if arr is not None:
             self._marker_pub.publish(arr)
+
+    def on_pause(self):
+        """The simulation pauses: markers left unbuilt while nobody subscribed are made now, so
+        that a subscriber that comes while it is paused gets the world as it stands (latched)."""
+        if self._markers_behind:
+            self.publish_markers(force=True)
 
     def report_guard_events(self):
         """Publish every guard event; the core logs each one, the node adds a hint at most every

@@ -38,6 +38,7 @@ class PhysicsServices(ServiceGroup):
         def do():   # between two steps: the last /clock then tells the exact paused time
             self.loop.set_paused(True)
             self.sim.outputs.publish_clock()
+            self.sim.outputs.on_pause()
         self.loop.call(do)
         return EmptyResponse()
 
@@ -136,6 +137,7 @@ class PhysicsServices(ServiceGroup):
                     self.world.step(n)
                     left -= n
                 self.sim.outputs.publish_clock()   # the throttled clock may have skipped the last step
+                self.sim.outputs.on_pause()        # still paused: the latched markers as it stands
             resp.iterations = self.world.iterations
             resp.sim_time = self.world.time
             return "advanced %d steps to t=%.6f s" % (req.steps, self.world.time)
