@@ -186,10 +186,8 @@ def main(argv=None):
     except ModrobError as exc:
         print("bulbs_and_slides_demo: %s" % exc, file=sys.stderr, flush=True)
     finally:
-        if streams is not None:
-            streams.stop()
         if stopping is None:
-            stop_simulation(proc, log)
+            stop_all(streams, proc, log)
         else:
             stopping.join()
     if result is None:

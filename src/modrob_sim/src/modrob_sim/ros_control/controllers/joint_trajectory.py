@@ -361,7 +361,7 @@ class JointTrajectoryControllerBase(Controller):
         # passed, on a schedule kept from the goal's first feedback (at 50 and 20 Hz: 60 and 40 ms
         # apart in turn, 20 Hz on average): a feedback between two state samples would end a batch
         # of native steps of its own (ros_control.native_control), a fifth more batches in a motion.
-        if self.goal is None or not (state_due or not self._feedback_with_state):
+        if self.goal is None or (self._feedback_with_state and not state_due):
             return
         if self._next_feedback is None or t >= self._next_feedback - 1e-9:
             period = 1.0 / self.action_monitor_rate
