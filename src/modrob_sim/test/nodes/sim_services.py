@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """rostest node: every /gazebo service called through rospy.ServiceProxy with gazebo_msgs types
 (and modrob_msgs/StepSimulation), checked against what the physics must do."""
+import copy
 import math
 import sys
 import time
@@ -181,6 +182,21 @@ class SimServices(unittest.TestCase):
                                              ode_config=orig.ode_config)
         self.assertFalse(bad.success)
         self.assertIn("time_step", bad.status_message)
+        # an early-exit tolerance (Gazebo's ODE fork) cannot be honoured: the rest is applied and
+        # the reply says what was not, instead of dropping it without a word
+        cfg = copy.deepcopy(orig.ode_config)
+        cfg.sor_pgs_rms_error_tol = 1e-6
+        cfg.sor_pgs_iters = 40
+        r = self.gz.set_physics_properties(time_step=orig.time_step, max_update_rate=orig.max_update_rate,
+                                           gravity=orig.gravity, ode_config=cfg)
+        self.assertTrue(r.success, r.status_message)
+        self.assertIn("not applied: sor_pgs_rms_error_tol 1e-06", r.status_message)
+        self.assertEqual(self.gz.get_physics_properties().ode_config.sor_pgs_iters, 40)
+        self.assertEqual(self.gz.get_physics_properties().ode_config.sor_pgs_rms_error_tol, 0.0)
+        r = self.gz.set_physics_properties(time_step=orig.time_step, max_update_rate=orig.max_update_rate,
+                                           gravity=orig.gravity, ode_config=orig.ode_config)
+        self.assertTrue(r.success, r.status_message)
+        self.assertNotIn("not applied", r.status_message)
 
     # ---- time --------------------------------------------------------------------------------
     def test_pause_stops_clock_and_unpause_restarts_it(self):

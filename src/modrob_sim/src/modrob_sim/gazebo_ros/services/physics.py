@@ -17,6 +17,21 @@ ODE_FIELDS = (("iters", "sor_pgs_iters"), ("sor", "sor_pgs_w"), ("cfm", "cfm"), 
               ("contact_surface_layer", "contact_surface_layer"), ("max_contacts", "max_contacts"))
 
 
+def _not_applied(cfg):
+    """The gazebo_msgs/ODEPhysics fields that ask for something ODE 0.16's quickStep cannot do,
+    said in words (empty when none does). Gazebo's own defaults (both 0) ask for nothing."""
+    out = []
+    tol = cfg.sor_pgs_rms_error_tol
+    if tol != 0.0:
+        out.append("sor_pgs_rms_error_tol %g (ODE 0.16's quickStep has no early exit: every step runs "
+                   "all sor_pgs_iters iterations, as Gazebo does with its default 0; lower "
+                   "sor_pgs_iters for fewer)" % tol)
+    if cfg.sor_pgs_precon_iters != 0:
+        out.append("sor_pgs_precon_iters %d (ODE 0.16's quickStep has no preconditioning iterations)"
+                   % cfg.sor_pgs_precon_iters)
+    return "; ".join(out)
+
+
 #: steps of a `step` request between two checks for shut-down
 STEP_CHUNK = 100
 
@@ -115,6 +130,10 @@ class PhysicsServices(ServiceGroup):
             self.world.time_step = dt
             self.world.gravity = g
             self.loop.set_real_time_factor(req.max_update_rate * dt)
+            ignored = _not_applied(cfg)
+            if ignored:
+                rospy.logwarn("set_physics_properties: not applied: %s", ignored)
+                return "physics properties set; not applied: %s" % ignored
             return "physics properties set"
         return self.run(do, gzs.SetPhysicsPropertiesResponse(), "SetPhysicsProperties")
 
