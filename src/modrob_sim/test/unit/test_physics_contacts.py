@@ -3,6 +3,7 @@ filtering inside a model."""
 import importlib.util
 import math
 import os
+import random
 
 import pytest
 
@@ -224,6 +225,52 @@ def test_contact_points_of_the_last_step(native):
         assert 0.0 <= c.depth < 0.002
     xs = sorted(c.position[0] for c in cps)
     assert xs[0] == pytest.approx(0.4, abs=1e-3) and xs[-1] == pytest.approx(0.6, abs=1e-3)
+
+
+_SHAPES = ("<box><size>0.1 0.08 0.06</size></box>", "<sphere><radius>0.05</radius></sphere>",
+           "<cylinder><radius>0.04</radius><length>0.1</length></cylinder>")
+
+
+def _scattered(native):
+    """Boxes, spheres and cylinders dropped close together over a static table and the ground,
+    and an articulated model (its own links do not collide) among them."""
+    world = World(native=native)
+    world.add_sdf("""<sdf version="1.6"><model name="ground"><static>true</static><link name="l">
+        <collision name="c"><geometry><plane><normal>0 0 1</normal></plane></geometry></collision>
+        </link></model></sdf>""")
+    world.add_sdf("""<sdf version="1.6"><model name="table"><static>true</static><pose>0.5 0 0.2 0 0 0</pose>
+        <link name="l"><collision name="c"><geometry><box><size>0.6 0.6 0.05</size></box></geometry>
+        </collision></link></model></sdf>""")
+    world.add_urdf("arm", H.fixture("pendulum.urdf"), pose=((0.3, 0.1, 0.3), (0, 0, 0, 1)))
+    rnd = random.Random(3)
+    for i in range(60):
+        pose = (rnd.uniform(-0.4, 1.0), rnd.uniform(-0.4, 0.4), 0.05 + 0.5 * rnd.random(),
+                rnd.random(), rnd.random())
+        world.add_sdf("""<sdf version="1.6"><model name="b%d"><pose>%f %f %f %f %f 0</pose><link name="l">
+            <inertial><mass>0.1</mass></inertial><collision name="c"><geometry>%s</geometry></collision>
+            </link></model></sdf>""" % ((i,) + pose + (_SHAPES[i % 3],)))
+    return world
+
+
+def test_the_c_loops_broadphase_finds_the_pairs_odes_spaces_find():
+    # the C loop sorts and sweeps the geoms' boxes itself (mr_sweep); the pure-Python path asks
+    # ODE's hash spaces (dSpaceCollide, dSpaceCollide2). From the same poses both make the same
+    # contacts: the same pairs, points and depths
+    def made(native):
+        world = _scattered(native)
+        world.step(1)
+        return world, sorted((tuple(sorted([(c.model1, c.link1), (c.model2, c.link2)])),
+                              tuple(round(x, 9) for x in c.position), round(c.depth, 12))
+                             for c in world.contacts())
+    native, ours = made(None)
+    assert native.native
+    pure, odes = made(False)
+    assert not pure.native
+    pairs = {p for p, _, _ in ours}
+    assert len(ours) > 20
+    assert any(("table", "l") in p for p in pairs)                       # moving - static
+    assert any(p[0][0].startswith("b") and p[1][0].startswith("b") for p in pairs)  # moving - moving
+    assert ours == odes
 
 
 def test_spawn_overlap_with_a_mesh_is_warned(caplog):
