@@ -302,6 +302,24 @@ class SimServices(unittest.TestCase):
         self.assertTrue(any(m.ns == "ground" for m in markers.get().markers))
         self.assertFalse(any(m.ns == "arm2" for m in markers.get().markers))
 
+    def test_world_markers_follow_a_teleport_while_paused(self):
+        # RViz shows the world through the latched ~world_markers: a model moved while the
+        # simulation is paused must be drawn where it now is, also for a subscriber that comes later
+        self.gz.spawn("box", "box.urdf", z=0.5)
+        pose = Pose(position=Point(1.5, -1.0, 0.7), orientation=Quaternion(0, 0, 0, 1))
+        state = ModelState(model_name="box", pose=pose, reference_frame="world")
+        r = self.gz.set_model_state(model_state=state)
+        self.assertTrue(r.success, r.status_message)
+        markers = Latest("/gazebo/world_markers", MarkerArray)
+        self.assertTrue(wait_for(lambda: markers.get() is not None, 10.0))
+        box = [m for m in markers.get().markers if m.ns == "box"]
+        self.assertTrue(box)
+        for m in box:
+            self.assertAlmostEqual(m.pose.position.x, 1.5, places=3)
+            self.assertAlmostEqual(m.pose.position.y, -1.0, places=3)
+            self.assertAlmostEqual(m.pose.position.z, 0.7, places=3)
+        markers.sub.unregister()
+
     def test_use_sim_time_is_set(self):
         self.assertTrue(rospy.get_param("/use_sim_time"))
 

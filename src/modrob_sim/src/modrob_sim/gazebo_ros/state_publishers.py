@@ -213,8 +213,11 @@ class StatePublishers(object):
             self._marker_pub.publish(arr)
 
     def on_pause(self):
-        """The simulation pauses: markers left unbuilt while nobody subscribed are made now, so
-        that a subscriber that comes while it is paused gets the world as it stands (latched)."""
+        """The simulation pauses, or a step made while paused ends: /clock tells the exact paused
+        time (the throttled clock may have skipped the last step), and markers left unbuilt while
+        nobody subscribed are made now, so that a subscriber that comes while it is paused gets the
+        world as it stands (both latched)."""
+        self.publish_clock()
         if self._markers_behind:
             self.publish_markers(force=True)
 

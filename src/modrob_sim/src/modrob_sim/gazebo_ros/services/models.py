@@ -103,6 +103,13 @@ class ModelServices(ServiceGroup):
         return resp
 
     # ---- states -------------------------------------------------------------------------------
+    def _moved(self):
+        """A model was moved by hand (in the loop). While the simulation runs, the next marker time
+        draws it; while it is paused nothing would, so the latched ~world_markers are made now, for
+        RViz and for whoever subscribes later, as after a spawn."""
+        if self.loop.paused:
+            self.sim.outputs.publish_markers(force=True)
+
     def get_model_state(self, req):
         resp = gzs.GetModelStateResponse()
 
@@ -132,6 +139,7 @@ class ModelServices(ServiceGroup):
             twist = tf.twist_to_world(frame[0], twist)
         m.set_pose(pose)
         m.set_twist(twist)
+        self._moved()
         return "set model state done"
 
     def set_model_state_srv(self, req):
@@ -151,6 +159,7 @@ class ModelServices(ServiceGroup):
             twist = tf.twist_to_world(frame[0], twist)
         link.set_pose(pose)
         link.set_twist(twist)
+        self._moved()
         return "set link state done"
 
     def set_link_state_srv(self, req):
@@ -190,5 +199,6 @@ class ModelServices(ServiceGroup):
             if not tf.is_finite(tuple(req.joint_positions)):
                 raise RequestError("joint_positions has a NaN or infinite value: %s" % (req.joint_positions,))
             m.set_configuration(list(req.joint_names), [float(v) for v in req.joint_positions])
+            self._moved()
             return "set model configuration done"
         return self.run(do, gzs.SetModelConfigurationResponse(), "SetModelConfiguration")

@@ -52,7 +52,6 @@ class PhysicsServices(ServiceGroup):
     def pause(self, req):
         def do():   # between two steps: the last /clock then tells the exact paused time
             self.loop.set_paused(True)
-            self.sim.outputs.publish_clock()
             self.sim.outputs.on_pause()
         self.loop.call(do)
         return EmptyResponse()
@@ -155,8 +154,7 @@ class PhysicsServices(ServiceGroup):
                     n = min(left, STEP_CHUNK)
                     self.world.step(n)
                     left -= n
-                self.sim.outputs.publish_clock()   # the throttled clock may have skipped the last step
-                self.sim.outputs.on_pause()        # still paused: the latched markers as it stands
+                self.sim.outputs.on_pause()     # still paused: /clock and the markers as it stands
             resp.iterations = self.world.iterations
             resp.sim_time = self.world.time
             return "advanced %d steps to t=%.6f s" % (req.steps, self.world.time)
