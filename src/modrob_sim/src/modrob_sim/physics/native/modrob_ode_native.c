@@ -481,8 +481,9 @@ static int mr_sweep_cmp(const void *a, const void *b)
     return x < y ? -1 : (x > y ? 1 : 0);
 }
 
-/* Collect the geoms of ``space`` into the sweep from entry m on; returns the new count. A space
- * inside the space goes to dSpaceCollide. */
+/* Collect the enabled geoms of ``space`` into the sweep from entry m on; returns the new count.
+ * A space inside the space is one entry, whose pairs mr_near hands to dSpaceCollide2, as
+ * dSpaceCollide hands them to it. */
 static int mr_sweep_collect(MrCtx *c, dSpaceID space, int m)
 {
     int n = dSpaceGetNumGeoms(space), i;
@@ -492,15 +493,13 @@ static int mr_sweep_collect(MrCtx *c, dSpaceID space, int m)
     }
     for (i = 0; i < n; ++i) {
         dGeomID g = dSpaceGetGeom(space, i);
-        if (dGeomIsSpace(g)) {
-            dSpaceCollide((dSpaceID)g, c, &mr_near);
-            continue;
-        }
+        int is_space = dGeomIsSpace(g);
         if (!dGeomIsEnabled(g)) continue;
         dGeomGetAABB(g, c->sweep[m].aabb);
         c->sweep[m].geom = g;
-        c->sweep[m].body = dGeomGetBody(g);
-        c->sweep[m].awake = c->sweep[m].body && dBodyIsEnabled(c->sweep[m].body);
+        c->sweep[m].body = is_space ? NULL : dGeomGetBody(g);
+        /* a space's geoms may be awake: mr_near judges each of its pairs */
+        c->sweep[m].awake = is_space || (c->sweep[m].body && dBodyIsEnabled(c->sweep[m].body));
         ++m;
     }
     return m;
@@ -511,11 +510,11 @@ static int mr_sweep_collect(MrCtx *c, dSpaceID space, int m)
  * ODE's spaces make before their callback (enabled geoms, not two geoms of one body, the category
  * and collide bits, the boxes overlap), and none of the pairs mr_near drops at once (neither geom
  * on an awake body: two static geoms, static and sleeping, two sleeping), so mr_near makes the
- * same contacts as from
- * dSpaceCollide and dSpaceCollide2, in another order. ODE's hash space inserts every geom into
- * its cells at every step, a heap allocation per cell, and dSpaceCollide2 tests every static geom
- * against every moving one: for the 42 moving and 25 static geoms of Bulbs and Slides the sweep
- * takes less than half their time (docs/physics.md, "Speed"). */
+ * same contacts as from dSpaceCollide and dSpaceCollide2, in another order. ODE's hash space
+ * inserts every geom into its cells at every step, a heap allocation per cell, and
+ * dSpaceCollide2 tests every static geom against every moving one: for the 42 moving and 25
+ * static geoms of Bulbs and Slides the sweep takes less than half their time (docs/physics.md,
+ * "Speed"). */
 static void mr_sweep(MrCtx *c, dSpaceID dyn, dSpaceID fixed)
 {
     int m, i, k;
