@@ -10,6 +10,7 @@ import rospy
 import rostest
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from gazebo_msgs.srv import GetPhysicsProperties, GetWorldProperties
+from std_srvs.srv import Empty
 from rosgraph_msgs.msg import Log
 from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryGoal,
                               FollowJointTrajectoryResult,
@@ -124,6 +125,30 @@ class FollowJointTrajectory(unittest.TestCase):
         self.client.cancel_goal()
         self.assertTrue(self.client.wait_for_result(rospy.Duration(30)))
         self.assertEqual(self.client.get_state(), GoalStatus.PREEMPTED)
+
+    def test_5_the_goal_status_comes_at_5_hz_of_simulated_time_also_after_a_reset(self):
+        """actionlib's status array, every 0.2 s of simulated time (its status_frequency), goes on
+        after reset_simulation sends the clock back to 0. rospy's Timer, which actionlib uses for
+        it, ends its thread when time moves backwards."""
+        stamps = []
+        sub = rospy.Subscriber(NS + "/arm_controller/follow_joint_trajectory/status", GoalStatusArray,
+                               lambda m: stamps.append(m.header.stamp.to_sec()), queue_size=100)
+        wait_until(lambda: len(stamps) >= 6, 30, "6 status arrays")
+        before = list(stamps)
+        mean_gap = (before[-1] - before[1]) / (len(before) - 2)
+        self.assertAlmostEqual(mean_gap, 0.2, delta=0.03, msg="status stamps %s" % before)
+        reset = rospy.ServiceProxy("/gazebo/reset_simulation", Empty)
+        reset.wait_for_service(30)
+        reset()
+        del stamps[:]
+        wait_until(lambda: len([t for t in stamps if t < before[-1]]) >= 4, 30,
+                   "4 status arrays stamped after the reset")
+        sub.unregister()
+        # a client made after the reset finds the server (actionlib's wait_for_server waits for a
+        # status array)
+        client = actionlib.SimpleActionClient(NS + "/arm_controller/follow_joint_trajectory",
+                                              FollowJointTrajectoryAction)
+        wait_for_action_server(client, 30, "the action server, from a client made after the reset")
 
 
 if __name__ == "__main__":

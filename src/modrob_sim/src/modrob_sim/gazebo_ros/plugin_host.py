@@ -24,14 +24,15 @@ def _overrides(plugin, hook):
 
 
 class PluginHost(object):
-    """``call``/``advertise`` are handed to every PluginContext (see plugins.PluginContext)."""
+    """``call``/``advertise``/``timers`` are handed to every PluginContext (see plugins.PluginContext)."""
 
-    def __init__(self, world, node_name, resolve, call=None, advertise=None):
+    def __init__(self, world, node_name, resolve, call=None, advertise=None, timers=None):
         self.world = world
         self.node_name = node_name
         self.resolve = resolve
         self._call = call
         self._advertise = advertise
+        self._timers = timers
         self._loaded = collections.OrderedDict()    # model name -> [_Loaded]
         self._warned = set()
         self._before = ()
@@ -58,7 +59,7 @@ class PluginHost(object):
                 spec = spec._replace(robot_namespace=ns)
             ctx = plugins.PluginContext(self.world, self.node_name, self.resolve, model.name, ns,
                                         seed=plugins.plugin_seed(self.world.seed, model.name, index, spec),
-                                        call=self._call, advertise=self._advertise)
+                                        call=self._call, advertise=self._advertise, timers=self._timers)
             plugin = self._construct(factory, model, spec, ctx)
             if plugin is not None:
                 loaded.append(_Loaded(model.name, spec, plugin, ctx))

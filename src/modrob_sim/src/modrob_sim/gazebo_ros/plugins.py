@@ -125,10 +125,15 @@ class PluginContext(object):
                      the hook for small messages; publish_later(build) hands the building and
                      serialisation of a big one to the node's publishing thread. The plugin owns
                      them: unregister them in its shutdown().
+    every(period, callback, name)   ``callback(rospy.TimerEvent)`` every ``period`` seconds of
+                     simulated time, in the node's publishing thread (a rospy.Timer in simulated
+                     time without waking at every step; see sim_timers). Returns a handle with
+                     shutdown(), or None when the node does not run on simulated time: then use
+                     rospy.Timer.
     """
 
     def __init__(self, world, node_name, resolve, model_name="", robot_namespace="", seed=0, call=None,
-                 advertise=None):
+                 advertise=None, timers=None):
         self.world = world
         self.node_name = node_name
         self.resolve = resolve
@@ -138,6 +143,7 @@ class PluginContext(object):
         self.rng = random.Random(self.seed)
         self._call = call
         self._advertise = advertise
+        self._timers = timers
 
     def call(self, fn, timeout=30.0):
         if self._call is None:      # no loop (a unit test drives the plugin itself)
@@ -149,6 +155,11 @@ class PluginContext(object):
             raise PluginError("model '%s': no ROS publishing in this context (advertise %s)"
                               % (self.model_name, topic))
         return self._advertise(topic, msg_class, queue_size=queue_size, latch=latch)
+
+    def every(self, period, callback, name="timer"):
+        if self._timers is None:
+            return None
+        return self._timers.add(period, callback, name)
 
     def reseed(self):
         """Back to the start of this plugin's random stream (reset_simulation)."""

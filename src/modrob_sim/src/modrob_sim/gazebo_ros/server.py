@@ -37,6 +37,7 @@ from modrob_sim.gazebo_ros.services.models import ModelServices
 from modrob_sim.gazebo_ros.services.physics import PhysicsServices
 from modrob_sim.gazebo_ros.services.properties import PropertyServices
 from modrob_sim.gazebo_ros.sim_loop import SimulationLoop
+from modrob_sim.gazebo_ros.sim_timers import SimTimers
 from modrob_sim.gazebo_ros.state_publishers import StatePublishers
 from modrob_sim.gazebo_ros.world_file import find_world, world_physics
 
@@ -120,11 +121,13 @@ class GazeboRosNode(object):
                                    paused=params.paused, on_rtf=self._on_rtf, on_error=self._on_step_error,
                                    step=self._step)
         self._publish_queue = PublishQueue()
+        # timers in simulated time for the node's own ROS helpers, when the node sets rospy's time
+        self.timers = SimTimers(self._publish_queue) if self._own_sim_time else None
         self.plugins = PluginHost(self.world, self.node_name, self.resolve, call=self.loop.call,
-                                  advertise=ros_advertiser(self._publish_queue))
+                                  advertise=ros_advertiser(self._publish_queue), timers=self.timers)
         self._hook = self.world.add_step_hook(before=self._before_step, after=self._after_step)
         self.fast = FastSteps(self.world, self.plugins, self.forces, self.outputs,
-                              set_time=set_rostime if self._own_sim_time else None)
+                              set_time=self._set_time if self._own_sim_time else None)
         if settings.text is not None:
             self._load_world_file(settings)
         self.outputs.publish_markers(force=True)
@@ -176,9 +179,15 @@ class GazeboRosNode(object):
     def _step(self, n):
         return self.fast.step(n, whole=False)
 
+    def _set_time(self, stamp):
+        """After a batch of steps: rospy's time, then the timers due by then."""
+        set_rostime(stamp)
+        self.timers.tick(stamp.secs + 1e-9 * stamp.nsecs)
+
     def _before_step(self, t, dt):
         if self._own_sim_time:
             set_rostime(ros_time(t))
+            self.timers.tick(t)
         self.forces.activate_wrenches(t)
         self.plugins.before_step(t, dt)
         self.forces.apply_efforts(t)

@@ -165,9 +165,24 @@ class TrajectoryAdapter(Adapter):
                                              FollowJointTrajectoryAction,
                                              self._on_goal, self._on_cancel, auto_start=False)
         self.server.start()
+        self._status_in_sim_time()
         for name in ("pid_namespaces",):
             for pid, ns in zip(getattr(controller, "pids", []), getattr(controller, name, [])):
                 self.handles.append(PidReconfigure(pid, ns))
+
+    def _status_in_sim_time(self):
+        """actionlib publishes the status array from a rospy.Timer, which the node's clock wakes
+        after every batch of steps and which ends when time moves backwards (reset_simulation):
+        the node's timer in simulated time does it instead (gazebo_ros.sim_timers)."""
+        rospy_timer = getattr(self.server, "status_timer", None)
+        if rospy_timer is None:         # status_frequency 0: no status array
+            return
+        every = getattr(getattr(self.plugin, "context", None), "every", None)
+        timer = every and every(1.0 / self.server.status_frequency, self.server.publish_status_async,
+                                self.ns + "/follow_joint_trajectory/status")
+        if timer is not None:
+            rospy_timer.shutdown()
+            self.handles.append(timer)
 
     # callbacks: parse, check and build every segment here, then hand the finished trajectory over:
     # the loop only places it in time (a 100k-point goal built in the loop thread blocked every
