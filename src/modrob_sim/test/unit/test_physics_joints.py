@@ -136,6 +136,39 @@ def test_effort_is_clamped_to_the_limit():
     assert j.effort == 0.0  # set_effort lasts one step
 
 
+
+def test_set_effort_clamps_every_number_and_refuses_what_is_not_a_finite_one():
+    """set_effort's checks, for a float (its fast path) and for everything else: the limit, the
+    last call of a step wins, NaN / infinity / not a number / a fixed joint refused by name with
+    the command left as it was."""
+    import numpy
+    world = World()
+    m = world.add_urdf("w", wheel_urdf(effort=5.0))
+    j = m.joints["spin"]
+    for given, applied in ((7.0, 5.0), (-7.0, -5.0), (2.5, 2.5), (3, 3.0), (numpy.float64(9.0), 5.0),
+                           (-1e300, -5.0)):
+        j.set_effort(123.0)
+        j.set_effort(given)             # the last one of the step wins
+        world.step()
+        assert j.effort == applied, given
+    j.effort_limit = None               # no limit
+    j.set_effort(20.0)
+    world.step()
+    assert j.effort == 20.0
+    j.effort_limit = 5.0
+    for bad, text in ((float("nan"), "not finite"), (float("inf"), "not finite"), (-float("inf"), "not finite"),
+                      ("x", "not a number"), (None, "not a number")):
+        j.set_effort(1.5)
+        with pytest.raises(ValueError, match="joint 'spin' of model 'w': effort .*%s" % text):
+            j.set_effort(bad)
+        world.step()
+        assert j.effort == 1.5, bad     # the command before the refused one stays
+    fixed = world.add_urdf("f", H.robot("f", '<link name="world"/>' + H.box_link("a", 1.0, (0.1, 0.1, 0.1)) +
+                                        '<joint name="weld" type="fixed"><parent link="world"/>'
+                                        '<child link="a"/></joint>'))
+    with pytest.raises(ValueError, match="joint 'weld' of model 'f' is fixed: it takes no effort"):
+        fixed.joints["weld"].set_effort(1.0)
+
 def test_fixed_joint_child_keeps_its_own_frame():
     body = ('<link name="world"/>' + H.box_link("base", 1.0, (0.1, 0.1, 0.1)) +
             '<joint name="fix" type="fixed"><parent link="world"/><child link="base"/>'

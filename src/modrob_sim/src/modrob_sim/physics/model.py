@@ -355,10 +355,19 @@ class Joint(object):
     def set_effort(self, f):
         """Effort (N m or N) for the NEXT step only; clamped to +-effort_limit. Several calls in one
         step: the last one wins (use add_effort to accumulate)."""
-        f = self._check_effort(f)
-        self._raw_cmd = f
-        self._cmd = self._limit(f)
-        self._queue()
+        if f.__class__ is float and -FORCE_CAP <= f <= FORCE_CAP and self._ode is not None:
+            # a controller's every call: the checks below, inline (their calls were a third of a
+            # PD loop's Python per step)
+            lim = self.effort_limit
+            self._raw_cmd = f
+            self._cmd = (lim if f > lim else (-lim if f < -lim else f)) if lim is not None and lim > 0.0 else f
+        else:
+            f = self._check_effort(f)
+            self._raw_cmd = f
+            self._cmd = self._limit(f)
+        if not self._has_cmd:
+            self._has_cmd = True
+            self.model._world.queue_effort(self)
 
     def add_effort(self, f):
         """Addition to the contract: like Gazebo's Joint::SetForce, efforts given in one step add
