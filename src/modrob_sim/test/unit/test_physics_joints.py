@@ -136,7 +136,6 @@ def test_effort_is_clamped_to_the_limit():
     assert j.effort == 0.0  # set_effort lasts one step
 
 
-
 def test_set_effort_clamps_every_number_and_refuses_what_is_not_a_finite_one():
     """set_effort's checks, for a float (its fast path) and for everything else: the limit, the
     last call of a step wins, NaN / infinity / not a number / a fixed joint refused by name with
@@ -156,8 +155,8 @@ def test_set_effort_clamps_every_number_and_refuses_what_is_not_a_finite_one():
     world.step()
     assert j.effort == 20.0
     j.effort_limit = 5.0
-    for bad, text in ((float("nan"), "not finite"), (float("inf"), "not finite"), (-float("inf"), "not finite"),
-                      ("x", "not a number"), (None, "not a number")):
+    for bad, text in ((float("nan"), "not finite"), (float("inf"), "not finite"),
+                      (-float("inf"), "not finite"), ("x", "not a number"), (None, "not a number")):
         j.set_effort(1.5)
         with pytest.raises(ValueError, match="joint 'spin' of model 'w': effort .*%s" % text):
             j.set_effort(bad)
@@ -168,6 +167,7 @@ def test_set_effort_clamps_every_number_and_refuses_what_is_not_a_finite_one():
                                         '<child link="a"/></joint>'))
     with pytest.raises(ValueError, match="joint 'weld' of model 'f' is fixed: it takes no effort"):
         fixed.joints["weld"].set_effort(1.0)
+
 
 def test_fixed_joint_child_keeps_its_own_frame():
     body = ('<link name="world"/>' + H.box_link("base", 1.0, (0.1, 0.1, 0.1)) +

@@ -360,7 +360,9 @@ class Joint(object):
             # PD loop's Python per step)
             lim = self.effort_limit
             self._raw_cmd = f
-            self._cmd = (lim if f > lim else (-lim if f < -lim else f)) if lim is not None and lim > 0.0 else f
+            if lim is not None and lim > 0.0:
+                f = lim if f > lim else (-lim if f < -lim else f)
+            self._cmd = f
         else:
             f = self._check_effort(f)
             self._raw_cmd = f
