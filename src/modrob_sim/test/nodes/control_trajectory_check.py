@@ -133,10 +133,13 @@ class FollowJointTrajectory(unittest.TestCase):
         stamps = []
         sub = rospy.Subscriber(NS + "/arm_controller/follow_joint_trajectory/status", GoalStatusArray,
                                lambda m: stamps.append(m.header.stamp.to_sec()), queue_size=100)
-        wait_until(lambda: len(stamps) >= 6, 30, "6 status arrays")
+        wait_until(lambda: len(stamps) >= 8, 30, "8 status arrays")
         before = list(stamps)
-        mean_gap = (before[-1] - before[1]) / (len(before) - 2)
-        self.assertAlmostEqual(mean_gap, 0.2, delta=0.03, msg="status stamps %s" % before)
+        # the first is the latched one; goal transitions (the previous test's cancel) add their own
+        gaps = [b - a for a, b in zip(before[1:], before[2:])]
+        periodic = [g for g in gaps if abs(g - 0.2) < 0.05]
+        self.assertGreaterEqual(len(periodic), 4, "status stamps %s" % before)
+        self.assertAlmostEqual(sorted(gaps)[len(gaps) // 2], 0.2, delta=0.05, msg="status stamps %s" % before)
         reset = rospy.ServiceProxy("/gazebo/reset_simulation", Empty)
         reset.wait_for_service(30)
         reset()
