@@ -15,7 +15,6 @@ each batch (a batch is at most the loop's batch of steps, 10 by default).
 import os
 
 from modrob_sim.physics import native_batch
-from modrob_sim.gazebo_ros.conversions import ros_time
 
 INF = float("inf")
 
@@ -95,7 +94,7 @@ class FastSteps(object):
             for c in controls:
                 c.finish(k, t, dt)
             if self.set_time is not None:
-                self.set_time(ros_time(t))
+                self.set_time(t)
             self.steps += k
             self.batches += 1
             self.outputs.after_batch(wall_schedules=not b.after_due)

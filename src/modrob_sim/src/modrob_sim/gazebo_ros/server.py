@@ -179,15 +179,15 @@ class GazeboRosNode(object):
     def _step(self, n):
         return self.fast.step(n, whole=False)
 
-    def _set_time(self, stamp):
-        """After a batch of steps: rospy's time, then the timers due by then."""
-        set_rostime(stamp)
-        self.timers.tick(stamp.secs + 1e-9 * stamp.nsecs)
+    def _set_time(self, t):
+        """Simulated time is ``t`` [s] (before a step, or after a batch of steps in C): rospy's
+        time, then the timers due by then."""
+        set_rostime(ros_time(t))
+        self.timers.tick(t)
 
     def _before_step(self, t, dt):
         if self._own_sim_time:
-            set_rostime(ros_time(t))
-            self.timers.tick(t)
+            self._set_time(t)
         self.forces.activate_wrenches(t)
         self.plugins.before_step(t, dt)
         self.forces.apply_efforts(t)

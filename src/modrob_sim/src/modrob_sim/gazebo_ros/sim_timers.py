@@ -65,7 +65,7 @@ class SimTimers(object):
     def remove(self, timer):
         with self._lock:
             self._timers = tuple(x for x in self._timers if x is not timer)
-            self._next = min([x.due for x in self._timers] or [float("inf")])
+            self._next = self._earliest()
         self._queue.forget(timer)
 
     def tick(self, t):
@@ -86,4 +86,7 @@ class SimTimers(object):
                     self._queue.put(timer, lambda x=timer, e=expected, r=real: x.build(e, r))
                     while timer.due <= t + EPS:   # a late loop skips periods, as rospy's Rate does
                         timer.due += timer.period
-            self._next = min([x.due for x in self._timers] or [float("inf")])
+            self._next = self._earliest()
+
+    def _earliest(self):
+        return min([x.due for x in self._timers] or [float("inf")])
