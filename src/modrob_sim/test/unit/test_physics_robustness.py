@@ -37,8 +37,8 @@ def world_signature(world):
     ("<robot name='x'><link name='a'/><link name='b'/></robot>", "exactly one root link"),
     ("<robot name='x'><link name='a'><collision><geometry><box size='1 0 1'/></geometry></collision>"
      "</link></robot>", "must be positive"),
-    ("<robot name='x'><link name='a'/><gazebo reference='nope'><mu1>1</mu1></gazebo></robot>",
-     "no link or joint is named 'nope'"),
+    ("<robot name='x'><link name='a'/><gazebo reference='a'><mu1 value='-1'/></gazebo></robot>",
+     "<mu1> must not be negative"),
 ])
 def test_bad_urdf_gives_a_model_error_naming_the_problem_and_leaves_the_world_unchanged(xml, message):
     world = World()

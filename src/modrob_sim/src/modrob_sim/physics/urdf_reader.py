@@ -236,9 +236,24 @@ def read_urdf(name, xml_text, warn):
     return limits.validate_model(desc)
 
 
+def _value_attributes_as_text(ge, name, warn):
+    """Gazebo's URDF conversion reads a key as ``<mu1 value="1"/>`` as well as ``<mu1>1</mu1>``
+    (the attribute wins): turn the attribute form into the element form, so that every reader of
+    these elements (contacts, joints, plugins' own look-ups) sees one form. Plugins and sensors
+    inside the block are left as they are (Gazebo copies them verbatim)."""
+    for c in ge:
+        if local(c.tag) in ("plugin", "sensor") or c.get("value") is None:
+            continue
+        warn("urdf-value-attribute:%s:%s" % (name, local(c.tag)),
+             "model '%s': <gazebo><%s value=\"%s\"/> read as <%s>%s</%s>, as Gazebo's URDF conversion "
+             "does" % (name, local(c.tag), c.get("value"), local(c.tag), c.get("value"), local(c.tag)))
+        c.text = c.get("value")
+
+
 def _read_gazebo(rd, root, desc, name, warn):
     for ge in root.findall("gazebo"):
         ref = ge.get("reference")
+        _value_attributes_as_text(ge, name, warn)
         if ref is None:
             for c in ge:
                 tag = local(c.tag)
@@ -266,7 +281,10 @@ def _read_gazebo(rd, root, desc, name, warn):
                     warn("urdf-joint-tag:" + tag, "model '%s' joint '%s': <gazebo><%s> is not "
                          "supported; ignored" % (name, ref, tag))
         else:
-            rd.fail("<gazebo reference='%s'>" % ref, "no link or joint is named '%s'" % ref)
+            # Gazebo's URDF conversion drops a block whose reference names nothing (UR's ee_link)
+            warn("urdf-dangling-reference:%s:%s" % (name, ref),
+                 "model '%s': <gazebo reference='%s'> names no link or joint of the model; the block "
+                 "is ignored, as Gazebo ignores it (links: %s)" % (name, ref, ", ".join(desc.links)))
 
 
 def _gazebo_link(rd, ge, link, desc, name, warn):
