@@ -24,10 +24,13 @@ def _overrides(plugin, hook):
 
 
 class PluginHost(object):
-    """``call``/``advertise``/``timers`` are handed to every PluginContext (see plugins.PluginContext)."""
+    """``call``/``advertise``/``timers`` are handed to every PluginContext (see plugins.PluginContext).
+    ``exports`` (a package_exports.PackageExports, or None) finds the plugins that packages export:
+    a file name the registry does not know is looked up there and its module imported."""
 
-    def __init__(self, world, node_name, resolve, call=None, advertise=None, timers=None):
+    def __init__(self, world, node_name, resolve, call=None, advertise=None, timers=None, exports=None):
         self.world = world
+        self.exports = exports
         self.node_name = node_name
         self.resolve = resolve
         self._call = call
@@ -35,6 +38,7 @@ class PluginHost(object):
         self._timers = timers
         self._loaded = collections.OrderedDict()    # model name -> [_Loaded]
         self._warned = set()
+        self._import_failed = set()
         self._before = ()
         self._after = ()
         self._native = ()
@@ -45,14 +49,13 @@ class PluginHost(object):
         a plugin that fails to load is logged and skipped (never fatal). Returns the plugins."""
         loaded = []
         for index, spec in enumerate(model.plugins):
-            factory = plugins.plugin_factory(spec.filename)
+            factory = plugins.plugin_factory(spec.filename) or self._exported_factory(model, spec)
             if factory is None:
                 if spec.filename not in self._warned:
                     self._warned.add(spec.filename)
                     where = " link '%s'" % spec.link if spec.link else ""
-                    LOG.warning("model '%s'%s: plugin %s (%s) is not provided by this simulator; ignored "
-                                "(registered: %s)", model.name, where, spec.filename, spec.name,
-                                ", ".join(plugins.registered_plugins()) or "none")
+                    LOG.warning("model '%s'%s: plugin %s (%s) is not provided by this simulator; ignored. %s",
+                                model.name, where, spec.filename, spec.name, self._searched(spec.filename))
                 continue
             ns = spec.robot_namespace or spawn_namespace or ""
             if ns != spec.robot_namespace:
@@ -66,6 +69,50 @@ class PluginHost(object):
         self._loaded[model.name] = loaded
         self._rebuild()
         return [item.plugin for item in loaded]
+
+    def _exported_factory(self, model, spec):
+        """Import the modules that packages export for this plugin file (once), then ask the
+        registry again; None when no package provides it."""
+        if self.exports is None:
+            return None
+        for export in self.exports.plugin_exports(spec.filename):
+            if (export.package, export.module) in self._import_failed:
+                continue
+            error = self.exports.import_module(export)
+            if error is not None:
+                self._import_failed.add((export.package, export.module))
+                self._warned.add(spec.filename)     # said here; no second "not provided" warning
+                LOG.error("model '%s': plugin %s not loaded: %s", model.name, spec.filename, error)
+                continue
+            factory = plugins.plugin_factory(spec.filename)
+            if factory is not None:
+                return factory
+            self._import_failed.add((export.package, export.module))
+            self._warned.add(spec.filename)
+            LOG.error("model '%s': plugin %s not loaded: package '%s' exports it from module %s, but "
+                      "importing that module registered no plugin of that name (it should call "
+                      "modrob_sim.gazebo_ros.plugins.register_plugin(\"%s\", <ModelPlugin class>))",
+                      model.name, spec.filename, export.package, export.module, export.filename)
+        return None
+
+    def _searched(self, filename):
+        """Where a plugin file was looked for, and how to provide it (the unknown-plugin warning)."""
+        own = ", ".join(plugins.registered_plugins()) or "none"
+        text = "Looked among the simulator's plugins (%s)" % own
+        if self.exports is None:
+            return text + "."
+        exported = ", ".join(self.exports.exported_plugins()) or "none"
+        text += (" and the <export><modrob_sim filename=... module=.../> of the %d packages on "
+                 "ROS_PACKAGE_PATH (%s)" % (self.exports.package_count, exported))
+        files = self.exports.plugin_files(filename)
+        if files:
+            text += ("; %s in an exported plugin_path is a Gazebo C++ plugin, which this simulator "
+                     "cannot load" % ", ".join(files))
+        elif self.exports.plugin_paths:
+            text += " and the exported plugin_path folders (%s)" % ", ".join(self.exports.plugin_paths)
+        return text + (". To provide it, write a ModelPlugin in Python (docs/plugins.md) and export it "
+                       "from its package.xml: <export><modrob_sim filename=\"%s\" module=\"<pkg>.<module>\"/>"
+                       "</export>" % filename)
 
     def _construct(self, factory, model, spec, ctx):
         what = "model '%s': plugin %s" % (model.name, spec.filename)

@@ -52,21 +52,26 @@ def unregister_plugin(filename):
         _registry.pop(filename, None)
 
 
+def plugin_key(filename):
+    """The name a plugin file is known by: ``libfoo.so``, ``foo.so``, ``libfoo`` and ``foo`` (with
+    or without a folder) are the same plugin, as Gazebo finds ``libfoo.so`` for each of them."""
+    base = (filename or "").replace("\\", "/").rsplit("/", 1)[-1]
+    if base.startswith("lib"):
+        base = base[3:]
+    if base.endswith(".so"):
+        base = base[:-3]
+    return base
+
+
 def plugin_factory(filename):
-    """The factory registered for ``filename``, or None. Also matches without a ``lib`` prefix or
-    ``.so`` suffix so that ``gazebo_ros_control`` finds ``libgazebo_ros_control.so``."""
+    """The factory registered for ``filename``, or None (names compared by :func:`plugin_key`, so
+    ``gazebo_ros_control`` finds ``libgazebo_ros_control.so``)."""
+    key = plugin_key(filename)
     with _registry_lock:
         if filename in _registry:
             return _registry[filename]
-        base = filename
-        if base.startswith("lib"):
-            base = base[3:]
-        if base.endswith(".so"):
-            base = base[:-3]
         for name, factory in _registry.items():
-            other = name[3:] if name.startswith("lib") else name
-            other = other[:-3] if other.endswith(".so") else other
-            if other == base:
+            if plugin_key(name) == key:
                 return factory
     return None
 

@@ -26,6 +26,7 @@ from modrob_sim.gazebo_ros.force_jobs import ForceJobs
 from modrob_sim.gazebo_ros import memory_debug
 from modrob_sim.gazebo_ros.lookup import Lookup
 from modrob_sim.gazebo_ros.node_params import Params, parse_server_args  # noqa: F401 (the node's API)
+from modrob_sim.gazebo_ros.package_exports import PackageExports
 from modrob_sim.gazebo_ros.plugin_host import PluginHost
 from modrob_sim.gazebo_ros.publishing import PublishQueue, ros_advertiser
 from modrob_sim.gazebo_ros.resources import ResourceResolver
@@ -101,6 +102,7 @@ class GazeboRosNode(object):
     def __init__(self, params, world_factory=None, node_name=None):
         self.params = params
         self.node_name = node_name or rospy.get_name()
+        self.exports = PackageExports()     # what packages export: plugins, model and media paths
         self.resolve = ResourceResolver()
         settings = WorldSettings(params, self.resolve)
         self.world = (world_factory or default_world_factory)(
@@ -124,7 +126,8 @@ class GazeboRosNode(object):
         # timers in simulated time for the node's own ROS helpers, when the node sets rospy's time
         self.timers = SimTimers(self._publish_queue) if self._own_sim_time else None
         self.plugins = PluginHost(self.world, self.node_name, self.resolve, call=self.loop.call,
-                                  advertise=ros_advertiser(self._publish_queue), timers=self.timers)
+                                  advertise=ros_advertiser(self._publish_queue), timers=self.timers,
+                                  exports=self.exports)
         self._hook = self.world.add_step_hook(before=self._before_step, after=self._after_step)
         self.fast = FastSteps(self.world, self.plugins, self.forces, self.outputs,
                               set_time=self._set_time if self._own_sim_time else None)
