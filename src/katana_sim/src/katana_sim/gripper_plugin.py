@@ -1,7 +1,8 @@
 """``libgazebo_ros_katana_gripper.so`` for the /gazebo node (the ROS layer of katana_sim.gripper).
 
-Loaded by the simulator when a model has ``<plugin filename="libgazebo_ros_katana_gripper.so">``
-and this module is in the node's ``~plugin_modules`` (katana.launch sets it). Elements, as
+Loaded by the simulator when a model has ``<plugin filename="libgazebo_ros_katana_gripper.so">``:
+katana_sim's package.xml exports this module for that file name (``<export><modrob_sim>``), so
+any launch file finds it, as Gazebo finds a plugin on its plugin path. Elements, as
 katana_gazebo_plugins reads them: ``r_finger_joint``, ``l_finger_joint``, ``max_torque`` (0.5 N m),
 ``node_namespace`` (katana; the ``gripper_controller_state`` topic lives there).
 
