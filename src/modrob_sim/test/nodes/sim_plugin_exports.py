@@ -18,7 +18,8 @@ from std_msgs.msg import String
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sim_helpers import Latest, wait_for  # noqa: E402
 
-OTHER_WS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "other_ws", "src")
+TEST_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OTHER_WS = os.path.join(TEST_DIR, "fixtures", "other_ws", "src")
 
 
 class SimPluginExports(unittest.TestCase):

@@ -52,8 +52,8 @@ def test_attribute_form_reads_as_the_element_form():
     warn_e, warn_a = Warnings(), Warnings()
     e = read_urdf("r", robot(ELEMENT_FORM), warn_e)
     a = read_urdf("r", robot(ATTRIBUTE_FORM), warn_a)
-    assert surface_of(a, "wheel") == surface_of(e, "wheel") == (0.3, 0.8, 100000.0, 10.0, (1.0, 0.0, 0.0),
-                                                               0.5, 0.002)
+    expected = (0.3, 0.8, 100000.0, 10.0, (1.0, 0.0, 0.0), 0.5, 0.002)
+    assert surface_of(a, "wheel") == surface_of(e, "wheel") == expected
     assert a.links["wheel"].material == e.links["wheel"].material == "Gazebo/Black"
     assert a.links["wheel"].self_collide is e.links["wheel"].self_collide is True
     # stored elements (read later by contacts, joints, plugins) carry the value as their text
