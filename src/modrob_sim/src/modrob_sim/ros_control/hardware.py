@@ -1,7 +1,12 @@
 """RobotHWSim: gazebo_ros_control's DefaultRobotHWSim over the physics core's Joint handles.
 
-For each transmission joint it offers a joint state (position, velocity, effort) and ONE command
-interface (effort, position or velocity). ``write(dt)`` applies commands as Gazebo does:
+For each transmission joint it offers a joint state (position, velocity, effort) and the command
+interfaces its ``<transmission>`` tags name (effort, position, velocity): one or several, from
+several ``<hardwareInterface>`` elements of one transmission or from several transmissions of the
+same joint (franka_description gives each arm joint three). One of them is active at a time:
+the first declared until a controller claiming another one is started (``do_switch``, ros_control's
+RobotHW::doSwitch), as franka_gazebo's FrankaHWSim switches. ``write(dt)`` applies the active
+interface's command as Gazebo does:
 
 =============  ==========================================================================
 EFFORT         command clamped to +-effort limit, applied as joint effort
@@ -15,7 +20,9 @@ VELOCITY_PID   with gains: effort = clamp(PID(velocity error), +-effort limit)
 
 Limits come from the URDF (through the Joint handle). Differences from Gazebo, on purpose: a
 position command starts at the joint's spawn position (Gazebo starts at 0 and snaps the joint
-there); non-finite commands are never passed to ODE (it would abort the process).
+there); non-finite commands are never passed to ODE (it would abort the process); a joint with
+several interfaces is one joint (Gazebo's DefaultRobotHWSim keeps only the first interface of a
+transmission and would register a joint named by three transmissions three times).
 """
 import math
 
@@ -34,13 +41,17 @@ def _limit(value):
 
 
 class JointResource(object):
-    """One simulated joint as ros_control sees it: state read each update, one command."""
+    """One simulated joint as ros_control sees it: state read each update, the command
+    interfaces it offers (``interfaces``, declaration order), the active one (``interface``,
+    ``method``) and its command."""
 
     def __init__(self, sim_joint, interface):
+        """``interface``: one interface name or a sequence of them (the first is active)."""
         self.sim = sim_joint
         self.name = sim_joint.name
         self.type = sim_joint.type
-        self.interface = interface
+        self.interfaces = (interface,) if isinstance(interface, str) else tuple(interface)
+        self.interface = self.interfaces[0]
         self.lower = _limit(getattr(sim_joint, "lower", None))
         self.upper = _limit(getattr(sim_joint, "upper", None))
         if self.type == "continuous":
@@ -51,11 +62,46 @@ class JointResource(object):
         self.position = float(sim_joint.position)
         self.velocity = float(sim_joint.velocity)
         self.effort = 0.0
-        self.command = self.position if interface == POSITION else 0.0
-        self.method = interface
+        self.command = self.position if self.interface == POSITION else 0.0
+        self.method = self.interface
         self.pid = None
         self.pid_source = None
         self._prev_position_cmd = None
+
+    def set_pid(self, pid, source):
+        """The ``gazebo_ros_control/pid_gains/<joint>`` PID: position and velocity commands go
+        through it from now on."""
+        self.pid, self.pid_source = pid, source
+        self.method = self._method(self.interface)
+
+    def _method(self, interface):
+        if self.pid is not None and interface == POSITION:
+            return POSITION_PID
+        if self.pid is not None and interface == VELOCITY:
+            return VELOCITY_PID
+        return interface
+
+    def select(self, interface):
+        """Make ``interface`` (one of ``interfaces``) the active one. A change starts its command
+        from rest: the current position for the position interface, 0 for effort and velocity;
+        the PID and the position rate limit start afresh. Returns True when it changed."""
+        if interface not in self.interfaces:
+            raise ControllerError("joint '%s' offers %s, not hardware_interface/%s"
+                                  % (self.name, self.offered(), interface))
+        if interface == self.interface:
+            return False
+        if self.method == VELOCITY:
+            self.sim.set_velocity_target(0.0, 0.0)      # the joint motor holds on until released
+        self.interface = interface
+        self.method = self._method(interface)
+        self.command = self.position if interface == POSITION else 0.0
+        self._prev_position_cmd = None
+        if self.pid is not None:
+            self.pid.reset()
+        return True
+
+    def offered(self):
+        return ", ".join("hardware_interface/" + i for i in self.interfaces)
 
     @property
     def has_position_limits(self):
@@ -90,6 +136,7 @@ class RobotHWSim(object):
         self.joints = {}
         self.order = []
         self.notes = []
+        offered = {}            # joint name -> [interface, ...] in declaration order
         for tr in transmissions:
             if not tr.joints:
                 warn("Transmission %s has no associated joints: ignored." % tr.name)
@@ -108,13 +155,15 @@ class RobotHWSim(object):
                 warn("Joint %s of transmission %s does not specify any hardware interface: not added to the "
                      "robot hardware simulation." % (tj.name, tr.name))
                 continue
-            iface = canonical_interface(ifaces[0])
-            if iface is None:
-                raise ControllerError("Transmission %s: no matching hardware interface found for '%s' "
-                                      "of joint "
-                                      "%s (use hardware_interface/EffortJointInterface, "
-                                      "PositionJointInterface or "
-                                      "VelocityJointInterface)" % (tr.name, ifaces[0], tj.name))
+            canonical = []
+            for text in ifaces:
+                iface = canonical_interface(text)
+                if iface is None:
+                    raise ControllerError("Transmission %s: no matching hardware interface found for '%s' "
+                                          "of joint %s (use hardware_interface/EffortJointInterface, "
+                                          "PositionJointInterface or VelocityJointInterface)"
+                                          % (tr.name, text, tj.name))
+                canonical.append(iface)
             if tj.name not in model_joints:
                 raise ControllerError("Transmission %s names joint '%s', which is not in the model "
                                       "(joints: %s)"
@@ -124,24 +173,27 @@ class RobotHWSim(object):
                 warn("Transmission %s: joint %s is %s; only revolute, continuous and prismatic joints can be "
                      "actuated: ignored." % (tr.name, tj.name, jtype))
                 continue
-            if tj.name in self.joints:
-                warn("Joint %s appears in two transmissions; the second (%s) is ignored." % (tj.name,
-                                                                                             tr.name))
-                continue
-            res = JointResource(model_joints[tj.name], iface)
-            if iface in (POSITION, VELOCITY) and pid_gains is not None and pid_gains.has(tj.name):
-                gains = PidGains.from_params(pid_gains.child(tj.name))
-                res.pid = Pid(gains)
-                res.pid_source = pid_gains.path(tj.name)
-                res.method = POSITION_PID if iface == POSITION else VELOCITY_PID
-            self.joints[tj.name] = res
-            self.order.append(tj.name)
+            if tj.name not in offered:
+                offered[tj.name] = []
+                self.order.append(tj.name)
+            for iface in canonical:
+                if iface in offered[tj.name]:
+                    warn("Joint %s: hardware_interface/%s is declared twice (transmission %s); once is "
+                         "enough." % (tj.name, iface, tr.name))
+                else:
+                    offered[tj.name].append(iface)
             for act in tr.actuators:
                 if act.reduction != 1.0:
                     self.notes.append("Transmission %s: mechanicalReduction %g is ignored, as "
                                       "gazebo_ros_control's DefaultRobotHWSim does (commands are joint "
                                       "values)"
                                       % (tr.name, act.reduction))
+        for name in self.order:
+            ifaces = offered[name]
+            res = JointResource(model_joints[name], ifaces)
+            if (POSITION in ifaces or VELOCITY in ifaces) and pid_gains is not None and pid_gains.has(name):
+                res.set_pid(Pid(PidGains.from_params(pid_gains.child(name))), pid_gains.path(name))
+            self.joints[name] = res
 
     def joint(self, name, interface=None, controller=""):
         """The JointResource for a controller; ControllerError naming the joint and interface."""
@@ -151,12 +203,25 @@ class RobotHWSim(object):
                                   "<transmission> (known joints: %s)"
                                   % (("controller '%s': " % controller) if controller else "", name,
                                      ", ".join(self.order) or "none"))
-        if interface is not None and res.interface != interface:
-            raise ControllerError("%sjoint '%s' offers hardware_interface/%s (from its <transmission>), "
+        if interface is not None and interface not in res.interfaces:
+            raise ControllerError("%sjoint '%s' offers %s (from its <transmission>), "
                                   "not hardware_interface/%s that this controller type needs"
                                   % (("controller '%s': " % controller) if controller else "", name,
-                                     res.interface, interface))
+                                     res.offered(), interface))
         return res
+
+    def do_switch(self, start, stop):
+        """ros_control's RobotHW::doSwitch, before the controllers in ``stop`` stop and those in
+        ``start`` start (both lists of controllers): each joint a starting controller claims
+        through a command interface gets that interface active. A joint nobody claims afterwards
+        keeps its interface and last command, as in Gazebo."""
+        for c in start:
+            for cpp_name, joints in c.claimed_resources:
+                iface = canonical_interface(cpp_name)
+                if iface is None:
+                    continue
+                for j in joints:
+                    self.joints[j].select(iface)
 
     def read(self):
         for name in self.order:

@@ -121,17 +121,20 @@ class ControllerManager(object):
             self.log("debug", p)
         running = [n for n, c in self.controllers.items()
                    if c.state == "running" and n not in to_stop] + to_start
-        claims = {}
+        claims = {}     # joint -> (controller, interface): one claim per joint, whatever the interface
         for n in running:
-            for _iface, joints in self.controllers[n].claimed_resources:
+            for iface, joints in self.controllers[n].claimed_resources:
                 for j in joints:
-                    if j in claims and claims[j] != n:
-                        return False, ("Resource conflict for resource '%s' between controllers '%s' "
-                                       "and '%s': "
-                                       "stop one of them in the same switch" % (j, claims[j], n))
-                    claims[j] = n
+                    if j in claims and claims[j][0] != n:
+                        other, other_iface = claims[j]
+                        return False, ("Resource conflict for resource '%s' between controllers '%s' (%s) "
+                                       "and '%s' (%s): stop one of them in the same switch"
+                                       % (j, other, other_iface, n, iface))
+                    claims[j] = (n, iface)
         self.generation += 1
         t = self.time
+        # as controller_manager: the hardware switches interfaces first, then stop, then start
+        self.hw.do_switch([self.controllers[n] for n in to_start], [self.controllers[n] for n in to_stop])
         for n in to_stop:
             c = self.controllers[n]
             c.stopping(t)
