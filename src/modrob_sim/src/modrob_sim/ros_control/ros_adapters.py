@@ -3,6 +3,7 @@ PID reconfigure servers. Callbacks only store (commands go to the controller's l
 buffer, goals to a queue); the simulation loop calls ``before_update`` (hand goals to the core)
 and ``after_update`` (publish what the core produced)."""
 import collections
+import math
 import threading
 import time
 
@@ -12,8 +13,11 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
                               FollowJointTrajectoryResult, JointControllerState,
                               JointTrajectoryControllerState)
 from control_msgs.srv import QueryTrajectoryState, QueryTrajectoryStateResponse
+from geometry_msgs.msg import Quaternion, TransformStamped, Twist, TwistStamped
+from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
+from tf2_msgs.msg import TFMessage
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from modrob_sim.gazebo_ros.native_pub import publisher
@@ -302,11 +306,106 @@ class TrajectoryAdapter(Adapter):
         super(TrajectoryAdapter, self).shutdown()
 
 
+def _yaw_quaternion(yaw):
+    return Quaternion(0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw))
+
+
+class MobileBaseAdapter(Adapter):
+    """diff_drive_controller's and ackermann_steering_controller's topics: ``cmd_vel`` in
+    (geometry_msgs/Twist), ``odom`` (nav_msgs/Odometry) and the odom -> base transform on /tf out
+    at ``publish_rate``; with ``publish_cmd`` the limited command on ``cmd_vel_out``
+    (TwistStamped), with ``publish_wheel_joint_controller_state`` the wheels on
+    ``wheel_joint_controller_state`` (JointTrajectoryControllerState); both every update while
+    someone subscribes."""
+
+    def __init__(self, plugin, controller):
+        super(MobileBaseAdapter, self).__init__(plugin, controller)
+        self.throttle = _Throttle()
+        self.odom_pub = publisher(self.ns + "/odom", Odometry, queue_size=100)
+        self.tf_pub = publisher("/tf", TFMessage, queue_size=100)
+        self.handles += [self.odom_pub, self.tf_pub]
+        self.cmd_out_pub = self.wheel_pub = None
+        if controller.publish_cmd:
+            self.cmd_out_pub = publisher(self.ns + "/cmd_vel_out", TwistStamped, queue_size=100)
+            self.handles.append(self.cmd_out_pub)
+        if getattr(controller, "publish_wheel_state", False):
+            self.wheel_pub = publisher(self.ns + "/wheel_joint_controller_state",
+                                       JointTrajectoryControllerState, queue_size=100)
+            self.handles.append(self.wheel_pub)
+        self.sub = rospy.Subscriber(self.ns + "/cmd_vel", Twist, self._on_cmd_vel, queue_size=1)
+        self.handles.append(self.sub)
+
+    def _on_cmd_vel(self, msg):
+        if self.c.state != "running":
+            self.throttle.warn("stopped", "%s: Can't accept new commands. Controller is not running."
+                               % self.ns)
+            return
+        if not self.c.allow_multiple_publishers and self.sub.get_num_connections() > 1:
+            self.throttle.warn("many", "%s/cmd_vel: detected %d publishers; only 1 is allowed "
+                               "(allow_multiple_cmd_vel_publishers: false): braking"
+                               % (self.ns, self.sub.get_num_connections()))
+            self.c.brake()
+            return
+        res = self.c.set_command(msg.linear.x, msg.angular.z)
+        if not res.accepted:
+            self.throttle.warn("nan", "%s/cmd_vel: %s" % (self.ns, res.reason))
+
+    def after_update(self, t):
+        c = self.c
+        out, c.cmd_out = c.cmd_out, None
+        if out is not None and self.cmd_out_pub is not None and self.cmd_out_pub.get_num_connections() > 0:
+            msg = TwistStamped()
+            msg.header.stamp = _stamp(out[0])
+            msg.twist.linear.x, msg.twist.angular.z = out[1], out[2]
+            self.cmd_out_pub.publish(msg)
+        wheels, c.wheel_state = getattr(c, "wheel_state", None), None
+        if wheels is not None and self.wheel_pub is not None and self.wheel_pub.get_num_connections() > 0:
+            self._publish_wheels(wheels)
+        data, c.pending = c.pending, None
+        if data is None:
+            return
+        stamp = _stamp(data["stamp"])
+        q = _yaw_quaternion(data["heading"])
+        odom = Odometry()
+        odom.header.stamp = stamp
+        odom.header.frame_id = c.odom_frame_id
+        odom.child_frame_id = c.base_frame_id
+        odom.pose.pose.position.x, odom.pose.pose.position.y = data["x"], data["y"]
+        odom.pose.pose.orientation = q
+        odom.pose.covariance = c.pose_covariance
+        odom.twist.twist.linear.x, odom.twist.twist.angular.z = data["linear"], data["angular"]
+        odom.twist.covariance = c.twist_covariance
+        self.odom_pub.publish(odom)
+        if c.enable_odom_tf:
+            tf = TransformStamped()
+            tf.header.stamp = stamp
+            tf.header.frame_id = c.odom_frame_id
+            tf.child_frame_id = c.base_frame_id
+            tf.transform.translation.x, tf.transform.translation.y = data["x"], data["y"]
+            tf.transform.rotation = q
+            self.tf_pub.publish(TFMessage(transforms=[tf]))
+
+    def _publish_wheels(self, w):
+        joints = self.c.left + self.c.right
+        actual = _point([j.position for j in joints], [j.velocity for j in joints])
+        actual.effort = [j.effort for j in joints]
+        desired = _point(w["positions"], w["velocities"], w["accelerations"])
+        error = _point([d - j.position for d, j in zip(w["positions"], joints)],
+                       [d - j.velocity for d, j in zip(w["velocities"], joints)])
+        msg = JointTrajectoryControllerState(joint_names=list(self.c.joint_names), desired=desired,
+                                             actual=actual, error=error)
+        msg.header.stamp = _stamp(w["stamp"])
+        self.wheel_pub.publish(msg)
+
+
 def adapter_for(plugin, controller):
     from modrob_sim.ros_control.controllers.joint_state import JointStateController
     from modrob_sim.ros_control.controllers.joint_trajectory import JointTrajectoryControllerBase
+    from modrob_sim.ros_control.controllers.mobile_base import MobileBaseController
     if isinstance(controller, JointStateController):
         return JointStateAdapter(plugin, controller)
+    if isinstance(controller, MobileBaseController):
+        return MobileBaseAdapter(plugin, controller)
     if isinstance(controller, JointTrajectoryControllerBase):
         return TrajectoryAdapter(plugin, controller)
     return SingleJointAdapter(plugin, controller)

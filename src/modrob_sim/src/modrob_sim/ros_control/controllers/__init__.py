@@ -1,5 +1,7 @@
 """ros_controllers' controllers, pure (no rospy). ``CONTROLLER_TYPES`` maps ros_control type
 names to classes."""
+from modrob_sim.ros_control.controllers.ackermann_steering import AckermannSteeringController
+from modrob_sim.ros_control.controllers.diff_drive import DiffDriveController
 from modrob_sim.ros_control.controllers.forward_command import (
     EffortJointEffortController, PositionJointPositionController, VelocityJointVelocityController)
 from modrob_sim.ros_control.controllers.effort_joint_position import EffortJointPositionController
@@ -17,4 +19,6 @@ CONTROLLER_TYPES = {cls.TYPE: cls for cls in (
     VelocityJointVelocityController,
     PositionJointTrajectoryController,
     EffortJointTrajectoryController,
+    DiffDriveController,
+    AckermannSteeringController,
 )}

@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""rostest node for control_diff_drive.test: diffbot driven through
+/diffbot_velocity_controller/cmd_vel."""
+import math
+import os
+import sys
+import unittest
+
+import rospy
+import rostest
+import tf2_ros
+from gazebo_msgs.msg import ModelStates
+from geometry_msgs.msg import Twist, TwistStamped
+from nav_msgs.msg import Odometry
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from control_common import Latest, RosoutCollector, command_publisher, sim_sleep, wait_running, wait_until  # noqa: E402
+
+NS = "/diffbot_velocity_controller"
+
+
+class Truth(object):
+    """diffbot's pose from /gazebo/model_states: (x, y, yaw)."""
+
+    def __init__(self):
+        self.pose = None
+        self.sub = rospy.Subscriber("/gazebo/model_states", ModelStates, self._cb, queue_size=1)
+
+    def _cb(self, msg):
+        if "diffbot" in msg.name:
+            p = msg.pose[msg.name.index("diffbot")]
+            q = p.orientation
+            self.pose = (p.position.x, p.position.y,
+                         math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z)))
+
+
+class Driver(object):
+    """Publishes one Twist at 20 Hz of simulated time (a teleop node in the simulation) until
+    halted; in wall time the rate would depend on the real-time factor, and gaps longer than
+    cmd_vel_timeout would make the controller brake between commands."""
+
+    def __init__(self, pub, linear, angular):
+        self.pub, self.msg = pub, Twist()
+        self.msg.linear.x, self.msg.angular.z = linear, angular
+        self.pub.publish(self.msg)
+        self.timer = rospy.Timer(rospy.Duration(0.05), lambda event: self.pub.publish(self.msg))
+
+    def halt(self):
+        self.timer.shutdown()
+
+
+class DiffDrive(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("control_diff_drive_check")
+        cls.log = RosoutCollector()
+        cls.truth = Truth()
+        cls.odom = Latest(NS + "/odom", Odometry)
+        cls.cmd_out = Latest(NS + "/cmd_vel_out", TwistStamped)
+        cls.tf = tf2_ros.Buffer()
+        cls.tf_listener = tf2_ros.TransformListener(cls.tf)
+        wait_running("/", ["diffbot_joint_publisher", "diffbot_velocity_controller"])
+        cls.cmd = command_publisher(NS + "/cmd_vel", Twist)
+        wait_until(lambda: cls.truth.pose is not None and cls.odom.msg is not None, 30, "model states and odom")
+
+    def test_1_odometry_message(self):
+        sim_sleep(1.0)
+        msgs = list(self.odom.history)
+        m = msgs[-1]
+        self.assertEqual((m.header.frame_id, m.child_frame_id), ("odom", "base_link"))
+        self.assertEqual([m.pose.covariance[7 * i] for i in range(6)], [0.001, 0.001, 1e6, 1e6, 1e6, 0.03])
+        self.assertEqual([m.twist.covariance[7 * i] for i in range(6)], [0.001, 0.001, 1e6, 1e6, 1e6, 0.03])
+        # publish_rate 50: 20 ms of simulated time apart
+        gaps = [(b.header.stamp - a.header.stamp).to_sec() for a, b in zip(msgs[-20:], msgs[-19:])]
+        self.assertTrue(all(abs(g - 0.02) < 1.5e-3 for g in gaps), gaps)
+
+    def test_2_drives_forward_and_odometry_follows_the_truth(self):
+        x0, y0, _ = self.truth.pose
+        o0 = self.odom.msg.pose.pose.position
+        drive = Driver(self.cmd, 0.3, 0.0)
+        sim_sleep(3.0)
+        drive.halt()
+        sim_sleep(1.0)                          # cmd_vel_timeout 0.25 s, then braking
+        x1, y1, _ = self.truth.pose
+        o1 = self.odom.msg.pose.pose.position
+        moved = math.hypot(x1 - x0, y1 - y0)
+        self.assertGreater(moved, 0.8)          # about 3 s at 0.3 m/s, depending on the wall clock
+        odo = math.hypot(o1.x - o0.x, o1.y - o0.y)
+        self.assertLess(abs(odo - moved), 0.02 * moved, "truth %.4f m, odometry %.4f m" % (moved, odo))
+        self.assertTrue(any(abs(m.twist.linear.x - 0.3) < 1e-9 for m in self.cmd_out.history))
+        # the commands stopped: the robot stands
+        sim_sleep(0.5)
+        self.assertLess(math.hypot(self.truth.pose[0] - x1, self.truth.pose[1] - y1), 0.005)
+
+    def test_3_turns_and_tf_carries_the_odometry(self):
+        _, _, yaw0 = self.truth.pose
+        drive = Driver(self.cmd, 0.0, 1.0)
+        sim_sleep(1.5)
+        drive.halt()
+        sim_sleep(1.0)
+        turned = math.atan2(math.sin(self.truth.pose[2] - yaw0), math.cos(self.truth.pose[2] - yaw0))
+        self.assertGreater(turned, 1.0)
+        o = self.odom.msg
+        tf = self.tf.lookup_transform("odom", "base_link", rospy.Time(0), rospy.Duration(5.0))
+        self.assertAlmostEqual(tf.transform.translation.x, o.pose.pose.position.x, delta=0.01)
+        self.assertAlmostEqual(tf.transform.rotation.z, o.pose.pose.orientation.z, delta=0.01)
+
+    def test_4_nan_is_ignored_with_a_warning(self):
+        bad = Twist()
+        bad.linear.x = float("nan")
+        self.cmd.publish(bad)
+        self.log.wait_for(NS + "/cmd_vel", "not finite")
+
+
+if __name__ == "__main__":
+    rostest.rosrun("modrob_sim", "control_diff_drive", DiffDrive)
