@@ -1,0 +1,1 @@
+"""twist_mux: ROS's twist multiplexer (priorities, timeouts, locks) as a workspace package."""
