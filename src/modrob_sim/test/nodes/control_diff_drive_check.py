@@ -14,7 +14,8 @@ from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import Odometry
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import Latest, RosoutCollector, command_publisher, sim_sleep, wait_running, wait_until  # noqa: E402
+from control_common import (Latest, RosoutCollector, command_publisher, sim_sleep, wait_running,  # noqa: E402
+                            wait_until)
 
 NS = "/diffbot_velocity_controller"
 
@@ -61,7 +62,8 @@ class DiffDrive(unittest.TestCase):
         cls.tf_listener = tf2_ros.TransformListener(cls.tf)
         wait_running("/", ["diffbot_joint_publisher", "diffbot_velocity_controller"])
         cls.cmd = command_publisher(NS + "/cmd_vel", Twist)
-        wait_until(lambda: cls.truth.pose is not None and cls.odom.msg is not None, 30, "model states and odom")
+        wait_until(lambda: cls.truth.pose is not None and cls.odom.msg is not None, 30,
+                   "model states and odom")
 
     def test_1_odometry_message(self):
         sim_sleep(1.0)

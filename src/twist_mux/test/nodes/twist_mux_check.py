@@ -48,7 +48,8 @@ class TwistMuxCheck(unittest.TestCase):
         cls.ext = Source("cmd_vel", 1.0)
         cls.estop = rospy.Publisher("e_stop", Bool, queue_size=1, latch=True)
         for p in (cls.joy.pub, cls.ext.pub, cls.estop):
-            wait_until(lambda: p.get_num_connections() > 0, 20, "twist_mux subscribing to %s" % p.resolved_name)
+            wait_until(lambda: p.get_num_connections() > 0, 20,
+                       "twist_mux subscribing to %s" % p.resolved_name)
 
     @classmethod
     def _cb(cls, msg):
@@ -72,7 +73,7 @@ class TwistMuxCheck(unittest.TestCase):
         t_stop = time.monotonic()
         wait_until(lambda: 1.0 in self.since(t_stop), 10, "the external command after the joystick's timeout")
         first_ext = min(s for s, v in self.out if s >= t_stop and v == 1.0)
-        self.assertGreater(first_ext - t_stop, 0.35)              # not before the 0.5 s timeout (less a period)
+        self.assertGreater(first_ext - t_stop, 0.35)      # not before the 0.5 s timeout (less a period)
         self.estop.publish(Bool(True))
         time.sleep(0.3)
         t_lock = time.monotonic()
