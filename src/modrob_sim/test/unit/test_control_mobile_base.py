@@ -134,7 +134,8 @@ def test_wheel_speeds_odometry_and_timeout_on_integrator_joints():
     assert c.set_command(0.2, 0.4).accepted
     plant.run(mgr, 0.3)
     # left (0.2 - 0.4 * 0.25) / 0.1 = 1 rad/s, right 3 rad/s, on both wheels of a side
-    assert [plant.joints[n].velocity for n in ("fl", "rl", "fr", "rr")] == pytest.approx([1, 1, 3, 3], abs=1e-6)
+    speeds = [plant.joints[n].velocity for n in ("fl", "rl", "fr", "rr")]
+    assert speeds == pytest.approx([1, 1, 3, 3], abs=1e-6)
     assert c.odometry.linear == pytest.approx(0.2, abs=1e-3)
     assert c.odometry.angular == pytest.approx(0.4, abs=1e-3)
     plant.run(mgr, 0.3)                  # 0.6 s after the command: stale, the wheels stop
@@ -154,8 +155,9 @@ def test_nan_command_is_ignored_and_the_last_one_kept():
 
 def test_limits_shape_the_command_and_cmd_out_reports_it():
     plant, hw, mgr = four_wheels()
-    c = start(mgr, "base", dd_params(linear={"x": {"has_velocity_limits": True, "max_velocity": 0.5,
-                                                   "has_acceleration_limits": True, "max_acceleration": 1.0}}))
+    limits = {"has_velocity_limits": True, "max_velocity": 0.5, "has_acceleration_limits": True,
+              "max_acceleration": 1.0}
+    c = start(mgr, "base", dd_params(linear={"x": limits}))
     c.set_command(2.0, 0.0)
     plant.run(mgr, 0.2)
     assert c.cmd_out[1] == pytest.approx(0.2, abs=2e-3)          # 1 m/s^2 for 0.2 s
@@ -203,7 +205,8 @@ def test_ackermann_commands_the_steering_angle_and_rear_wheel_speed():
     hw = RobotHWSim(plant.joints, simple_transmissions({"rear": "VelocityJointInterface",
                                                         "steer": "PositionJointInterface"}))
     mgr = ControllerManager(hw, "/car")
-    c = start(mgr, "ack", {"type": ACK, "rear_wheel": "rear", "front_steer": "steer", "wheel_separation_h": 1.5,
+    c = start(mgr, "ack", {"type": ACK, "rear_wheel": "rear", "front_steer": "steer",
+                           "wheel_separation_h": 1.5,
                            "wheel_radius": 0.3, "pose_covariance_diagonal": COV,
                            "twist_covariance_diagonal": COV})
     assert c.claimed_resources == [("hardware_interface::VelocityJointInterface", ["rear"]),
@@ -217,12 +220,14 @@ def test_ackermann_commands_the_steering_angle_and_rear_wheel_speed():
 
 
 def test_ackermann_needs_its_interfaces():
-    joints = [IntegratorJoint("rear_wheel_joint", "continuous"), IntegratorJoint("front_steer_joint", "continuous")]
+    joints = [IntegratorJoint("rear_wheel_joint", "continuous"),
+              IntegratorJoint("front_steer_joint", "continuous")]
     plant = IntegratorModel(joints)
     hw = RobotHWSim(plant.joints, simple_transmissions({"rear_wheel_joint": "VelocityJointInterface",
                                                         "front_steer_joint": "VelocityJointInterface"}))
     with pytest.raises(ControllerError, match="front_steer_joint.*PositionJointInterface"):
-        ControllerManager(hw, "/car").load("ack", {"type": ACK, "wheel_separation_h": 1.0, "wheel_radius": 0.3,
+        ControllerManager(hw, "/car").load("ack", {"type": ACK, "wheel_separation_h": 1.0,
+                                                   "wheel_radius": 0.3,
                                                    "pose_covariance_diagonal": COV,
                                                    "twist_covariance_diagonal": COV})
 

@@ -77,7 +77,8 @@ def parse_entries(entries, param):
             raise ConfigError("%s (%s): timeout must be a number of seconds >= 0 (0 = never stale), got %r"
                               % (where, name, timeout))
         if isinstance(priority, bool) or not isinstance(priority, int):
-            raise ConfigError("%s (%s): priority must be a whole number 0..255, got %r" % (where, name, priority))
+            raise ConfigError("%s (%s): priority must be a whole number 0..255, got %r"
+                              % (where, name, priority))
         out.append((name, topic, float(timeout), priority))
     return out
 
@@ -95,8 +96,8 @@ class TwistMux(object):
                                          "a name of its own" % (name, topic))
                     continue
                 if not PRIORITY_MIN <= priority <= PRIORITY_MAX:
-                    self.warnings.append("'%s': priority %d clamped to %d..%d" % (name, priority, PRIORITY_MIN,
-                                                                                  PRIORITY_MAX))
+                    self.warnings.append("'%s': priority %d clamped to %d..%d"
+                                         % (name, priority, PRIORITY_MIN, PRIORITY_MAX))
                 table[name] = cls(name, topic, timeout, priority)
 
     def lock_priority(self, now):
