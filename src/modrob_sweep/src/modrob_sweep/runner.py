@@ -1,0 +1,225 @@
+"""Trials as Ray tasks: on a Ray started here (``ray.init(address="local")``, as many trials side by
+side as --workers, default the machine's cores) or on a Ray cluster (``--address``).
+
+Each trial is one task that declares the CPUs it needs (the sweep's ``cpus``), so Ray places as
+many trials on a node as its CPUs allow; the scheduling, placement and node failures are Ray's.
+The driver only keeps the progress line, resubmits a trial once when it could not be run (an
+InfraError raised by the trial, or a worker or node lost under it: ``attempts`` 2), and records
+everything else as the trial reported it (a scenario's failure, crash or hang is never re-run).
+
+Ctrl-C (or SIGTERM) cancels every running task (``ray.cancel(force=True)``): the worker goes, so
+each trial's reaper sees its parent die and stops the trial's processes; the driver then waits
+until no process carrying the sweep's token is left on this machine, writes the trials that
+finished, and stops the Ray it started.
+"""
+import os
+import signal
+import socket
+import sys
+import time
+import uuid
+
+from modrob_sweep import InfraError, SweepError
+from modrob_sweep.trial import run_trial
+
+SWEEP_VAR = "MODROB_SWEEP_ID"
+
+
+class Progress(object):
+    """One line per finished trial (and a refreshed line on a terminal) with counts and the ETA."""
+
+    def __init__(self, total, stream=None, workers=1):
+        self.total, self.done, self.t0 = total, 0, time.monotonic()
+        self.counts = {}
+        self.stream = stream or sys.stdout
+        self.workers = workers
+
+    def eta(self):
+        if self.done == 0:
+            return None
+        elapsed = time.monotonic() - self.t0
+        return elapsed / self.done * (self.total - self.done)
+
+    def line(self, running=0):
+        el = time.monotonic() - self.t0
+        eta = self.eta()
+        bar_n = 24
+        filled = int(round(bar_n * self.done / float(self.total))) if self.total else bar_n
+        counts = ", ".join("%s %d" % (k, v) for k, v in sorted(self.counts.items()))
+        return "[sweep] [%s%s] %d/%d done%s, %d running, %s elapsed, ETA %s" % (
+            "#" * filled, "." * (bar_n - filled), self.done, self.total, (" (%s)" % counts) if counts else "",
+            running, _hms(el), _hms(eta) if eta is not None else "?")
+
+    def finished(self, row, running):
+        self.done += 1
+        self.counts[row["outcome"]] = self.counts.get(row["outcome"], 0) + 1
+        print("[sweep] trial %d on %s: %s in %.1f s%s" % (
+            row["trial"], row["host"], row["outcome"], row["wall_s"],
+            "" if row["outcome"] == "success" else " (%s)" % row.get("detail", "")), file=self.stream)
+        print(self.line(running), file=self.stream, flush=True)
+
+
+def _hms(s):
+    s = int(round(s))
+    return "%d:%02d:%02d" % (s // 3600, s % 3600 // 60, s % 60) if s >= 3600 else "%d:%02d" % (s // 60, s % 60)
+
+
+def _remote_trial():
+    import ray
+
+    @ray.remote(max_retries=0)
+    def trial_task(task, trial, out_root, token, attempt):
+        return run_trial(task, trial, out_root, token, attempt)
+    return trial_task
+
+
+def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=True):
+    """ray.init on this machine (a private instance with ``workers`` x ``cpus_per_trial`` CPUs) or
+    on the cluster at ``address``. Returns the number of CPUs the trials can use."""
+    try:
+        import ray
+    except ImportError as exc:
+        raise SweepError("Ray is not installed in this environment (%s): run `make setup` (requirements.txt "
+                         "pins ray[tune]) and `source scripts/env.sh`" % exc)
+    if token:
+        os.environ[SWEEP_VAR] = token       # the local Ray's processes inherit it: the Ctrl-C test finds them
+    kw = {"include_dashboard": False, "log_to_driver": not quiet, "logging_level": "warning"}
+    if address:
+        try:
+            ray.init(address=address, **kw)
+        except (ConnectionError, RuntimeError, ValueError) as exc:
+            raise SweepError("cannot join the Ray cluster at %s: %s. Start it first (`ray start --head` on the "
+                             "head, `ray start --address=<head>:6379` on each node, docs/sweeps.md)" % (address, exc))
+    else:
+        n = workers or os.cpu_count() or 1
+        ray.init(address="local", num_cpus=max(1, int(round(n * cpus_per_trial))), **kw)
+    return ray.cluster_resources().get("CPU", 0)
+
+
+def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_row=None):
+    """Run every trial of ``sweep``; returns (rows, interrupted). Rows are what run_trial returned,
+    or rows made here for trials that could not be run twice or were cancelled."""
+    import ray
+    token = "%s-%s" % (sweep.name, uuid.uuid4().hex[:10])
+    total_cpus = connect(address, workers, sweep.cpus, token)
+    if total_cpus < sweep.cpus:
+        ray.shutdown()
+        raise SweepError("one trial of %s needs %g CPUs but the Ray cluster has %g: lower `cpus` in the sweep "
+                         "file or add nodes" % (sweep.name, sweep.cpus, total_cpus))
+    side_by_side = int(total_cpus // sweep.cpus)
+    task = sweep.as_task()
+    trial_task = _remote_trial().options(num_cpus=sweep.cpus)
+    os.makedirs(out_root, exist_ok=True)
+    progress = Progress(len(sweep.trials), progress_stream, side_by_side)
+    print("[sweep] %s: %d trials, %g CPU each, up to %d side by side on %s; results in %s"
+          % (sweep.name, len(sweep.trials), sweep.cpus, side_by_side,
+             "the Ray cluster at %s" % address if address else "this machine (%s)" % socket.gethostname(),
+             out_root), file=progress.stream, flush=True)
+    pending = {}
+    for t in sweep.trials:
+        ref = trial_task.remote(task, t.as_dict(), out_root, token, 1)
+        pending[ref] = (t, 1)
+    rows = []
+    interrupted = False
+    old_term = signal.signal(signal.SIGTERM, _raise_interrupt)
+    try:
+        while pending:
+            ready, _ = ray.wait(list(pending), num_returns=1, timeout=5.0)
+            for ref in ready:
+                t, attempt = pending.pop(ref)
+                row, retry = _collect(ref, t, attempt)
+                if retry:
+                    print("[sweep] trial %d could not be run (%s): once more" % (t.index, retry),
+                          file=progress.stream, flush=True)
+                    pending[trial_task.remote(task, t.as_dict(), out_root, token, attempt + 1)] = (t, attempt + 1)
+                    continue
+                rows.append(row)
+                if on_row:
+                    on_row(row)
+                progress.finished(row, len(pending))
+    except KeyboardInterrupt:
+        interrupted = True
+        print("\n[sweep] interrupted: stopping %d running trial(s)" % len(pending), file=progress.stream, flush=True)
+        for ref in pending:
+            try:
+                ray.cancel(ref, force=True)
+            except Exception as exc:     # noqa: B902 (Ray raises several kinds here; each trial's reaper still stops it)
+                print("[sweep] could not cancel a trial: %s" % exc, file=progress.stream)
+    finally:
+        signal.signal(signal.SIGTERM, old_term)
+        signal.signal(signal.SIGINT, signal.SIG_IGN)    # a second Ctrl-C must not cut the clean-up short
+        try:
+            _wait_local_trials(token)
+            ray.shutdown()
+            _wait_local_trials(token, kill=True)
+        finally:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+    return rows, interrupted
+
+
+def _raise_interrupt(signum, frame):
+    raise KeyboardInterrupt()
+
+
+def _collect(ref, t, attempt):
+    """(row, None) for a finished trial, (None, reason) when it should be run once more."""
+    import ray
+    try:
+        return ray.get(ref), None
+    except ray.exceptions.RayTaskError as exc:
+        cause = exc.as_instanceof_cause()
+        if isinstance(cause, InfraError):
+            reason, outcome = str(cause).splitlines()[-1], "infra_error"
+        else:
+            return _row(t, "error", attempt, "the trial's task failed: %s" % str(exc).splitlines()[-1]), None
+    except (ray.exceptions.WorkerCrashedError, ray.exceptions.NodeDiedError, ray.exceptions.ObjectLostError,
+            ray.exceptions.OwnerDiedError, ray.exceptions.RaySystemError) as exc:
+        reason, outcome = "%s: %s" % (type(exc).__name__, str(exc).splitlines()[0]), "lost"
+    if attempt < 2:
+        return None, reason
+    return _row(t, outcome, attempt, reason), None
+
+
+def _row(t, outcome, attempt, detail):
+    return {"trial": t.index, "host": "", "outcome": outcome, "wall_s": float("nan"), "sim_s": float("nan"),
+            **t.params, "seed": t.seed, "attempts": attempt, "detail": detail, "out": ""}
+
+
+def _wait_local_trials(token, kill=False, timeout=20.0):
+    """Wait until no process of this sweep (its trials; with ``kill`` the local Ray's too) is left on
+    this machine; what is still there after ``timeout`` is stopped here and named."""
+    me = os.getpid()
+    deadline = time.monotonic() + timeout
+    while True:
+        left = [p for p in _with_var(SWEEP_VAR, token, trials_only=not kill) if p != me]
+        if not left or time.monotonic() > deadline:
+            break
+        time.sleep(0.1)
+    if left:
+        print("[sweep] stopping %d process(es) the sweep left on this machine" % len(left), file=sys.stderr)
+        for pid in left:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+
+
+def _with_var(var, value, trials_only=False):
+    """pids of this sweep's trials (their MODROB_SWEEP_TRIAL starts with the token) and, unless
+    trials_only, of every process whose environment has var=value (the local Ray's)."""
+    want = ("%s=%s" % (var, value)).encode()
+    trial = ("MODROB_SWEEP_TRIAL=%s-" % value).encode()
+    out = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open("/proc/%s/environ" % entry, "rb") as fh:
+                env = fh.read().split(b"\0")
+        except OSError:
+            continue
+        in_trial = any(e.startswith(trial) for e in env)
+        if in_trial or (not trials_only and want in env):
+            out.append(int(entry))
+    return out
+
