@@ -7,7 +7,7 @@ SCENARIO ?= one_robot
 # Set-up is done when the venv, its requirements stamp and the devel space exist.
 SETUP_STAMP := $(ROOT)/devel/setup.bash
 
-.PHONY: setup build build-colcon test test-unit test-ros demo lint bench rviz tune graph plot clean help
+.PHONY: setup build build-colcon test test-unit test-ros demo sweep lint bench rviz tune graph plot clean help
 
 help:
 	@echo "make demo      set up if needed, then run the Bulbs and Slides pick-and-place headless (SCENARIO=$(SCENARIO))"
@@ -15,6 +15,7 @@ help:
 	@echo "make setup     Debian packages + .venv (pinned PyPI extras) + catkin_make (idempotent)"
 	@echo "make build     catkin_make;  make build-colcon: colcon build into build_colcon/ install_colcon/"
 	@echo "make fuzz      the simulator's fuzz suite in full (MODROB_FUZZ_SCALE=20: models, requests, YAML; minutes)"
+	@echo "make sweep FILE=<sweep.yaml> [RUNS=N] [ADDRESS=<ray head:port>]  trials on Ray (local or a cluster): out/sweeps/<name>/"
 	@echo "make lint      catkin_lint on all packages + flake8 on all Python"
 	@echo "make bench     quick benchmarks vs PyBullet/MuJoCo (< 10 min; FULL=1 everything, J=N side by side): docs/benchmarks.md, out/bench/"
 	@echo "make tune      rqt_reconfigure on the running system (FILTER=/ptrz narrows; LAUNCH='pkg file args' starts a scenario beside it)"
@@ -61,6 +62,16 @@ fuzz:
 demo:
 	@$(ROOT)/scripts/setup.sh
 	@$(ENV) && $(ROOT)/scripts/demo.sh $(SCENARIO)
+
+# A sweep or Monte-Carlo study (docs/sweeps.md): FILE is a path or a file of src/modrob_sweep/sweeps/.
+FILE ?=
+RUNS ?=
+ADDRESS ?=
+sweep:
+	@[ -n "$(FILE)" ] || { echo "make sweep: give FILE=<sweep.yaml>, e.g. FILE=src/modrob_sweep/sweeps/slide_friction.yaml \
+(shipped: $$(ls $(ROOT)/src/modrob_sweep/sweeps | tr '\n' ' '))" >&2; exit 2; }
+	@$(ROOT)/scripts/setup.sh
+	@$(ENV) && rosrun modrob_sweep sweep $(FILE) $(if $(RUNS),--runs $(RUNS)) $(if $(ADDRESS),--address $(ADDRESS)) $(SWEEPARGS)
 
 lint:
 	@$(ROOT)/scripts/setup.sh --no-build >/dev/null

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # make demo [SCENARIO=one_robot|two_robots|ptrz|katana|polaris]
 # Runs a scenario headless. A scenario that does not exist yet says so and fails: never a fake result.
+#   scripts/demo.sh SCENARIO [runner arguments...]   (later arguments win: --out DIR, --seed N ...;
+#   the sweeps of modrob_sweep run a demo this way, one --out per trial)
 set -euo pipefail
 scenario="${1:-one_robot}"
+[ $# -gt 0 ] && shift
 root="${MODROB_ROOT:?source scripts/env.sh first}"
 mkdir -p "$root/out"
 case "$scenario" in
@@ -28,4 +31,4 @@ if [ -z "$runner" ] || [ ! -x "$runner" ]; then
   echo "           Nothing was run. See README.md for what works today." >&2
   exit 3
 fi
-exec "$runner" --scenario "$scenario" --out "$root/out"
+exec "$runner" --scenario "$scenario" --out "$root/out" "$@"

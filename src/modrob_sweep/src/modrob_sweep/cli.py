@@ -22,7 +22,8 @@ from modrob_sweep.spec import load
 
 
 def package_sweeps_dir():
-    return os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "sweeps")
+    return os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                        "sweeps")
 
 
 def find_file(path):
@@ -60,7 +61,8 @@ def main(argv=None):
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog="\n".join(__doc__.splitlines()[2:]))
     p.add_argument("file", help="sweep YAML (a path, or the name of a file in modrob_sweep/sweeps/)")
-    p.add_argument("--runs", type=int, default=None, help="repetitions per parameter combination (overrides the file)")
+    p.add_argument("--runs", type=int, default=None,
+                   help="repetitions per parameter combination (overrides the file)")
     p.add_argument("--address", default=None, help="join this Ray cluster (host:port of `ray start --head`)")
     p.add_argument("--workers", type=int, default=None,
                    help="trials side by side on this machine (default: its cores / the trial's cpus); "
@@ -103,9 +105,10 @@ def main(argv=None):
         written = results.write_all(rows, out, sweep.name, sweep.parameter_names, sweep.varying(),
                                     sweep.result["metrics"], meta)
         ok = sum(r["outcome"] == "success" for r in rows)
-        print("[sweep] %s: %s; wrote %s" % (sweep.name, results.rate_text(ok, len(rows)),
-                                           ", ".join(os.path.relpath(w, out) for w in written)))
-        print("[sweep] results in %s (%.0f s, %.0f trials per hour)" % (out, wall, 3600.0 * len(rows) / wall if wall > 0 else 0))
+        names = ", ".join(os.path.relpath(w, out) for w in written)
+        print("[sweep] %s: %s; wrote %s" % (sweep.name, results.rate_text(ok, len(rows)), names))
+        per_hour = 3600.0 * len(rows) / wall if wall > 0 else 0
+        print("[sweep] results in %s (%.0f s, %.0f trials per hour)" % (out, wall, per_hour))
     else:
         ok = 0
         print("[sweep] %s: no trial finished" % sweep.name)

@@ -130,7 +130,8 @@ def _start_xvfb(env):
     """An Xvfb on a free display (it picks the number and writes it to a pipe): (display, pid)."""
     r, w = os.pipe()
     try:
-        proc = subprocess.Popen(["Xvfb", "-displayfd", str(w), "-screen", "0", "1280x1024x24", "-nolisten", "tcp"],
+        proc = subprocess.Popen(["Xvfb", "-displayfd", str(w), "-screen", "0", "1280x1024x24", "-nolisten",
+                                 "tcp"],
                                 pass_fds=(w,), env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     except OSError as exc:
         raise RuntimeError("Xvfb could not be started (%s): install the xvfb package on this node" % exc)

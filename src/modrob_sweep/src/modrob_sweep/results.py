@@ -45,9 +45,16 @@ def write_table(df, folder):
     out = df.copy()
     for c in out.columns:
         if out[c].dtype == object:
-            out[c] = out[c].map(lambda v: None if v is None or (isinstance(v, float) and math.isnan(v)) else str(v))
+            out[c] = out[c].map(_text)
     out.to_parquet(parquet, index=False)
     return csv, parquet
+
+
+def _text(v):
+    """A cell of a mixed-type column as Parquet text (missing stays missing)."""
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return None
+    return str(v)
 
 
 def _fmt(v):
@@ -108,24 +115,26 @@ def summary(df, name, varying, metrics, meta=None):
     lines += ["| metric | trials with a value | median | min | max |", "|---|---|---|---|---|"]
     for m in cols:
         v = _numeric(df[m]).dropna()
-        lines.append("| %s | %d | %s | %s | %s |" % (m, len(v), _fmt(v.median()) if len(v) else "-",
-                                                      _fmt(v.min()) if len(v) else "-",
-                                                      _fmt(v.max()) if len(v) else "-"))
+        cells = [_fmt(f()) if len(v) else "-" for f in (v.median, v.min, v.max)]
+        lines.append("| %s | %d | %s | %s | %s |" % tuple([m, len(v)] + cells))
     for p in varying:
         lines += ["", "## By %s" % p, "",
-                  "| %s | trials | success (95 %% CI) | %s |" % (p, " | ".join("median %s" % m for m in cols)),
+                  "| %s | trials | success (95 %% CI) | %s |" % (p,
+                                                                 " | ".join("median %s" % m for m in cols)),
                   "|---|---|---|" + "---|" * len(cols)]
         for label, mask in levels(df, p):
             sub = df[mask]
             k = int((sub["outcome"] == "success").sum())
             meds = [_fmt(_numeric(sub[m]).median()) for m in cols]
-            lines.append("| %s | %d | %s | %s |" % (label, len(sub), rate_text(k, len(sub)), " | ".join(meds)))
+            lines.append("| %s | %d | %s | %s |" % (label, len(sub), rate_text(k, len(sub)),
+                                                    " | ".join(meds)))
     bad = df[df["outcome"] != "success"]
     if len(bad):
-        lines += ["", "## Trials that did not succeed", "", "| trial | host | outcome | detail |", "|---|---|---|---|"]
+        lines += ["", "## Trials that did not succeed", "", "| trial | host | outcome | detail |",
+                  "|---|---|---|---|"]
         for _, r in bad.iterrows():
-            lines.append("| %d | %s | %s | %s |" % (r["trial"], r["host"], r["outcome"],
-                                                     str(r["detail"]).replace("|", "/")[:160]))
+            detail = str(r["detail"]).replace("|", "/")[:160]
+            lines.append("| %d | %s | %s | %s |" % (r["trial"], r["host"], r["outcome"], detail))
     return "\n".join(lines) + "\n"
 
 
@@ -180,7 +189,8 @@ def plots(df, folder, varying, metrics):
             for outcome, colour in colours.items():
                 sel = np.asarray(df["outcome"] == outcome)
                 if sel.any():
-                    ax.plot(np.asarray(xv)[sel], np.asarray(ys)[sel], "o", color=colour, label=outcome, alpha=0.8)
+                    ax.plot(np.asarray(xv)[sel], np.asarray(ys)[sel], "o", color=colour, label=outcome,
+                            alpha=0.8)
             ax.set_xlabel(p)
             ax.set_ylabel(m)
             ax.set_title("%s vs %s" % (m, p))
@@ -199,7 +209,8 @@ def plots(df, folder, varying, metrics):
             for outcome, colour in colours.items():
                 sel = np.asarray(df["outcome"] == outcome)
                 if sel.any():
-                    ax.plot(np.asarray(df["trial"])[sel], np.asarray(ys)[sel], "o", color=colour, label=outcome)
+                    ax.plot(np.asarray(df["trial"])[sel], np.asarray(ys)[sel], "o", color=colour,
+                            label=outcome)
             ax.set_xlabel("trial")
             ax.set_ylabel(m)
             ax.set_title("%s per trial" % m)

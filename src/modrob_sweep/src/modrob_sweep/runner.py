@@ -61,7 +61,8 @@ class Progress(object):
 
 def _hms(s):
     s = int(round(s))
-    return "%d:%02d:%02d" % (s // 3600, s % 3600 // 60, s % 60) if s >= 3600 else "%d:%02d" % (s // 60, s % 60)
+    return "%d:%02d:%02d" % (s // 3600, s % 3600 // 60, s % 60) if s >= 3600 else "%d:%02d" % (s // 60,
+                                                                                               s % 60)
 
 
 def _remote_trial():
@@ -88,8 +89,9 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
         try:
             ray.init(address=address, **kw)
         except (ConnectionError, RuntimeError, ValueError) as exc:
-            raise SweepError("cannot join the Ray cluster at %s: %s. Start it first (`ray start --head` on the "
-                             "head, `ray start --address=<head>:6379` on each node, docs/sweeps.md)" % (address, exc))
+            raise SweepError("cannot join the Ray cluster at %s: %s. Start it first (`ray start --head` on "
+                             "the head, `ray start --address=<head>:6379` on each node, docs/sweeps.md)"
+                             % (address, exc))
     else:
         n = workers or os.cpu_count() or 1
         ray.init(address="local", num_cpus=max(1, int(round(n * cpus_per_trial))), **kw)
@@ -104,7 +106,8 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
     total_cpus = connect(address, workers, sweep.cpus, token)
     if total_cpus < sweep.cpus:
         ray.shutdown()
-        raise SweepError("one trial of %s needs %g CPUs but the Ray cluster has %g: lower `cpus` in the sweep "
+        raise SweepError("one trial of %s needs %g CPUs but the Ray cluster has %g: lower `cpus` in the "
+                         "sweep "
                          "file or add nodes" % (sweep.name, sweep.cpus, total_cpus))
     side_by_side = int(total_cpus // sweep.cpus)
     task = sweep.as_task()
@@ -131,7 +134,8 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
                 if retry:
                     print("[sweep] trial %d could not be run (%s): once more" % (t.index, retry),
                           file=progress.stream, flush=True)
-                    pending[trial_task.remote(task, t.as_dict(), out_root, token, attempt + 1)] = (t, attempt + 1)
+                    again = trial_task.remote(task, t.as_dict(), out_root, token, attempt + 1)
+                    pending[again] = (t, attempt + 1)
                     continue
                 rows.append(row)
                 if on_row:
@@ -139,11 +143,12 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
                 progress.finished(row, len(pending))
     except KeyboardInterrupt:
         interrupted = True
-        print("\n[sweep] interrupted: stopping %d running trial(s)" % len(pending), file=progress.stream, flush=True)
+        print("\n[sweep] interrupted: stopping %d running trial(s)" % len(pending), file=progress.stream,
+              flush=True)
         for ref in pending:
             try:
                 ray.cancel(ref, force=True)
-            except Exception as exc:     # noqa: B902 (Ray raises several kinds here; each trial's reaper still stops it)
+            except (ValueError, TypeError, ray.exceptions.RayError) as exc:   # the reaper stops it anyway
                 print("[sweep] could not cancel a trial: %s" % exc, file=progress.stream)
     finally:
         signal.signal(signal.SIGTERM, old_term)
@@ -222,4 +227,3 @@ def _with_var(var, value, trials_only=False):
         if in_trial or (not trials_only and want in env):
             out.append(int(entry))
     return out
-

@@ -41,7 +41,8 @@ class SlideTrial(object):
         import rospy
         from gazebo_msgs.srv import GetModelState, SetModelState, SpawnModel
         from modrob_msgs.srv import StepSimulation
-        names = ("/gazebo/spawn_urdf_model", "/gazebo/set_model_state", "/gazebo/get_model_state", "/gazebo/step")
+        names = ("/gazebo/spawn_urdf_model", "/gazebo/set_model_state", "/gazebo/get_model_state",
+                 "/gazebo/step")
         for n in names:
             rospy.wait_for_service(n, timeout=timeout)
         self.spawn = rospy.ServiceProxy(names[0], SpawnModel)
@@ -54,7 +55,8 @@ class SlideTrial(object):
     def step(self, n):
         resp = self.step_srv(n)
         if not resp.success:
-            raise RuntimeError("/gazebo/step %d refused: %s (is the world paused?)" % (n, resp.status_message))
+            raise RuntimeError("/gazebo/step %d refused: %s (is the world paused?)" % (n,
+                                                                                       resp.status_message))
         self.sim_time, self.steps = resp.sim_time, resp.iterations
 
     def state(self):
@@ -121,5 +123,6 @@ def main(argv=None):
     with open(result_file, "w") as fh:
         yaml.safe_dump(result, fh, sort_keys=True)
     print("RESULT slide_trial: %s, distance %.4f m (predicted %.4f m), at rest after %.2f s"
-          % ("SUCCESS" if result["success"] else "FAILURE", distance, result["predicted"], rest_time), flush=True)
+          % ("SUCCESS" if result["success"] else "FAILURE", distance, result["predicted"], rest_time),
+          flush=True)
     return 0

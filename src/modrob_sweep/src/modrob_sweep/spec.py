@@ -101,7 +101,8 @@ class Sweep(object):
                              % (src, ", ".join(sorted(sc)) or "nothing"))
         args = sc.get("args") or []
         if not isinstance(args, list):
-            raise SweepError("%s: scenario.args must be a list of strings, e.g. [\"--seed\", \"{seed}\"]" % src)
+            raise SweepError("%s: scenario.args must be a list of strings, e.g. [\"--seed\", \"{seed}\"]"
+                             % src)
         args = [str(a) for a in args]
         kind = kinds[0]
         if kind == "demo":
@@ -121,7 +122,8 @@ class Sweep(object):
 
     def _result(self, res):
         if not isinstance(res, dict):
-            raise SweepError("%s: 'result' must be a mapping (file, success, sim_time, metrics)" % self.source)
+            raise SweepError("%s: 'result' must be a mapping (file, success, sim_time, metrics)"
+                             % self.source)
         extra = sorted(set(res) - {"file", "success", "sim_time", "metrics"})
         if extra:
             raise SweepError("%s: result knows file, success, sim_time, metrics; not %s"
@@ -151,14 +153,17 @@ class Sweep(object):
             if not isinstance(grid, dict):
                 raise SweepError("%s: parameters.grid maps a name to its values" % src)
             axes = [(name, _axis(name, values, src)) for name, values in grid.items()]
-            points = [dict(zip([a[0] for a in axes], combo)) for combo in itertools.product(*[a[1] for a in axes])]
+            points = [dict(zip([a[0] for a in axes],
+                               combo)) for combo in itertools.product(*[a[1] for a in axes])]
         elif points:
             if not isinstance(points, list) or not all(isinstance(p, dict) for p in points):
-                raise SweepError("%s: parameters.points is a list of mappings, e.g. [{mu: 0.2}, {mu: 0.4}]" % src)
+                raise SweepError("%s: parameters.points is a list of mappings, e.g. [{mu: 0.2}, {mu: 0.4}]"
+                                 % src)
             names = set(points[0])
             for k, p in enumerate(points):
                 if set(p) != names:
-                    raise SweepError("%s: parameters.points[%d] names %s, the first point %s: every point names "
+                    raise SweepError("%s: parameters.points[%d] names %s, the first point %s: every point "
+                                     "names "
                                      "the same parameters" % (src, k, sorted(p), sorted(names)))
         else:
             points = [{}]
@@ -207,8 +212,8 @@ class Sweep(object):
             raise SweepError("--trials takes trial numbers separated by commas, e.g. 3,7,12; got %r" % text)
         missing = [k for k in wanted if not 0 <= k < len(self.trials)]
         if missing or not wanted:
-            raise SweepError("%s has trials 0-%d; no trial %s" % (self.source, len(self.trials) - 1,
-                                                                 ", ".join(map(str, missing)) or "given"))
+            raise SweepError("%s has trials 0-%d; no trial %s" % (
+                self.source, len(self.trials) - 1, ", ".join(map(str, missing)) or "given"))
         self.trials = [self.trials[k] for k in sorted(set(wanted))]
 
     def varying(self):
@@ -230,7 +235,8 @@ class Sweep(object):
 
     def as_task(self):
         """What a trial task needs of the sweep (plain data for Ray)."""
-        return {"name": self.name, "command": self.command, "result": self.result, "timeout_s": self.timeout_s,
+        return {"name": self.name, "command": self.command, "result": self.result,
+                "timeout_s": self.timeout_s,
                 "render": self.render, "kind": self.kind}
 
 
@@ -301,7 +307,8 @@ def _check_distribution(name, dist, src):
             ok = all(isinstance(a, (int, float)) and not isinstance(a, bool) for a in args)
     if not ok:
         raise SweepError("%s: parameters.random.%s must be one of {uniform: [lo, hi]}, {normal: [mean, sd]}, "
-                         "{integers: [lo, hi]} (hi excluded) or {choice: [a, b, ...]}; got %r" % (src, name, dist))
+                         "{integers: [lo, hi]} (hi excluded) or {choice: [a, b, ...]}; got %r" % (src, name,
+                                                                                                  dist))
 
 
 def _int(v, what, src, minimum=0):
@@ -312,5 +319,6 @@ def _int(v, what, src, minimum=0):
 
 def _number(v, what, src, positive=False):
     if isinstance(v, bool) or not isinstance(v, (int, float)) or (positive and not v > 0):
-        raise SweepError("%s: %s must be a %snumber, got %r" % (src, what, "positive " if positive else "", v))
+        raise SweepError("%s: %s must be a %snumber, got %r" % (src, what, "positive " if positive else "",
+                                                                v))
     return float(v)

@@ -103,10 +103,12 @@ def run_trial(task, trial, out_root, token, attempt=1, grace_s=None):
     timed_out = False
     with open(os.path.join(out, "trial.log"), "w") as log:
         try:
-            proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL,
+            proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT,
+                                    stdin=subprocess.DEVNULL,
                                     cwd=out, start_new_session=True)
         except OSError as exc:
-            raise InfraError("trial %d: cannot start the reaper on %s: %s" % (trial.index, socket.gethostname(), exc))
+            raise InfraError("trial %d: cannot start the reaper on %s: %s" % (trial.index,
+                                                                              socket.gethostname(), exc))
         try:
             proc.wait(timeout=task["timeout_s"])
         except subprocess.TimeoutExpired:

@@ -90,7 +90,8 @@ def test_sigterm_stops_the_whole_trial(tmp_path):
 
 def test_a_command_that_cannot_start_is_an_infrastructure_failure(tmp_path):
     status = str(tmp_path / "status.json")
-    rc = subprocess.call([sys.executable, "-m", "modrob_sweep.reaper", "--token", "t", "--parent", str(os.getpid()),
+    rc = subprocess.call([sys.executable, "-m", "modrob_sweep.reaper", "--token", "t", "--parent",
+                          str(os.getpid()),
                           "--status", status, "--", "/no/such/program"])
     assert rc == 75
     assert "/no/such/program" in json.load(open(status))["infra"]

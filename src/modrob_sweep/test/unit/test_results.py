@@ -31,7 +31,8 @@ def rows():
                     "wall_s": 1.0 + k, "sim_s": 0.5, "mu": mu, "distance": 1.0 / mu + k, "seed": 7 - k,
                     "attempts": 1, "detail": "exit 0", "out": "/x"})
     out.append({"trial": 8, "host": "h0", "outcome": "timeout", "wall_s": 30.0, "sim_s": math.nan, "mu": 0.1,
-                "distance": math.nan, "seed": 8, "attempts": 1, "detail": "no end after 30 s: stopped", "out": "/x"})
+                "distance": math.nan, "seed": 8, "attempts": 1, "detail": "no end after 30 s: stopped",
+                "out": "/x"})
     return out
 
 
@@ -39,13 +40,15 @@ def test_table_columns_and_files(tmp_path):
     paths = results.write_all(rows(), str(tmp_path), "t", ["mu"], ["mu"], ["distance"], {"run": "test"})
     import pandas as pd
     df = pd.read_csv(tmp_path / "trials.csv")
-    assert list(df.columns) == ["trial", "host", "outcome", "wall_s", "sim_s", "mu", "distance", "seed", "attempts",
+    assert list(df.columns) == ["trial", "host", "outcome", "wall_s", "sim_s", "mu", "distance", "seed",
+                                "attempts",
                                 "detail", "out"]
     assert list(df["trial"]) == list(range(9))
     pq = pd.read_parquet(tmp_path / "trials.parquet")
     assert list(pq.columns) == list(df.columns) and len(pq) == 9
     names = sorted(os.path.basename(p) for p in paths)
-    assert names == sorted(["trials.csv", "trials.parquet", "summary.md", "success_vs_mu.png", "distance_vs_mu.png"])
+    assert names == sorted(["trials.csv", "trials.parquet", "summary.md", "success_vs_mu.png",
+                            "distance_vs_mu.png"])
     for p in paths:
         assert os.path.getsize(p) > 0
     with open(tmp_path / "success_vs_mu.png", "rb") as fh:
@@ -64,7 +67,8 @@ def test_summary_numbers():
 
 
 def test_many_values_are_binned():
-    rs = [{"trial": k, "host": "h", "outcome": "success", "wall_s": 1.0, "sim_s": 1.0, "x": k / 10.0, "seed": k,
+    rs = [{"trial": k, "host": "h", "outcome": "success", "wall_s": 1.0, "sim_s": 1.0, "x": k / 10.0,
+           "seed": k,
            "attempts": 1, "detail": "", "out": ""} for k in range(40)]
     df = results.table(rs, ["x"], [])
     groups = results.levels(df, "x")

@@ -48,7 +48,8 @@ def test_demo_and_launch_commands():
     s = Sweep({"scenario": {"demo": "katana", "args": ["--seed", "{seed}"]}}, source="x.yaml", root="/ws")
     assert s.command == ["/ws/scripts/demo.sh", "katana", "--out", "{out}", "--seed", "{seed}"]
     assert s.name == "x" and len(s.trials) == 1
-    s = Sweep({"scenario": {"launch": "modrob_sweep slide_trial.launch", "args": ["mu:=0.1"]}}, source="y.yaml")
+    s = Sweep({"scenario": {"launch": "modrob_sweep slide_trial.launch", "args": ["mu:=0.1"]}},
+              source="y.yaml")
     assert s.command == ["roslaunch", "-p", "{port}", "modrob_sweep", "slide_trial.launch", "mu:=0.1"]
 
 
@@ -75,9 +76,11 @@ def test_bad_files_are_refused_with_the_reason(fixture, message):
     ({"scenario": {"demo": "katana", "launch": "a b.launch"}}, "exactly one of demo"),
     ({"scenario": {"demo": "katana"}, "repetitions": 0}, "repetitions must be an integer >= 1"),
     ({"scenario": {"demo": "katana"}, "timeout_s": -1}, "timeout_s must be a positive number"),
-    ({"scenario": {"demo": "katana"}, "parameters": {"random": {"x": {"beta": [1, 2]}}}}, "parameters.random.x"),
+    ({"scenario": {"demo": "katana"}, "parameters": {"random": {"x": {"beta": [1, 2]}}}},
+     "parameters.random.x"),
     ({"scenario": {"demo": "katana"}, "parameters": {"mu": [1]}}, "put a parameter under one of them"),
-    ({"scenario": {"demo": "katana"}, "parameters": {"fixed": {"out": 1}}}, "'out' is a built-in placeholder"),
+    ({"scenario": {"demo": "katana"}, "parameters": {"fixed": {"out": 1}}},
+     "'out' is a built-in placeholder"),
     ({"scenario": {"launch": ["pkg", "file.xml"]}}, r"scenario.launch is \[package, file.launch\]"),
     ({"scenario": {"demo": "katana"}, "reps": 3}, "unknown key"),
 ])
