@@ -305,3 +305,86 @@ def test_fdir1_sets_the_direction_of_mu1(native, fdir, slides):
                                       rel=0.15)
     else:
         assert moved < 0.005
+
+
+GROUND = ('<sdf version="1.6"><world name="w"><include><uri>model://ground_plane</uri></include>'
+          '</world></sdf>')
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_a_spawn_overlap_is_pushed_out_at_once_but_leaves_at_most_maxvel(native):
+    """Gazebo's split of contact correction: a box spawned 5 cm deep in the ground is out within
+    a few steps (the contact's ERP), yet never moves faster than maxVel plus what gravity adds."""
+    world = World(native=native)
+    world.add_sdf(GROUND)
+    link = H.box_link("box", 1.0, (0.2, 0.2, 0.2)) + \
+        '<gazebo reference="box"><kp>1e7</kp><kd>1</kd><maxVel>0.01</maxVel></gazebo>'
+    box = world.add_urdf("box", H.robot("box", link), pose=((0.0, 0.0, 0.05), (0.0, 0.0, 0.0, 1.0)))
+    for _ in range(20):
+        world.step(1)
+        assert abs(box.twist[0][2]) < 0.01 + 9.81 * world.time_step + 1e-9
+    # at rest: half its height above the ground, less at most the 1 mm surface layer
+    assert 0.0985 < box.pose[0][2] < 0.1005
+    world.step(200)
+    assert 0.0985 < box.pose[0][2] < 0.1005
+    assert world.pop_events() == []
+
+
+@pytest.mark.parametrize("native", [None, False])
+@pytest.mark.parametrize("urdf_cap, sdf_cap, expected",
+                         [(None, None, 4), (1, None, 1), (None, 2, 2), (3, 2, 2)])
+def test_max_contacts_of_a_collision_lowers_the_worlds_cap(native, urdf_cap, sdf_cap, expected):
+    """<maxContacts> (URDF) and <collision><max_contacts> (SDF) cap the contacts of every pair the
+    collision is in at the smaller of theirs and the world's (4 here)."""
+    world = World(native=native)
+    sdf_max = "<max_contacts>%d</max_contacts>" % sdf_cap if sdf_cap else ""
+    world.add_sdf('<sdf version="1.6"><world name="w"><model name="floor"><static>true</static>'
+                  '<link name="l"><collision name="c">%s<geometry><box><size>2 2 0.1</size></box>'
+                  '</geometry></collision></link></model></world></sdf>' % sdf_max)
+    link = H.box_link("box", 1.0, (0.2, 0.2, 0.2))
+    if urdf_cap:
+        link += '<gazebo reference="box"><maxContacts>%d</maxContacts></gazebo>' % urdf_cap
+    world.add_urdf("box", H.robot("box", link), pose=((0.0, 0.0, 0.1505), (0.0, 0.0, 0.0, 1.0)))
+    world.step(50)
+    assert len([c for c in world.contacts() if "box" in (c[0], c[2])]) == expected
+
+
+@pytest.mark.parametrize("native", [None, False])
+@pytest.mark.parametrize("ramp_mu1, slides", [(1.0, True), (0.1, False)])
+def test_fdir1_on_both_sides_comes_from_the_surface_with_the_smaller_mu1(native, ramp_mu1, slides):
+    """Box: mu1 0.2 along its x (down the 30 degree slope), mu2 1.0. Ramp: <fdir1> across the slope.
+    Gazebo takes fdir1 of the surface with the smaller mu1: the box's (mu 0.2 down the slope: it
+    slides) while the ramp's mu1 is 1.0, the ramp's (min mu1 0.1 across, min mu2 1.0 down the
+    slope: it holds) when the ramp's mu1 is 0.1."""
+    angle = math.radians(30)
+    world = World(native=native)
+    ramp = H.ramp(angle, 1.0).replace(
+        "<mu1>1.0</mu1><mu2>1.0</mu2>", "<mu1>%r</mu1><mu2>1.0</mu2><fdir1>0 1 0</fdir1>" % ramp_mu1)
+    world.add_urdf("ramp", ramp)
+    link = H.box_link("box", 1.0, (0.2, 0.2, 0.1))
+    link += '<gazebo reference="box"><mu1>0.2</mu1><mu2>1.0</mu2><fdir1>1 0 0</fdir1></gazebo>'
+    n = (math.sin(angle), 0.0, math.cos(angle))
+    box = world.add_urdf("box", H.robot("box", link),
+                         pose=((0.0501 * n[0], 0.0, 0.0501 * n[2]),
+                               (0.0, math.sin(angle / 2), 0.0, math.cos(angle / 2))))
+    p0 = box.pose[0]
+    world.step(500)
+    moved = math.dist(p0, box.pose[0])
+    assert (moved > 0.2) if slides else (moved < 0.005)
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_min_depth_of_two_bodies_is_the_smaller(native):
+    """Gazebo lets two bodies stay sunk into each other by the SMALLER of their minDepth: a box
+    with minDepth 5 mm spawned 8 mm deep into a box with none is pushed out to the surface
+    layer (1 mm), not to 5 mm."""
+    world = World(native=native)
+    world.add_sdf(GROUND)
+    lower = world.add_urdf("lower", H.robot("lower", H.box_link("lower", 2.0, (0.4, 0.4, 0.1))),
+                           pose=((0.0, 0.0, 0.05), (0.0, 0.0, 0.0, 1.0)))
+    link = H.box_link("upper", 1.0, (0.2, 0.2, 0.1)) + \
+        '<gazebo reference="upper"><minDepth>0.005</minDepth></gazebo>'
+    upper = world.add_urdf("upper", H.robot("upper", link), pose=((0.0, 0.0, 0.142), (0.0, 0.0, 0.0, 1.0)))
+    world.step(1000)
+    sunk = (lower.pose[0][2] + 0.05) - (upper.pose[0][2] - 0.05)
+    assert 0.0005 < sunk < 0.0015

@@ -40,7 +40,8 @@ _BASE_MODE = _APPROX1 | ode.ContactSoftERP | ode.ContactSoftCFM
 
 
 class _PairParams(object):
-    __slots__ = ("mu", "mu2", "erp", "cfm", "mode", "shift", "cap", "isotropic", "fdir_side", "fdir")
+    __slots__ = ("mu", "mu2", "erp", "cfm", "mode", "shift", "cap", "isotropic", "fdir_side", "fdir",
+                 "max_contacts")
 
 
 def velocity_reason(b, vmax2, wmax2):
@@ -68,6 +69,8 @@ class PureBackend(object):
         self.seed = 0
         self.ncontacts = 0
         self.contact_log = []
+        self.made = []        # (contact, body1, body2, whole depth) of this step's contact joints
+        self.capped = False   # a contact of this step had its correction capped at maxVel
 
     def set_seed(self, seed):
         self.seed = seed
@@ -109,15 +112,48 @@ class PureBackend(object):
         world._contact_group.empty()
         self.ncontacts = 0
         self.contact_log = []
+        self.made = []
+        self.capped = False
         self._collide(world)
-        odelib.set_seed(self.seed)
+        seed0 = self.seed
+        odelib.set_seed(seed0)
         if world._world_step:
             world._ode_world.step(dt)
+        elif self.capped:
+            self._split_solve(world, dt, seed0)
         else:
             world._ode_world.quickStep(dt)
         self.seed = odelib.get_seed()
         self._wake_held(world)
         return self.ncontacts
+
+    def _split_solve(self, world, dt, seed0):
+        """As the C loop's mr_split_solve (Gazebo's split of contact correction): pass 1 with
+        the capped contacts gives the velocities, pass 2 from the same state with the whole
+        depths gives the positions."""
+        bodies = [g.body for m in world._dynamic_models for g in m.dynamic_groups]
+        saved = [(b.getPosition(), b.getQuaternion(), b.getLinearVel(), b.getAngularVel(),
+                  b.getForce(), b.getTorque()) for b in bodies]
+        world._ode_world.quickStep(dt)
+        velocities = [(b.getLinearVel(), b.getAngularVel()) for b in bodies]
+        for b, (p, q, v, w, f, t) in zip(bodies, saved):
+            b.setPosition(p)
+            b.setQuaternion(q)
+            b.setLinearVel(v)
+            b.setAngularVel(w)
+            b.setForce(f)
+            b.setTorque(t)
+        world._contact_group.empty()
+        for c, b1, b2, depth in self.made:
+            pos, normal, _d, g1, g2 = c.getContactGeomParams()
+            c.setContactGeomParams(pos, normal, depth, g1, g2)
+            j = ode.ContactJoint(world._ode_world, world._contact_group, c)
+            j.attach(b1, b2)
+        odelib.set_seed(seed0)
+        world._ode_world.quickStep(dt)
+        for b, (v, w) in zip(bodies, velocities):
+            b.setLinearVel(v)
+            b.setAngularVel(w)
 
     def _wake_held(self, world):
         """As the C loop's mr_wake_held: a body that may sleep, touching an awake body that never
@@ -194,7 +230,9 @@ class PureBackend(object):
 
     def _pair(self, w, s1, s2, static1, static2):
         """Contact parameters of a surface pair, as Gazebo: kp in series, kd summed, the smaller
-        mu; maxVel and minDepth are per BODY in Gazebo, so a static side does not count."""
+        mu; maxVel and minDepth are per BODY in Gazebo (the smaller of the two bodies'), so a
+        static side does not count; with <fdir1> on both sides, that of the smaller mu1; the
+        world's cap of contacts lowered by either side's own."""
         key = (s1, s2, static1, static2)
         pp = w._pair_cache.get(key)
         if pp is not None:
@@ -209,11 +247,13 @@ class PureBackend(object):
         pp.mu2 = min(s1.mu2, s2.mu2)
         pp.isotropic = pp.mu == pp.mu2
         pp.mode = _BASE_MODE | (0 if pp.isotropic else ode.ContactMu2)
-        pp.fdir_side = 1 if any(s1.fdir1) else (2 if any(s2.fdir1) else 0)
-        pp.fdir = s1.fdir1 if pp.fdir_side == 1 else s2.fdir1
+        use2 = any(s2.fdir1) and (not any(s1.fdir1) or s1.mu1 > s2.mu1)
+        pp.fdir_side = 2 if use2 else (1 if any(s1.fdir1) else 0)
+        pp.fdir = s2.fdir1 if use2 else s1.fdir1
+        pp.max_contacts = min([w._max_contacts] + [s.max_contacts for s in (s1, s2) if s.max_contacts > 0])
         layer = w._params["contact_surface_layer"]
         sides = [s for s, st in ((s1, static1), (s2, static2)) if not st] or [s1, s2]
-        min_depth = max(s.min_depth for s in sides)
+        min_depth = min(s.min_depth for s in sides)
         pp.shift = max(0.0, min_depth - layer)
         max_vel = min(s.max_vel for s in sides)
         pp.cap = layer + max_vel * dt / pp.erp if pp.erp > 0 else float("inf")
@@ -238,14 +278,14 @@ class PureBackend(object):
         if not contacts:
             return
         n = len(contacts)
-        cap = w._max_contacts
+        pp = self._pair(w, i1.surface, i2.surface, b1 is None, b2 is None)
+        cap = pp.max_contacts
         if n > cap:
             contacts = _select_spread(contacts, cap)
             n = cap
         self.ncontacts += n
         i1.entry.ncontacts += n
         i2.entry.ncontacts += n
-        pp = self._pair(w, i1.surface, i2.surface, b1 is None, b2 is None)
         mode = pp.mode
         fdir = None
         world = w._ode_world
@@ -259,11 +299,13 @@ class PureBackend(object):
                     fdir = _friction_dir(w.gravity, b1, b2, pos, normal)
                 if fdir is not None:
                     mode |= ode.ContactFDir1
-            d = depth - pp.shift
+            whole = depth - pp.shift
+            if whole < 0.0:
+                whole = 0.0
+            d = whole
             if d > pp.cap:
                 d = pp.cap
-            if d < 0.0:
-                d = 0.0
+                self.capped = True
             if d != depth:
                 c.setContactGeomParams(pos, normal, d, g1, g2)
             c.setMode(mode)
@@ -275,6 +317,7 @@ class PureBackend(object):
                 c.setFDir1(fdir)
             j = ode.ContactJoint(world, group, c)
             j.attach(b1, b2)
+            self.made.append((c, b1, b2, whole))
             self.contact_log.append((i1, i2, pos, normal, depth))
 
 

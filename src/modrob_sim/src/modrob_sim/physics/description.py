@@ -21,20 +21,26 @@ DEFAULT_MIN_DEPTH = 0.0
 
 class Surface(object):
     """Contact surface of one collision (Gazebo: per link from <gazebo reference>, per collision
-    in SDF)."""
-    __slots__ = ("mu1", "mu2", "kp", "kd", "max_vel", "min_depth", "fdir1")
+    in SDF). ``max_contacts``: the collision's own cap of contacts per pair (URDF <maxContacts>,
+    SDF <collision><max_contacts>); 0 = only the world's."""
+    __slots__ = ("mu1", "mu2", "kp", "kd", "max_vel", "min_depth", "fdir1", "max_contacts")
 
     def __init__(self, mu1=DEFAULT_MU, mu2=DEFAULT_MU, kp=DEFAULT_KP, kd=DEFAULT_KD,
-                 max_vel=DEFAULT_MAX_VEL, min_depth=DEFAULT_MIN_DEPTH, fdir1=(0.0, 0.0, 0.0)):
+                 max_vel=DEFAULT_MAX_VEL, min_depth=DEFAULT_MIN_DEPTH, fdir1=(0.0, 0.0, 0.0),
+                 max_contacts=0):
         self.mu1, self.mu2, self.kp, self.kd = mu1, mu2, kp, kd
         self.max_vel, self.min_depth = max_vel, min_depth
         self.fdir1 = fdir1  # direction of mu1 in the collision frame; (0, 0, 0) = not given
+        self.max_contacts = max_contacts
 
     def copy(self):
-        return Surface(self.mu1, self.mu2, self.kp, self.kd, self.max_vel, self.min_depth, self.fdir1)
+        return Surface(self.mu1, self.mu2, self.kp, self.kd, self.max_vel, self.min_depth, self.fdir1,
+                       self.max_contacts)
 
     def key(self):
-        return (self.mu1, self.mu2, self.kp, self.kd, self.max_vel, self.min_depth) + tuple(self.fdir1)
+        """The surface as the C loop's mr_set_surface takes it."""
+        return (self.mu1, self.mu2, self.kp, self.kd, self.max_vel, self.min_depth) + \
+            tuple(self.fdir1) + (self.max_contacts,)
 
 
 class GeometryDesc(object):

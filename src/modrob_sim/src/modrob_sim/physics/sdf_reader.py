@@ -103,6 +103,10 @@ def _geometry(rd, elem, where):
 
 def _surface(rd, ce, where):
     s = Surface()
+    if _text(ce, "max_contacts") is not None:
+        s.max_contacts = rd.int(_text(ce, "max_contacts"), where, "<max_contacts>")
+        if s.max_contacts < 0:
+            rd.fail(where, "<max_contacts> must not be negative")
     se = _child(ce, "surface")
     if se is None:
         return s

@@ -14,9 +14,9 @@ from .xml_util import Reader, local, parse_xml
 
 # Gazebo extension tags with a physics meaning here (per link), and accepted ones that are only
 # stored (per link or joint) so that plugins can read them; anything else is warned about once.
-LINK_TAGS = ("mu1", "mu2", "kp", "kd", "maxVel", "minDepth", "fdir1", "material", "selfCollide",
-             "gravity", "turnGravityOff")
-LINK_ACCEPTED = ("maxContacts", "sensor", "visual", "collision", "dampingFactor",
+LINK_TAGS = ("mu1", "mu2", "kp", "kd", "maxVel", "minDepth", "fdir1", "maxContacts", "material",
+             "selfCollide", "gravity", "turnGravityOff")
+LINK_ACCEPTED = ("sensor", "visual", "collision", "dampingFactor",
                  "laserRetro", "velocity_decay", "plugin", "enableWind", "kinematic")
 JOINT_ACCEPTED = ("implicitSpringDamper", "provideFeedback", "stopCfm", "stopErp", "cfmDamping",
                   "fudgeFactor", "springStiffness", "springReference", "disableFixedJointLumping",
@@ -307,6 +307,8 @@ def _gazebo_link(rd, ge, link, desc, name, warn):
             s.min_depth = rd.float(text, where, "<minDepth>")
         elif tag == "fdir1":
             s.fdir1 = rd.floats(text, 3, where, "<fdir1>")
+        elif tag == "maxContacts":
+            s.max_contacts = rd.int(text, where, "<maxContacts>")
         elif tag == "material":
             link.material = text
         elif tag == "selfCollide":
@@ -326,7 +328,8 @@ def _gazebo_link(rd, ge, link, desc, name, warn):
         else:
             warn("urdf-link-tag:" + tag, "model '%s' link '%s': <gazebo><%s> is not supported; "
                  "ignored" % (name, link.name, tag))
-    for v, what in ((s.mu1, "mu1"), (s.mu2, "mu2"), (s.max_vel, "maxVel"), (s.min_depth, "minDepth")):
+    for v, what in ((s.mu1, "mu1"), (s.mu2, "mu2"), (s.max_vel, "maxVel"), (s.min_depth, "minDepth"),
+                    (s.max_contacts, "maxContacts")):
         if v < 0:
             rd.fail(where, "<%s> must not be negative" % what)
     if s.kp <= 0 or s.kd < 0:

@@ -831,7 +831,8 @@ class World(object):
         for (m1, l1, m2, l2), d in sorted(found.items()):
             if d > threshold:
                 LOG.warning("spawn overlap: model '%s' link '%s' penetrates model '%s' link '%s' "
-                            "by %.1f mm; contacts push them apart at most at maxVel", m1, l1, m2,
+                            "by %.1f mm; contacts push them apart within a few steps (as Gazebo: the "
+                            "velocity left to them is capped at maxVel)", m1, l1, m2,
                             l2, d * 1000.0)
 
 

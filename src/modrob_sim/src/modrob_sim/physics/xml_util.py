@@ -58,6 +58,13 @@ class Reader(object):
             return default
         return self.floats(text.strip(), 1, where, what)[0]
 
+    def int(self, text, where, what):
+        """A whole number (Gazebo writes counts such as <maxContacts> as 10 or 10.0)."""
+        v = self.float(text, where, what)
+        if v != int(v):
+            self.fail(where, "%s = '%s' is not a whole number" % (what, text))
+        return int(v)
+
     def bool(self, text, where, what):
         t = (text or "").strip().lower()
         if t in ("1", "true", "yes", "on"):

@@ -57,7 +57,7 @@ def _declare(lib):
         "mr_ctx_free": (None, [vp]),
         "mr_set_geom": (None, [vp, vp, i, i, i, i, i]),
         "mr_remove_geom": (None, [vp, vp]),
-        "mr_set_surface": (None, [vp, i, d, d, d, d, d, d, d, d, d]),
+        "mr_set_surface": (None, [vp, i, d, d, d, d, d, d, d, d, d, i]),
         "mr_clear_adjacency": (None, [vp]),
         "mr_add_adjacent": (None, [vp, i, i, i]),
         "mr_set_model_count": (None, [vp, i]),

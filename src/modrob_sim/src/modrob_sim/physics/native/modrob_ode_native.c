@@ -2,9 +2,11 @@
  * PyODE uses. Loaded with ctypes (see native.py); every function here mirrors the Python
  * fallback in world.py, which stays the reference for the semantics:
  *   - near callback with Gazebo contact parameters (min mu, kp/kd -> soft ERP/CFM, maxVel and
- *     minDepth emulated on the contact depth), same-model / adjacent-link filtering, a cap of
- *     contacts per pair chosen as spread points, friction direction along the slip;
- *   - collide + quickStep with a per-world ODE random seed;
+ *     minDepth emulated on the contact depth, fdir1 of the smaller mu1, maxContacts), same-model /
+ *     adjacent-link filtering, a cap of contacts per pair chosen as spread points, friction
+ *     direction along the slip;
+ *   - collide + quickStep with a per-world ODE random seed, solved twice when a contact's
+ *     correction was capped (Gazebo's split of position and velocity correction);
  *   - the velocity part of the blow-up guard;
  *   - triangle meshes (PyODE on Debian is built without trimesh support) in spaces of their own.
  * No Python API: plain C, so it builds with nothing but libode-dev.
@@ -22,6 +24,7 @@ typedef struct {
     double mu1, mu2, kp, kd, max_vel, min_depth;
     double fdir[3];            /* direction of mu1 in the collision frame */
     int has_fdir;
+    int max_contacts;          /* the collision's own cap per pair (<maxContacts>), 0 = none */
 } MrSurface;
 
 typedef struct {
@@ -37,6 +40,13 @@ typedef struct {
     dGeomID g1, g2;
     double pos[3], normal[3], depth;
 } MrContactRec;
+
+/* a contact joint made in this step, kept for the position pass of mr_split_solve */
+typedef struct {
+    dContact ct;               /* as made: depth capped at the maxVel correction */
+    double full_depth;         /* the depth past minDepth, uncapped */
+    dBodyID b1, b2;
+} MrMade;
 
 typedef struct {
     dTriMeshDataID data;
@@ -72,6 +82,12 @@ typedef struct {
     /* the contacts of the last step (for world.contacts()): geom pair, pos, normal, depth */
     MrContactRec *log;
     int nlog, caplog;
+    /* the contact joints of this step, and whether one of them was capped (mr_split_solve) */
+    MrMade *made;
+    int nmade, capmade, capped;
+    /* body states saved around the first pass of mr_split_solve: 19 doubles per body */
+    double *saved;
+    int capsaved;
     /* per-step settings */
     double dt, layer, gravity[3];
     int max_contacts;
@@ -183,6 +199,8 @@ void mr_ctx_free(MrCtx *c)
     free(c->meshes);
     free(c->log);
     free(c->sweep);
+    free(c->made);
+    free(c->saved);
     free(c);
 }
 
@@ -217,7 +235,7 @@ void mr_remove_geom(MrCtx *c, dGeomID g)
 }
 
 void mr_set_surface(MrCtx *c, int idx, double mu1, double mu2, double kp, double kd, double max_vel,
-                    double min_depth, double fx, double fy, double fz)
+                    double min_depth, double fx, double fy, double fz, int max_contacts)
 {
     if (idx >= c->capsurf) {
         int n = c->capsurf ? c->capsurf : 16;
@@ -230,6 +248,7 @@ void mr_set_surface(MrCtx *c, int idx, double mu1, double mu2, double kp, double
     c->surf[idx].max_vel = max_vel; c->surf[idx].min_depth = min_depth;
     c->surf[idx].fdir[0] = fx; c->surf[idx].fdir[1] = fy; c->surf[idx].fdir[2] = fz;
     c->surf[idx].has_fdir = (fx * fx + fy * fy + fz * fz) > 1e-12;
+    c->surf[idx].max_contacts = max_contacts > 0 ? max_contacts : 0;
 }
 
 void mr_clear_adjacency(MrCtx *c)
@@ -386,10 +405,14 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     if ((!b1 || !dBodyIsEnabled(b1)) && (!b2 || !dBodyIsEnabled(b2))) return;
     n = dCollide(o1, o2, MR_MAX_GEN, c->gen, sizeof(dContactGeom));
     if (n <= 0) return;
-    k = mr_select(c->gen, n, c->max_contacts, sel);
-
     s1 = &c->surf[r1->surface];
     s2 = &c->surf[r2->surface];
+    /* the pair's cap: the world's, lowered by either collision's own <maxContacts> (Gazebo) */
+    k = c->max_contacts;
+    if (s1->max_contacts > 0 && s1->max_contacts < k) k = s1->max_contacts;
+    if (s2->max_contacts > 0 && s2->max_contacts < k) k = s2->max_contacts;
+    k = mr_select(c->gen, n, k, sel);
+
     kp = 1.0 / (1.0 / s1->kp + 1.0 / s2->kp);
     kd = s1->kd + s2->kd;
     erp = c->dt * kp / (c->dt * kp + kd);
@@ -397,13 +420,14 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     mu = s1->mu1 < s2->mu1 ? s1->mu1 : s2->mu1;
     mu2 = s1->mu2 < s2->mu2 ? s1->mu2 : s2->mu2;
     isotropic = (mu == mu2);
-    /* maxVel and minDepth are per body in Gazebo: a static side does not count */
+    /* maxVel and minDepth are per body in Gazebo (the smaller of the two bodies'): a static side
+     * does not count */
     if (!b1) {
         shift = s2->min_depth; max_vel = s2->max_vel;
     } else if (!b2) {
         shift = s1->min_depth; max_vel = s1->max_vel;
     } else {
-        shift = s1->min_depth > s2->min_depth ? s1->min_depth : s2->min_depth;
+        shift = s1->min_depth < s2->min_depth ? s1->min_depth : s2->min_depth;
         max_vel = s1->max_vel < s2->max_vel ? s1->max_vel : s2->max_vel;
     }
     shift -= c->layer;
@@ -412,10 +436,12 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     mode = dContactApprox1_1 | dContactApprox1_2 | dContactSoftERP | dContactSoftCFM;
     if (!isotropic) mode |= dContactMu2;
     if (s1->has_fdir || s2->has_fdir) {
-        /* <fdir1> given (in the collision frame of its geom): rotate to world, project */
+        /* <fdir1> given (in the collision frame of its geom): rotate to world, project. Both
+         * given: the one of the surface with the smaller mu1 (Gazebo) */
         const dContactGeom *g0 = &c->gen[sel[0]];
-        const MrSurface *sf = s1->has_fdir ? s1 : s2;
-        dGeomID og = s1->has_fdir ? o1 : o2;
+        int use2 = s2->has_fdir && (!s1->has_fdir || s1->mu1 > s2->mu1);
+        const MrSurface *sf = use2 ? s2 : s1;
+        dGeomID og = use2 ? o2 : o1;
         double fx = sf->fdir[0], fy = sf->fdir[1], fz = sf->fdir[2], fn, f2;
         if (dGeomGetClass(og) != dPlaneClass) {  /* a plane is not placeable: its fdir is in the world */
             const dReal *R = dGeomGetRotation(og);
@@ -439,13 +465,14 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     }
     for (i = 0; i < k; ++i) {
         dContact ct;
-        double d;
+        double d, full;
         dJointID j;
         memset(&ct, 0, sizeof(ct));
         ct.geom = c->gen[sel[i]];
         d = ct.geom.depth - shift;
-        if (d > cap) d = cap;
         if (d < 0) d = 0;
+        full = d;
+        if (d > cap) { d = cap; c->capped = 1; }
         ct.geom.depth = d;
         ct.surface.mode = mode;
         ct.surface.mu = mu;
@@ -455,6 +482,15 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
         if (has_fdir) { ct.fdir1[0] = fdir[0]; ct.fdir1[1] = fdir[1]; ct.fdir1[2] = fdir[2]; }
         j = dJointCreateContact(c->world, c->contacts, &ct);
         dJointAttach(j, b1, b2);
+        if (c->nmade == c->capmade) {
+            c->capmade = c->capmade ? c->capmade * 2 : 64;
+            c->made = (MrMade *)realloc(c->made, c->capmade * sizeof(MrMade));
+        }
+        c->made[c->nmade].ct = ct;
+        c->made[c->nmade].full_depth = full;
+        c->made[c->nmade].b1 = b1;
+        c->made[c->nmade].b2 = b2;
+        ++c->nmade;
         if (c->nlog == c->caplog) {
             c->caplog = c->caplog ? c->caplog * 2 : 64;
             c->log = (MrContactRec *)realloc(c->log, c->caplog * sizeof(MrContactRec));
@@ -549,6 +585,8 @@ int mr_collide(MrCtx *c, double dt, double gx, double gy, double gz, double laye
     c->max_contacts = max_contacts < 1 ? 1 : (max_contacts > MR_MAX_GEN ? MR_MAX_GEN : max_contacts);
     c->ncontacts = 0;
     c->nlog = 0;
+    c->nmade = 0;
+    c->capped = 0;
     if (c->nmodels) memset(c->model_contacts, 0, c->nmodels * sizeof(int));
     dJointGroupEmpty(c->contacts);
     mr_sweep(c, c->dyn_space, c->static_space);
@@ -608,6 +646,61 @@ int mr_step(MrCtx *c, double dt, double gx, double gy, double gz, double layer, 
     return n;
 }
 
+/* Gazebo's split of contact correction (its ODE fork's quickstep: rhs and rhs_erp): the bodies
+ * MOVE as if every contact corrected its whole penetration at the contact's ERP, but keep only the
+ * velocities of the solve in which the correction is capped at maxVel. Vanilla ODE has one solve;
+ * so when a contact of this step was capped (a spawn overlap, a hard impact; never a resting
+ * contact below maxVel), the step is solved twice from the same state: first with the capped
+ * contacts as made (their velocities are kept), then, from the restored state, with the whole
+ * depths (its positions are kept). `bodies` are all bodies that can move (the guard's list). ODE's
+ * auto-disable counters see both solves. */
+static void mr_split_solve(MrCtx *c, double dt, dBodyID *bodies, int nbodies)
+{
+    unsigned long seed0 = c->seed;
+    int i;
+    double *s;
+    if (19 * nbodies > c->capsaved) {
+        c->capsaved = 19 * nbodies;
+        c->saved = (double *)realloc(c->saved, (size_t)c->capsaved * sizeof(double));
+    }
+    for (i = 0, s = c->saved; i < nbodies; ++i, s += 19) {
+        dBodyID b = bodies[i];
+        memcpy(s, dBodyGetPosition(b), 3 * sizeof(double));
+        memcpy(s + 3, dBodyGetQuaternion(b), 4 * sizeof(double));
+        memcpy(s + 7, dBodyGetLinearVel(b), 3 * sizeof(double));
+        memcpy(s + 10, dBodyGetAngularVel(b), 3 * sizeof(double));
+        memcpy(s + 13, dBodyGetForce(b), 3 * sizeof(double));
+        memcpy(s + 16, dBodyGetTorque(b), 3 * sizeof(double));
+    }
+    mr_quickstep(c->world, dt, seed0);               /* pass 1: the capped correction */
+    for (i = 0, s = c->saved; i < nbodies; ++i, s += 19) {
+        dBodyID b = bodies[i];
+        double v[6];
+        memcpy(v, dBodyGetLinearVel(b), 3 * sizeof(double));
+        memcpy(v + 3, dBodyGetAngularVel(b), 3 * sizeof(double));
+        dBodySetPosition(b, s[0], s[1], s[2]);
+        dBodySetQuaternion(b, s + 3);
+        dBodySetLinearVel(b, s[7], s[8], s[9]);
+        dBodySetAngularVel(b, s[10], s[11], s[12]);
+        dBodySetForce(b, s[13], s[14], s[15]);
+        dBodySetTorque(b, s[16], s[17], s[18]);
+        memcpy(s + 7, v, 6 * sizeof(double));         /* keep pass 1's velocities */
+    }
+    dJointGroupEmpty(c->contacts);
+    for (i = 0; i < c->nmade; ++i) {
+        MrMade *m = &c->made[i];
+        dJointID j;
+        m->ct.geom.depth = m->full_depth;
+        j = dJointCreateContact(c->world, c->contacts, &m->ct);
+        dJointAttach(j, m->b1, m->b2);
+    }
+    c->seed = mr_quickstep(c->world, dt, seed0);     /* pass 2: the whole correction */
+    for (i = 0, s = c->saved; i < nbodies; ++i, s += 19) {
+        dBodySetLinearVel(bodies[i], s[7], s[8], s[9]);
+        dBodySetAngularVel(bodies[i], s[10], s[11], s[12]);
+    }
+}
+
 /* one step with nothing but plain numbers crossing from Python: collide, then ODE's quickStep
  * (world_step 0, Gazebo's "quick") or its exact dWorldStep (1, Gazebo's "world") with this
  * world's seed, then the velocity part of the blow-up guard over `bodies`: *first_bad is the
@@ -620,6 +713,8 @@ int mr_step_checked(MrCtx *c, double dt, double gx, double gy, double gz, double
         dRandSetSeed(c->seed);
         dWorldStep(c->world, dt);
         c->seed = dRandGetSeed();
+    } else if (c->capped && nbodies > 0) {
+        mr_split_solve(c, dt, bodies, nbodies);
     } else {
         c->seed = mr_quickstep(c->world, dt, c->seed);
     }
