@@ -45,19 +45,18 @@ class Warnings(object):
 
 def surface_of(desc, link):
     s = desc.links[link].surface
-    return (s.mu1, s.mu2, s.kp, s.kd, s.fdir1, s.max_vel, s.min_depth)
+    return (s.mu1, s.mu2, s.kp, s.kd, s.fdir1, s.max_vel, s.min_depth, s.max_contacts)
 
 
 def test_attribute_form_reads_as_the_element_form():
     warn_e, warn_a = Warnings(), Warnings()
     e = read_urdf("r", robot(ELEMENT_FORM), warn_e)
     a = read_urdf("r", robot(ATTRIBUTE_FORM), warn_a)
-    expected = (0.3, 0.8, 100000.0, 10.0, (1.0, 0.0, 0.0), 0.5, 0.002)
+    expected = (0.3, 0.8, 100000.0, 10.0, (1.0, 0.0, 0.0), 0.5, 0.002, 3)
     assert surface_of(a, "wheel") == surface_of(e, "wheel") == expected
     assert a.links["wheel"].material == e.links["wheel"].material == "Gazebo/Black"
     assert a.links["wheel"].self_collide is e.links["wheel"].self_collide is True
-    # stored elements (read later by contacts, joints, plugins) carry the value as their text
-    assert a.links["wheel"].extra["maxContacts"].text == "3"
+    # stored elements (read later by joints, plugins) carry the value as their text
     assert a.joints["axle"].extra["implicitSpringDamper"].text == "1"
     assert not warn_e.messages
     # one warning per model and tag, naming the model and both forms
