@@ -28,12 +28,13 @@ from .ray_sensor import RaySensor
 from .sdf import Params, join_ns, tf_resolve
 
 
-def _ns(spec, context):
+def plugin_namespace(spec, context):
+    """The namespace a plugin's topics go under (its robotNamespace, else the spawn's)."""
     ns = spec.robot_namespace if spec.robot_namespace is not None else getattr(context, "robot_namespace", "")
     return ns or ""
 
 
-def _tf_prefix(ns):
+def tf_prefix(ns):
     """The tf_prefix parameter in the plugin's namespace ("" without a ROS node, e.g. in tests)."""
     if not rospy.core.is_initialized():
         return ""
@@ -43,7 +44,7 @@ def _tf_prefix(ns):
         return ""
 
 
-def _stamp(t):
+def stamp(t):
     return rospy.Time.from_sec(max(0.0, t))
 
 
@@ -81,9 +82,9 @@ class LaserPlugin(_Publishing, SensorPlugin):
         w = where(model, spec.link, spec.filename, spec.sensor)
         p = Params(spec.element, w)
         self.ray = RaySensor(context.world, model, spec.link, spec.sensor, spec.filename, seed=context.seed)
-        ns = _ns(spec, context)
+        ns = plugin_namespace(spec, context)
         self.topic = join_ns(ns, p.string("topicName", "/world"))
-        self.frame = tf_resolve(_tf_prefix(ns), p.string("frameName", "/world"))
+        self.frame = tf_resolve(tf_prefix(ns), p.string("frameName", "/world"))
         self.fields = laser.laser_fields(self.ray.spec)
         self.pub = context.advertise(self.topic, LaserScan, queue_size=2)
         self.pubs = (self.pub,)
@@ -105,7 +106,7 @@ class LaserPlugin(_Publishing, SensorPlugin):
 
     def _message(self, t, ranges, intensities):
         msg = LaserScan()
-        msg.header.stamp = _stamp(t)
+        msg.header.stamp = stamp(t)
         msg.header.frame_id = self.frame
         for k, v in self.fields.items():
             setattr(msg, k, v)
@@ -125,7 +126,7 @@ class VelodynePlugin(_Publishing, SensorPlugin):
         self.cfg = velodyne.VelodyneConfig(p, self.ray.spec)
         ns = spec.robot_namespace or "/"
         self.topic = join_ns(ns, p.string("topicName", "/points"))
-        prefix = _tf_prefix(ns) if ns in ("/", "") else ns
+        prefix = tf_prefix(ns) if ns in ("/", "") else ns
         self.frame = tf_resolve(prefix.strip("/"), p.string("frameName", "/world"))
         self.fields = [PointField(name=n, offset=o, datatype=d, count=c) for n, o, d, c in velodyne.FIELDS]
         self.pub = context.advertise(self.topic, PointCloud2, queue_size=1)
@@ -151,7 +152,7 @@ class VelodynePlugin(_Publishing, SensorPlugin):
         data, width, height, row_step, dense = velodyne.pack_cloud(
             self.ray.spec, self.cfg, ranges, intensities, noise=noise)
         msg = PointCloud2()
-        msg.header.stamp = _stamp(t)
+        msg.header.stamp = stamp(t)
         msg.header.frame_id = self.frame
         msg.fields = self.fields
         msg.is_bigendian = False
@@ -163,7 +164,7 @@ class VelodynePlugin(_Publishing, SensorPlugin):
 
 def _imu_msg(r, frame, t, sigma):
     msg = Imu()
-    msg.header.stamp = _stamp(t)
+    msg.header.stamp = stamp(t)
     msg.header.frame_id = frame
     q = r.orientation
     msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
@@ -183,7 +184,7 @@ class ImuSensorPlugin(_Publishing, SensorPlugin):
         _check_type(self, ("imu",))
         self.imu = ImuSensor(context.world, model, spec.link, spec.sensor, spec.element, spec.filename,
                              seed=context.seed)
-        ns = _ns(spec, context)
+        ns = plugin_namespace(spec, context)
         self.topic = join_ns(ns, self.imu.topic)
         self.frame = self.imu.frame
         self.pub = context.advertise(self.topic, Imu, queue_size=10)
@@ -208,7 +209,7 @@ class ImuModelRosPlugin(_Publishing, ModelPlugin):
     def load(self, model, spec, context):
         w = where(model, None, spec.filename)
         self.imu = ImuModelPlugin(context.world, model, spec.element, w, seed=context.seed)
-        ns = _ns(spec, context)
+        ns = plugin_namespace(spec, context)
         self.topic = join_ns(ns, self.imu.topic)
         self.frame = self.imu.frame
         self.pub = context.advertise(self.topic, Imu, queue_size=10)
@@ -235,7 +236,7 @@ class GpsPlugin(_Publishing, ModelPlugin):
     def load(self, model, spec, context):
         w = where(model, None, spec.filename)
         self.gps = HectorGps(context.world, model, spec.element, w, seed=context.seed)
-        ns = _ns(spec, context)
+        ns = plugin_namespace(spec, context)
         self.fix_pub = context.advertise(join_ns(ns, self.gps.topic), NavSatFix, queue_size=10)
         self.vel_pub = context.advertise(join_ns(ns, self.gps.velocity_topic), Vector3Stamped, queue_size=10)
         self.pubs = (self.fix_pub, self.vel_pub)
@@ -249,7 +250,7 @@ class GpsPlugin(_Publishing, ModelPlugin):
         if f is None or not self.active():
             return
         fix = NavSatFix()
-        fix.header.stamp = _stamp(t)
+        fix.header.stamp = stamp(t)
         fix.header.frame_id = self.gps.frame_id
         fix.status.status = self.gps.status
         fix.status.service = self.gps.service
@@ -269,9 +270,9 @@ class P3dPlugin(_Publishing, ModelPlugin):
     def load(self, model, spec, context):
         w = where(model, None, spec.filename)
         self.p3d = P3d(context.world, model, spec.element, w, seed=context.seed)
-        ns = _ns(spec, context)
+        ns = plugin_namespace(spec, context)
         self.topic = join_ns(ns, self.p3d.topic)
-        self.frame = tf_resolve(_tf_prefix(ns), self.p3d.frame)
+        self.frame = tf_resolve(tf_prefix(ns), self.p3d.frame)
         self.pub = context.advertise(self.topic, Odometry, queue_size=10)
         self.pubs = (self.pub,)
         rospy.loginfo("%s: Odometry of %s on %s" % (w, self.p3d.body, self.topic))
@@ -287,7 +288,7 @@ class P3dPlugin(_Publishing, ModelPlugin):
             return
         pos, rot, v, w = s
         msg = Odometry()
-        msg.header.stamp = _stamp(t)
+        msg.header.stamp = stamp(t)
         msg.header.frame_id = self.frame
         msg.child_frame_id = self.p3d.body
         pp = msg.pose.pose
@@ -308,7 +309,7 @@ class BumperPlugin(_Publishing, SensorPlugin):
         _check_type(self, ("contact",))
         self.contact = ContactSensor(context.world, model, spec.link, spec.sensor, spec.element,
                                      spec.filename)
-        ns = _ns(spec, context)
+        ns = plugin_namespace(spec, context)
         self.topic = join_ns(ns, self.contact.topic)
         self.frame = self.contact.frame
         self.pub = context.advertise(self.topic, ContactsState, queue_size=10)
@@ -320,7 +321,7 @@ class BumperPlugin(_Publishing, SensorPlugin):
         if not self.active():
             return
         msg = ContactsState()
-        msg.header.stamp = _stamp(t)
+        msg.header.stamp = stamp(t)
         msg.header.frame_id = self.frame
         for k, pair in enumerate(pairs.values()):
             st = ContactState()
