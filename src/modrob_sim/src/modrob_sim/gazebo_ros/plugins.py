@@ -26,6 +26,7 @@ PLUGIN_MODULES = [
     "modrob_sim.ros_control.plugin",
     "modrob_sim.camera.plugin",
     "modrob_sim.sensors.ros_plugins",
+    "modrob_sim.drives.ros_plugins",
 ]
 
 _log = logging.getLogger(__name__)

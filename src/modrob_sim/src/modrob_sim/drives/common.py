@@ -1,0 +1,103 @@
+"""What the gazebo_plugins drives share: finding their wheel joints, odometry from the world
+(``odometrySource`` world) and from wheel encoders, the odometry covariances. Pure: no rospy."""
+import collections
+import math
+
+from modrob_sim.errors import PluginError
+from modrob_sim.physics.transforms import quat_from_rpy, quat_rotate, quat_conj, rpy_from_quat
+
+#: One odometry reading: pose (position, quaternion x y z w) in the odometry frame, twist in the
+#: robot's base frame (linear x y z, angular x y z), as nav_msgs/Odometry carries them.
+Odom = collections.namedtuple("Odom", "position orientation linear angular")
+
+#: gazebo_plugins' fixed pose covariance diagonal of the diff drive, tricycle and planar move
+#: (x, y, z, roll, pitch, yaw): the planar pose is known well, the rest "not at all".
+POSE_COVARIANCE = (0.00001, 0.00001, 1e12, 1e12, 1e12, 0.001)
+
+ODOM_SOURCES = ("encoder", "world")
+
+
+def diagonal(values):
+    """A 6x6 covariance (row-major, 36 floats) with ``values`` on the diagonal."""
+    c = [0.0] * 36
+    for i, v in enumerate(values):
+        c[7 * i] = float(v)
+    return c
+
+
+def wheel_joint(plugin, tag, default):
+    """The model's joint named by ``<tag>`` (``default`` when absent), which must turn: revolute
+    or continuous. PluginError naming the tag and the joints there are otherwise."""
+    name = plugin.param(tag, default)
+    joint = plugin.model.joints.get(name)
+    if joint is None:
+        raise PluginError("%s: <%s> '%s' is not a joint of the model (joints: %s)"
+                          % (plugin.name, tag, name, ", ".join(sorted(plugin.model.joints)) or "none"))
+    if joint.type not in ("revolute", "continuous"):
+        raise PluginError("%s: <%s> '%s' is a %s joint; a wheel needs a revolute or continuous one"
+                          % (plugin.name, tag, name, joint.type))
+    return joint
+
+
+def odometry_source(plugin, default="world"):
+    """``<odometrySource>``: encoder or world (gazebo_ros also takes 0 and 1)."""
+    text = plugin.param("odometrySource", default).strip().lower()
+    text = {"0": "encoder", "1": "world"}.get(text, text)
+    if text not in ODOM_SOURCES:
+        raise PluginError("%s: <odometrySource> '%s' is neither encoder nor world"
+                          % (plugin.name, text))
+    return text
+
+
+def world_odometry(model):
+    """``odometrySource`` world: the model's pose in the world, its velocity turned into the
+    robot's heading (gazebo_plugins rotate by the yaw only: x forward, y left), its yaw rate."""
+    (p, q) = model.pose
+    (v, w) = model.twist
+    yaw = rpy_from_quat(q)[2]
+    c, s = math.cos(yaw), math.sin(yaw)
+    return Odom(p, q, (c * v[0] + s * v[1], c * v[1] - s * v[0], 0.0), (0.0, 0.0, w[2]))
+
+
+def body_twist(model):
+    """The model's twist in its own frame (planar move's odometry and others)."""
+    (_p, q) = model.pose
+    (v, w) = model.twist
+    inv = quat_conj(q)
+    return quat_rotate(inv, v), quat_rotate(inv, w)
+
+
+class EncoderOdometry(object):
+    """Dead reckoning of a differential pair of wheels (gazebo_plugins' encoder odometry, after
+    Siegwart's Autonomous Mobile Robots): integrated at every step from the two wheels' angular
+    velocities, radius ``r`` and track ``b``. The pose stays in the plane (z, roll, pitch 0)."""
+
+    def __init__(self, radius, separation):
+        self.r = radius
+        self.b = separation
+        self.reset()
+
+    def reset(self):
+        self.x = self.y = self.theta = 0.0
+        self.v = self.w = 0.0
+
+    def update(self, w_left, w_right, dt):
+        if dt <= 0.0:
+            return
+        sl = w_left * self.r * dt
+        sr = w_right * self.r * dt
+        ssum, sdiff = sl + sr, sr - sl
+        heading = self.theta + sdiff / (2.0 * self.b)
+        dx = 0.5 * ssum * math.cos(heading)
+        dy = 0.5 * ssum * math.sin(heading)
+        dtheta = sdiff / self.b
+        self.x += dx
+        self.y += dy
+        self.theta += dtheta
+        self.w = dtheta / dt
+        # signed, along the heading (gazebo_plugins report the speed without its sign)
+        self.v = 0.5 * ssum / dt
+
+    def reading(self):
+        return Odom((self.x, self.y, 0.0), quat_from_rpy(0.0, 0.0, self.theta), (self.v, 0.0, 0.0),
+                    (0.0, 0.0, self.w))

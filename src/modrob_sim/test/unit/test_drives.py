@@ -1,0 +1,294 @@
+"""Tier 1: the gazebo_plugins drives' cores (modrob_sim.drives) on the physics core, with our own
+robots in the styles of a TurtleBot3 (diff drive) and a Husky (skid steer): the distances and
+angles driven, odometry against ground truth, a wall that stops the robot, the rest pose."""
+import math
+import os
+
+import pytest
+
+from modrob_sim.errors import PluginError
+from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
+from modrob_sim.gazebo_ros.plugin_host import PluginHost
+from modrob_sim.gazebo_ros.plugins import register_plugin, unregister_plugin
+from modrob_sim.physics import World
+from modrob_sim.physics.transforms import rpy_from_quat
+from modrob_sim.drives.diff_drive import DiffDrive
+from modrob_sim.drives.skid_steer import SkidSteer
+
+FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "drives")
+GROUND = ('<sdf version="1.6"><world name="w"><include><uri>model://ground_plane</uri></include>'
+          '%s</world></sdf>')
+WALL = ('<model name="wall"><static>true</static><pose>%r 0 0.25 0 0 0</pose><link name="l">'
+        '<collision name="c"><geometry><box><size>0.1 2 0.5</size></box></geometry></collision>'
+        '</link></model>')
+
+
+def fixture(name):
+    with open(os.path.join(FIX, name)) as f:
+        return f.read()
+
+
+class Bot(object):
+    """A world with the ground (and props), one robot whose drive plugin is the core under test
+    driven by ``command``, and the plugin host stepping it as the /gazebo node does."""
+
+    def __init__(self, urdf, filename, core_class, props="", native=None, edit=None):
+        bot = self
+
+        class CorePlugin(ModelPlugin):
+            def load(self, model, spec, context):
+                bot.core = core_class(self)
+
+            def before_step(self, t, dt):
+                bot.core.update(t, dt, bot.command)
+
+        self.command = (0.0, 0.0)
+        self.filename = filename
+        register_plugin(filename, CorePlugin)
+        self.world = World(native=native)
+        self.world.add_sdf(GROUND % props)
+        text = fixture(urdf)
+        if edit:
+            text = edit(text)
+        self.model = self.world.add_urdf("bot", text)
+        self.host = PluginHost(self.world, "/gazebo", lambda uri: uri)
+        self.host.load(self.model)
+        self.world.add_step_hook(before=self.host.before_step, after=self.host.after_step)
+
+    def close(self):
+        unregister_plugin(self.filename)
+
+    def drive(self, command, seconds):
+        """Drive ``command`` for ``seconds``; returns (distance in the plane, yaw turned)."""
+        self.command = command
+        (p0, q0) = self.model.pose
+        last = rpy_from_quat(q0)[2]
+        turned = 0.0
+        for _ in range(int(round(seconds / 0.05))):
+            self.world.step(50)
+            yaw = rpy_from_quat(self.model.pose[1])[2]
+            turned += (yaw - last + math.pi) % (2.0 * math.pi) - math.pi
+            last = yaw
+        (p1, _q1) = self.model.pose
+        return math.hypot(p1[0] - p0[0], p1[1] - p0[1]), turned
+
+
+@pytest.fixture
+def diff_bot():
+    bots = []
+
+    def make(**kw):
+        b = Bot("diff_bot.urdf", "libgazebo_ros_diff_drive.so", DiffDrive, **kw)
+        bots.append(b)
+        b.world.step(500)
+        return b
+    yield make
+    for b in bots:
+        b.close()
+
+
+@pytest.fixture
+def skid_bot():
+    bots = []
+
+    def make(**kw):
+        b = Bot("skid_bot.urdf", "libgazebo_ros_skid_steer_drive.so", SkidSteer, **kw)
+        bots.append(b)
+        b.world.step(500)
+        return b
+    yield make
+    for b in bots:
+        b.close()
+
+
+def assert_at_rest(model, height, tol=0.0015):
+    (p, q) = model.pose
+    (v, w) = model.twist
+    roll, pitch, _yaw = rpy_from_quat(q)
+    assert abs(roll) < 0.003 and abs(pitch) < 0.003, (roll, pitch)
+    assert abs(p[2] - height) < tol, p[2]
+    assert math.sqrt(sum(x * x for x in v)) < 2e-3 and math.sqrt(sum(x * x for x in w)) < 1e-2, (v, w)
+
+
+def test_diff_bot_rests_level_and_still_on_its_wheels(diff_bot):
+    """base_footprint on the ground (1 mm minDepth of the wheels), level, not creeping."""
+    b = diff_bot()
+    b.world.step(1500)
+    assert_at_rest(b.model, -0.0005)
+    (p0, q0) = b.model.pose
+    b.world.step(2000)
+    assert math.dist(p0, b.model.pose[0]) < 1e-3
+    assert abs(rpy_from_quat(b.model.pose[1])[2] - rpy_from_quat(q0)[2]) < 2e-3
+
+
+@pytest.mark.parametrize("native", [None, False])
+@pytest.mark.parametrize("v", [0.1, -0.1])
+def test_diff_drive_at_0_1_m_s_for_5_s_moves_0_5_m(diff_bot, native, v):
+    b = diff_bot(native=native)
+    distance, turned = b.drive((v, 0.0), 5.0)
+    assert distance == pytest.approx(0.5, rel=0.03)
+    assert abs(turned) < 0.02
+
+
+@pytest.mark.parametrize("w", [0.5, -0.5])
+def test_diff_drive_at_0_5_rad_s_for_5_s_turns_2_5_rad(diff_bot, w):
+    b = diff_bot()
+    distance, turned = b.drive((0.0, w), 5.0)
+    assert turned == pytest.approx(5.0 * w, rel=0.03)
+    assert distance < 0.02
+
+
+@pytest.mark.parametrize("source", ["world", "encoder"])
+def test_diff_drive_odometry_agrees_with_ground_truth(diff_bot, source):
+    """An arc of 0.15 m/s and 0.3 rad/s for 6 s: the odometry's pose is within 2 % of the
+    distance driven of the robot's true pose (encoder odometry integrates the wheels)."""
+    b = diff_bot(edit=lambda s: s.replace("<odometrySource>world</odometrySource>",
+                                          "<odometrySource>%s</odometrySource>" % source))
+    (p0, q0) = b.model.pose
+    distance, _turned = b.drive((0.15, 0.3), 6.0)
+    assert distance > 0.6
+    odom = b.core.odometry()
+    (p1, q1) = b.model.pose
+    if source == "encoder":   # it starts at zero where the robot stood when the drive loaded
+        (p1, q1) = ((p1[0] - p0[0], p1[1] - p0[1], 0.0), q1)
+    assert math.hypot(odom.position[0] - p1[0], odom.position[1] - p1[1]) < 0.02 * 0.15 * 6.0
+    yaw_odom = rpy_from_quat(odom.orientation)[2]
+    yaw_true = rpy_from_quat(q1)[2] - (rpy_from_quat(q0)[2] if source == "encoder" else 0.0)
+    assert abs((yaw_odom - yaw_true + math.pi) % (2 * math.pi) - math.pi) < 0.02
+    assert odom.linear[0] == pytest.approx(0.15, rel=0.05)
+    assert odom.angular[2] == pytest.approx(0.3, rel=0.05)
+
+
+def test_a_wall_stops_the_diff_bot_its_wheels_slip_nothing_tunnels(diff_bot):
+    """A wall 0.5 m ahead: the robot drives into it at 0.2 m/s and stays in front of it, pushing
+    (contacts with the wall) while its wheels keep turning (slip)."""
+    b = diff_bot(props=WALL % 0.5)
+    b.drive((0.2, 0.0), 5.0)
+    front = b.model.links["base_link"].pose[0][0] - 0.030 + 0.065    # the box's front face
+    assert 0.40 < front < 0.451, front              # the wall's face is at x = 0.45
+    assert abs(b.model.twist[0][0]) < 0.01
+    assert any("wall" in (c[0], c[2]) for c in b.world.contacts())
+    wheel = b.model.joints["wheel_left_joint"]
+    assert wheel.velocity * 0.033 > 0.1, wheel.velocity     # still turning: slipping
+    b.drive((0.2, 0.0), 2.0)
+    assert b.model.links["base_link"].pose[0][0] - 0.030 + 0.065 < 0.451
+
+
+def test_wheel_acceleration_limits_the_start(diff_bot):
+    """wheelAcceleration 1 m/s^2: 0.1 s after a 0.3 m/s command the robot goes about 0.1 m/s."""
+    b = diff_bot()
+    b.command = (0.3, 0.0)
+    b.world.step(130)          # the next update at 30 Hz comes within 33 ms, then 0.1 s
+    assert 0.04 < b.model.twist[0][0] < 0.2
+    b.world.step(1000)
+    assert b.model.twist[0][0] == pytest.approx(0.3, rel=0.05)
+
+
+def test_diff_drive_configuration_errors_name_the_tag():
+    for edit, text in ((lambda s: s.replace("<leftJoint>wheel_left_joint", "<leftJoint>no_such"),
+                        "<leftJoint> 'no_such' is not a joint"),
+                       (lambda s: s.replace("<rightJoint>wheel_right_joint", "<rightJoint>caster_joint"),
+                        "caster_joint' is a fixed joint"),
+                       (lambda s: s.replace("<odometrySource>world", "<odometrySource>gps"),
+                        "<odometrySource> 'gps'"),
+                       (lambda s: s.replace("<wheelDiameter>0.066", "<wheelDiameter>-1"),
+                        "<wheelDiameter> must be positive")):
+        loaded = []
+
+        class Probe(ModelPlugin):
+            def load(self, model, spec, context):
+                try:
+                    DiffDrive(self)
+                except PluginError as e:
+                    loaded.append(str(e))
+        register_plugin("libgazebo_ros_diff_drive.so", Probe)
+        try:
+            w = World()
+            m = w.add_urdf("bot", edit(fixture("diff_bot.urdf")))
+            PluginHost(w, "/gazebo", lambda u: u).load(m)
+        finally:
+            unregister_plugin("libgazebo_ros_diff_drive.so")
+        assert len(loaded) == 1 and text in loaded[0] and "model 'bot'" in loaded[0], loaded
+
+
+def test_skid_bot_spawned_at_z_0_rests_level_at_its_wheel_radius(skid_bot):
+    """Spawned with its wheels 130 mm in the ground, as such robots' launch files do: pushed out
+    at once (Gazebo's split contact correction), then level and still at 130 mm (less the 1 mm
+    surface layer)."""
+    b = skid_bot()
+    b.world.step(1000)
+    assert_at_rest(b.model, 0.129)
+
+
+@pytest.mark.parametrize("v", [0.1, -0.1])
+def test_skid_steer_at_0_1_m_s_for_5_s_moves_0_5_m(skid_bot, v):
+    b = skid_bot()
+    distance, turned = b.drive((v, 0.0), 5.0)
+    assert distance == pytest.approx(0.5, rel=0.03)
+    assert abs(turned) < 0.02
+
+
+@pytest.mark.parametrize("w", [0.5, -0.5])
+def test_skid_steer_at_0_5_rad_s_for_5_s_turns_2_5_rad(skid_bot, w):
+    b = skid_bot()
+    _distance, turned = b.drive((0.0, w), 5.0)
+    assert turned == pytest.approx(5.0 * w, rel=0.03)
+
+
+def test_a_wall_stops_the_skid_bot(skid_bot):
+    b = skid_bot(props=WALL % 1.0)
+    b.drive((0.3, 0.0), 5.0)
+    front = b.model.pose[0][0] + 0.475
+    assert 0.90 < front < 0.951, front
+    assert abs(b.model.twist[0][0]) < 0.01
+    odom = b.core.odometry()
+    assert odom.position[0] == pytest.approx(b.model.pose[0][0], abs=1e-9)
+    assert odom.position[2] == 0.0
+
+
+def test_joint_state_publisher_reads_its_comma_separated_joints_at_its_rate(skid_bot):
+    from modrob_sim.drives.joint_states import JointStates
+    readings = []
+
+    class Probe(ModelPlugin):
+        def load(self, model, spec, context):
+            self.core = JointStates(self)
+
+        def before_step(self, t, dt):
+            r = self.core.update(t)
+            if r is not None:
+                readings.append((t, r))
+    register_plugin("libgazebo_ros_joint_state_publisher.so", Probe)
+    try:
+        b = skid_bot()
+        b.command = (0.2, 0.0)
+        b.world.step(1000)
+    finally:
+        unregister_plugin("libgazebo_ros_joint_state_publisher.so")
+    names = [n for n, _p, _v in readings[-1][1]]
+    assert names == ["front_left_wheel", "front_right_wheel", "rear_left_wheel", "rear_right_wheel"]
+    times = [t for t, _r in readings if t > 0.6]
+    assert all(abs((b2 - b1) - 0.02) < 1e-6 for b1, b2 in zip(times, times[1:]))     # 50 Hz
+    _n, position, velocity = readings[-1][1][0]
+    assert velocity == pytest.approx(0.2 / 0.165, rel=0.05) and position > 0.5
+
+
+def test_joint_state_publisher_names_a_missing_joint():
+    errors = []
+    from modrob_sim.drives.joint_states import JointStates
+
+    class Probe(ModelPlugin):
+        def load(self, model, spec, context):
+            try:
+                JointStates(self)
+            except PluginError as e:
+                errors.append(str(e))
+    register_plugin("libgazebo_ros_joint_state_publisher.so", Probe)
+    try:
+        w = World()
+        m = w.add_urdf("bot", fixture("skid_bot.urdf").replace("rear_right_wheel</jointName>",
+                                                                 "rear_right_whel</jointName>"))
+        PluginHost(w, "/gazebo", lambda u: u).load(m)
+    finally:
+        unregister_plugin("libgazebo_ros_joint_state_publisher.so")
+    assert len(errors) == 1 and "rear_right_whel" in errors[0], errors
