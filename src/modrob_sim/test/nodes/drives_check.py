@@ -1,0 +1,109 @@
+#!/usr/bin/env python3
+"""rostest node: a mobile robot driven through /cmd_vel on the /gazebo node (drives_*.test).
+``drives_check.py diff_bot|skid_bot``: the robot rests level at its wheel radius, 0.1 m/s for 5
+simulated seconds moves it 0.5 m, /odom agrees with ground truth (/gazebo/model_states) within
+2 % of the distance, the odom -> base -> wheel tf chain is complete; the diff bot's /scan and
+/imu publish in their frames."""
+import math
+import os
+import sys
+import unittest
+
+import rospy
+import rostest
+import tf2_ros
+from gazebo_msgs.msg import ModelStates
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import Imu, JointState, LaserScan
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sim_helpers import Latest, wait_for  # noqa: E402
+
+ROBOT = sys.argv[1] if len(sys.argv) > 1 and not sys.argv[1].startswith("_") else "diff_bot"
+# rest height of the root link, base frame of /odom, a wheel link at the end of the tf chain
+SPEC = {"diff_bot": (-0.001, "base_footprint", "wheel_left_link"),
+        "skid_bot": (0.129, "base_link", "front_left_wheel_link")}
+
+
+def yaw_of(q):
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+class DrivesCheck(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("drives_check")
+        cls.states = Latest("/gazebo/model_states", ModelStates)
+        cls.odom = Latest("/odom", Odometry)
+        cls.cmd = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
+        cls.tf = tf2_ros.Buffer()
+        cls.listener = tf2_ros.TransformListener(cls.tf)
+        assert wait_for(lambda: cls.odom.count > 0 and cls.truth() is not None, 60.0), "no /odom"
+
+    @classmethod
+    def truth(cls):
+        msg = cls.states.get()
+        if msg is None or ROBOT not in msg.name:
+            return None
+        return msg.pose[msg.name.index(ROBOT)], msg.twist[msg.name.index(ROBOT)]
+
+    def wait_sim(self, seconds):
+        end = rospy.Time.now() + rospy.Duration(seconds)
+        self.assertTrue(wait_for(lambda: rospy.Time.now() >= end, 120.0), "simulated time stands still")
+
+    def send(self, v, w):
+        t = Twist()
+        t.linear.x, t.angular.z = v, w
+        self.cmd.publish(t)
+
+    def test_1_rests_level_at_its_wheel_radius(self):
+        self.wait_sim(1.5)
+        pose, twist = self.truth()
+        q = pose.orientation
+        roll = math.atan2(2.0 * (q.w * q.x + q.y * q.z), 1.0 - 2.0 * (q.x * q.x + q.y * q.y))
+        pitch = math.asin(max(-1.0, min(1.0, 2.0 * (q.w * q.y - q.z * q.x))))
+        self.assertLess(abs(roll), 0.003)
+        self.assertLess(abs(pitch), 0.003)
+        self.assertAlmostEqual(pose.position.z, SPEC[ROBOT][0], delta=0.0015)
+        self.assertLess(math.hypot(twist.linear.x, twist.linear.y), 0.002)
+
+    def test_2_drives_and_odom_follows_ground_truth(self):
+        wait_for(lambda: self.cmd.get_num_connections() > 0, 20.0)
+        start, _ = self.truth()
+        self.send(0.1, 0.0)
+        self.wait_sim(5.0)
+        self.send(0.0, 0.0)
+        self.wait_sim(0.5)
+        end, _ = self.truth()
+        distance = math.hypot(end.position.x - start.position.x, end.position.y - start.position.y)
+        self.assertAlmostEqual(distance, 0.5 + 0.1 * 0.05, delta=0.03 * 0.5)   # plus the stopping
+        odom = self.odom.get()
+        err = math.hypot(odom.pose.pose.position.x - end.position.x, odom.pose.pose.position.y - end.position.y)
+        self.assertLess(err, 0.02 * distance)
+        self.assertEqual(odom.header.frame_id, "odom")
+        self.assertEqual(odom.child_frame_id, SPEC[ROBOT][1])
+        self.assertAlmostEqual(yaw_of(odom.pose.pose.orientation), yaw_of(end.orientation), delta=0.01)
+
+    def test_3_tf_chain_from_odom_to_a_wheel(self):
+        base, wheel = SPEC[ROBOT][1], SPEC[ROBOT][2]
+        ok = wait_for(lambda: self.tf.can_transform("odom", wheel, rospy.Time(0)), 30.0)
+        self.assertTrue(ok, "no tf odom -> %s: %s" % (wheel, self.tf.all_frames_as_string()))
+        tr = self.tf.lookup_transform("odom", base, rospy.Time(0))
+        odom = self.odom.get()
+        self.assertAlmostEqual(tr.transform.translation.x, odom.pose.pose.position.x, delta=0.01)
+
+    @unittest.skipUnless(ROBOT == "diff_bot", "the diff bot carries the lidar and the IMU")
+    def test_4_scan_imu_and_wheel_joint_states_publish(self):
+        scans, imus = Latest("/scan", LaserScan), Latest("/imu", Imu)
+        joints = Latest("/joint_states", JointState)
+        self.assertTrue(wait_for(lambda: scans.count > 1 and imus.count > 1 and joints.count > 0, 60.0))
+        self.assertEqual(scans.get().header.frame_id, "base_scan")
+        self.assertEqual(len(scans.get().ranges), 360)
+        self.assertEqual(imus.get().header.frame_id, "imu_link")
+        self.assertAlmostEqual(imus.get().linear_acceleration.z, 9.81, delta=0.3)
+        self.assertEqual(sorted(joints.get().name), ["wheel_left_joint", "wheel_right_joint"])
+
+
+if __name__ == "__main__":
+    rostest.rosrun("modrob_sim", "drives_check", DrivesCheck)
