@@ -1,0 +1,137 @@
+"""The runner end to end on a local Ray with two workers, through the `sweep` command, with the
+slide scenario (a real /gazebo world per trial, a few seconds each): eight trials of which one
+crashes and one hangs; the same trials one after another give identical results; Ctrl-C leaves no
+process of the sweep behind (trials, roscores, simulators, nor the Ray it started)."""
+import os
+import signal
+import subprocess
+import sys
+import time
+import uuid
+
+import pytest
+import yaml
+
+pd = pytest.importorskip("pandas")
+
+SWEEP = [os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "scripts",
+                      "sweep")]
+POINTS = [{"mu": 0.2, "fault": "hang"},       # first, so that its timeout runs beside the others
+          {"mu": 0.05, "fault": "none"}, {"mu": 0.1, "fault": "none"}, {"mu": 0.2, "fault": "crash"},
+          {"mu": 0.2, "fault": "none"}, {"mu": 0.4, "fault": "none"}, {"mu": 0.8, "fault": "none"},
+          {"mu": 0.3, "fault": "none"}]
+COMPARED = ["distance", "rest_time", "v0", "sim_s", "seed", "mu"]
+
+
+def write_sweep(folder, name, points, timeout_s):
+    data = {"name": name,
+            "scenario": {"launch": ["modrob_sweep", "slide_trial.launch"],
+                         "args": ["mu:={mu}", "v0:=0.8", "jitter:=0.05", "seed:={seed}", "fault:={fault}",
+                                  "max_time:=2.0", "result_file:={out}/result.yaml"]},
+            "result": {"file": "result.yaml", "success": "success", "sim_time": "sim_time",
+                       "metrics": ["distance", "rest_time", "v0"]},
+            "parameters": {"points": points}, "repetitions": 1, "seed": 3, "timeout_s": timeout_s, "cpus": 1}
+    path = os.path.join(folder, name + ".yaml")
+    with open(path, "w") as fh:
+        yaml.safe_dump(data, fh)
+    return path
+
+
+def processes_of(name):
+    """pids of processes that belong to the sweep ``name`` (its trials, or the Ray it started)."""
+    marks = [("MODROB_SWEEP_ID=%s-" % name).encode(), ("MODROB_SWEEP_TRIAL=%s-" % name).encode()]
+    out = []
+    for e in os.listdir("/proc"):
+        if not e.isdigit():
+            continue
+        try:
+            with open("/proc/%s/environ" % e, "rb") as fh:
+                env = fh.read().split(b"\0")
+            with open("/proc/%s/stat" % e) as fh:
+                if fh.read().rsplit(")", 1)[1].split()[0] == "Z":
+                    continue
+        except OSError:
+            continue
+        if any(v.startswith(m) for v in env for m in marks):
+            out.append(int(e))
+    return out
+
+
+def cmdlines(pids):
+    out = []
+    for p in pids:
+        try:
+            with open("/proc/%d/cmdline" % p, "rb") as fh:
+                out.append(fh.read().replace(b"\0", b" ").decode(errors="replace")[:100])
+        except OSError:
+            pass
+    return out
+
+
+def run_sweep(args, timeout):
+    proc = subprocess.run([sys.executable] + SWEEP + args, capture_output=True, text=True, timeout=timeout)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return proc
+
+
+def test_eight_trials_on_two_workers_crash_hang_and_sequential_identity(tmp_path):
+    name = "test_sweep_%s" % uuid.uuid4().hex[:8]
+    path = write_sweep(str(tmp_path), name, POINTS, timeout_s=40)
+    par = run_sweep([path, "--workers", "2", "--out", str(tmp_path / "parallel")], timeout=600)
+    assert "2 side by side" in par.stdout and "ETA" in par.stdout
+    df = pd.read_csv(tmp_path / "parallel" / "trials.csv")
+    assert list(df.columns[:5]) == ["trial", "host", "outcome", "wall_s", "sim_s"]
+    assert len(df) == 8 and list(df["trial"]) == list(range(8))
+    by = df.set_index("trial")
+    assert by.loc[0, "outcome"] == "timeout"
+    assert by.loc[3, "outcome"] == "crashed" and "no result file" in by.loc[3, "detail"]
+    normal = [k for k, p in enumerate(POINTS) if p["fault"] == "none"]
+    assert set(by.loc[normal, "outcome"]) <= {"success", "failure"}
+    # physics, not noise: a slipperier floor lets the puck slide further (v0 differs by the jitter only)
+    d = by.loc[normal].sort_values("mu")["distance"].tolist()
+    assert d == sorted(d, reverse=True) and d[0] > 0.4 and d[-1] < 0.1
+    assert (by.loc[normal, "attempts"] == 1).all()
+    assert by.loc[normal, "host"].nunique() == 1 and by.loc[0, "host"]
+    summary = (tmp_path / "parallel" / "summary.md").read_text()
+    assert "timeout 1" in summary and "crashed 1" in summary and "## Trials that did not succeed" in summary
+    for png in ("success_vs_mu.png", "distance_vs_mu.png"):
+        assert (tmp_path / "parallel" / png).stat().st_size > 1000
+    assert processes_of(name) == [], cmdlines(processes_of(name))
+
+    # the same trials one after another: identical numbers (the seed is the trial's, the physics stepped)
+    seq = run_sweep([path, "--workers", "1", "--trials", ",".join(map(str, normal[:3])),
+                     "--out", str(tmp_path / "sequential")], timeout=600)
+    assert "1 side by side" in seq.stdout
+    ds = pd.read_csv(tmp_path / "sequential" / "trials.csv").set_index("trial")
+    assert list(ds.index) == normal[:3]
+    for col in COMPARED:
+        assert ds[col].tolist() == by.loc[normal[:3], col].tolist(), col
+
+
+def test_ctrl_c_leaves_no_process_of_the_sweep(tmp_path):
+    name = "test_sweep_int_%s" % uuid.uuid4().hex[:8]
+    path = write_sweep(str(tmp_path), name, [{"mu": 0.2, "fault": "hang"}, {"mu": 0.3, "fault": "hang"},
+                                             {"mu": 0.4, "fault": "none"}], timeout_s=300)
+    proc = subprocess.Popen([sys.executable] + SWEEP + [path, "--workers", "2", "--out", str(tmp_path / "o")],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        # wait until both hanging trials have their simulator up (two /gazebo nodes of this sweep)
+        deadline = time.monotonic() + 240
+        while time.monotonic() < deadline:
+            sims = [c for c in cmdlines(processes_of(name)) if "modrob_sim/gazebo" in c]
+            if len(sims) >= 2:
+                break
+            assert proc.poll() is None, proc.stdout.read()
+            time.sleep(0.2)
+        else:
+            raise AssertionError("the two trials did not start within 240 s: %s"
+                                 % cmdlines(processes_of(name)))
+        assert any("rosmaster" in c for c in cmdlines(processes_of(name)))
+        proc.send_signal(signal.SIGINT)
+        out, _ = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, out[-3000:]
+    assert "[sweep] interrupted: stopping 3 running trial(s)" in out
+    assert processes_of(name) == [], cmdlines(processes_of(name))
