@@ -197,6 +197,7 @@ class CanStackNode(object):
                     f.write("tilt_deg: %.3f\noffset_m: %.5f\nheight_error_m: %.5f\n"
                             % (outcome.tilt_deg, outcome.offset, outcome.height_error))
                 f.write("text: \"%s\"\n" % text.replace('"', "'"))
+                f.write("sim_time: %.3f\n" % rospy.get_time())     # simulated s since the world started
         if self.plot_dir:
             from katana_sim.plots import plot_joint_tracking
             os.makedirs(self.plot_dir, exist_ok=True)

@@ -69,6 +69,8 @@ def main(argv=None):
                    "ignored with --address")
     p.add_argument("--out", default=None, help="results folder (default out/sweeps/<name>/)")
     p.add_argument("--need", type=int, default=None, help="exit 1 when fewer trials succeed")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="change a fixed parameter of the file (repeatable), e.g. --set jitter=0.02")
     p.add_argument("--trials", default=None,
                    help="only these trials (numbers as in trials.csv, e.g. 3,7,12): re-run some of a sweep")
     args = p.parse_args(argv)
@@ -79,6 +81,10 @@ def main(argv=None):
     try:
         path = find_file(args.file)
         sweep = load(path, runs=args.runs)
+        for item in args.set:
+            if "=" not in item:
+                raise SweepError("--set takes NAME=VALUE, e.g. --set jitter=0.02; got %r" % item)
+            sweep.set_fixed(*item.split("=", 1))
         if args.trials:
             sweep.select(args.trials)
         out = os.path.abspath(args.out or os.path.join(sweep.root, "out", "sweeps", sweep.name))

@@ -204,6 +204,15 @@ class Sweep(object):
                 trials.append(Trial(k, params, seed))
         return trials
 
+    def set_fixed(self, name, value):
+        """Change a fixed parameter (``--set name=value``); the trials are expanded again. A value
+        is read as YAML (0.02 is a number, true a bool, text stays text)."""
+        if name not in self.fixed:
+            raise SweepError("%s: --set %s: only fixed parameters can be set (%s has %s)"
+                             % (self.source, name, self.name, ", ".join(self.fixed) or "none"))
+        self.fixed[name] = yaml.safe_load(value) if isinstance(value, str) else value
+        self.trials = self._expand()
+
     def select(self, text):
         """Keep only the trials numbered in ``text`` ("3,7,12"); their parameters and seeds stay."""
         try:

@@ -99,3 +99,11 @@ def test_shipped_sweeps_load(name):
     s = load(os.path.join(SWEEPS, name), root="/ws")
     assert s.name == os.path.splitext(name)[0]
     assert s.trials and s.result["file"]
+
+
+def test_set_fixed_changes_every_trial_and_refuses_others():
+    s = load(os.path.join(FIX, "sweep_ok.yaml"))
+    s.set_fixed("v0", "2.5")
+    assert all(t.params["v0"] == 2.5 for t in s.trials) and len(s.trials) == 12
+    with pytest.raises(SweepError, match="--set mu: only fixed parameters can be set"):
+        s.set_fixed("mu", "1")
