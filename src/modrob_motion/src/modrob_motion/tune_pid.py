@@ -12,6 +12,10 @@ Runs against the ODE physics core directly (no ROS, faster than real time). Meth
   both   relay, then the sine search from its result (default).
 With --all every arm joint is tuned in turn (modrob_sim.tuning.robot), and a joint's new gains are
 kept only if 0.1 rad steps settle with little overshoot in two more configurations too.
+--search ray: instead, Ray Tune draws --samples gain sets per joint from a search space around the
+current gains (--space p=lo:hi,d=lo:hi,i=lo:hi, per joint joint2.p=lo:hi) and scores each with the
+same step + sinusoid cost, stopping bad ones after the step (ASHA); on a local Ray or --address
+(modrob_sweep.tune_search, docs/sweeps.md). Writes <out>/<ns>_gains.yaml and the step plots.
 Writes <out>/<ns>_<joint>_gains.yaml (ros_control format), <out>/<ns>_<joint>_step.png (step
 response before/after) and, with --table FILE or --defaults (modrob_build's config/tuned_gains.yaml,
 where create_urdf_and_gazebo takes a robot's default gains from), merges the gains into that table.
@@ -139,9 +143,28 @@ def main(argv=None):
                    "keeping its shape; 0 = as fast as the relay allows (follows set-point jitter)")
     p.add_argument("--max-overshoot", type=float, default=0.15,
                    help="--all: largest overshoot of a 0.1 rad step accepted in the check configurations")
+    srch = p.add_argument_group("search with Ray Tune")
+    srch.add_argument("--search", choices=("ray",), default=None,
+                      help="search the gains with Ray Tune instead of relay + sinusoid tuning")
+    srch.add_argument("--samples", type=int, default=24, help="gain sets tried per joint")
+    srch.add_argument("--space", default="", help="p=lo:hi,d=lo:hi,i=lo:hi (joint.p=lo:hi for one joint); "
+                      "default x0.25 .. x4 around the current gains")
+    srch.add_argument("--seed", type=int, default=0, help="seed of the random draws")
+    srch.add_argument("--address", default=None,
+                      help="a Ray cluster (host:port); default a Ray on this machine")
+    srch.add_argument("--workers", type=int, default=None,
+                      help="trials at once on this machine (default: cores)")
+    which.add_argument("--evaluate", metavar="p=..,i=..,d=..",
+                       help="score these gains of --eval-joint (the search's cost, step and sinusoid figures) "
+                       "into <out>/pid_result.yaml: one trial of a gains sweep (modrob_sweep's pid_search.yaml)")
+    p.add_argument("--eval-joint", default="joint2", help="--evaluate: the joint (default joint2)")
     args = p.parse_args(argv)
     if args.defaults:
         args.table = default_table_path()
+    if args.evaluate:
+        return main_evaluate(args)
+    if args.search:
+        return main_search(args)
     if args.all:
         return main_all(args)
     try:
@@ -266,4 +289,125 @@ def main_all(args):
     print("  wrote %s" % os.path.join(args.out, "%s_gains.yaml" % ns))
     if args.table:
         print("  %d joint(s) merged into %s" % (len(kept), args.table))
+    return 0
+
+
+def _gains_text(g):
+    return "p %.3g i %.3g d %.3g" % (g["p"], g.get("i", 0), g.get("d", 0))
+
+
+def main_evaluate(args):
+    """--evaluate: the cost and figures of given gains (and of the current ones) as a result file."""
+    from modrob_sim.tuning.sine import cost
+    try:
+        urdf, gains, ns, key = load_robot(args)
+        at = parse_at(args.at)
+        joint = args.eval_joint
+        current = dict(gains.get(joint) or {"p": 100.0, "i": 0.0, "d": 10.0, "i_clamp": 0.0})
+        asked = parse_at(args.evaluate)
+        unknown = sorted(set(asked) - {"p", "i", "d", "i_clamp"})
+        if unknown:
+            raise ModrobError("--evaluate takes p, i, d, i_clamp; not %s" % ", ".join(unknown))
+        given = dict(current, **asked)
+        loop = PhysicsLoop(urdf, joint, start=at, hold_gains=gains)
+        centre = at.get(joint, 0.0)
+        c_now = cost(loop, current, centre, 0.1, 0.5, args.step)[0]
+        c, s, sm = cost(loop, given, centre, 0.1, 0.5, args.step)
+    except (ModrobError, OSError, yaml.YAMLError) as exc:
+        print("tune_pid: %s" % exc, file=sys.stderr)
+        return 2
+    os.makedirs(args.out, exist_ok=True)
+    res = {"success": bool(c < c_now), "cost": float(c), "current_cost": float(c_now), "joint": joint,
+           "p": float(given["p"]), "i": float(given.get("i", 0)), "d": float(given.get("d", 0)),
+           "overshoot": float(sm.overshoot), "settling_time": float(sm.settling_time), "iae": float(sm.iae),
+           "sine_rms": float(s.rms_error), "saturation": float(s.saturation)}
+    with open(os.path.join(args.out, "pid_result.yaml"), "w") as fh:
+        yaml.safe_dump(res, fh, sort_keys=True)
+    print("RESULT tune_pid --evaluate %s %s: cost %.4g (current gains %.4g), overshoot %.0f%%, sine RMS %.3g "
+          "rad" % (joint, _gains_text(given), c, c_now, 100 * sm.overshoot, s.rms_error))
+    return 0
+
+
+def main_search(args):
+    """--search ray: Ray Tune over each joint's gains (modrob_sweep.tune_search); YAML, plots, table."""
+    from modrob_sim.tuning.autotune import measure
+    from modrob_sweep import tune_search
+    from modrob_sweep.runner import connect
+
+    def log(msg):
+        print("  " + msg)
+        sys.stdout.flush()
+    try:
+        urdf, gains, ns, key = load_robot(args)
+        at = parse_at(args.at)
+        joints = arm_joints(gains) if args.all else [args.joint]
+        if not joints:
+            raise ModrobError("no arm joint with a PID controller to tune (give --controllers with the URDF)")
+        spaces = tune_search.parse_space(args.space)
+        unknown = sorted(j for j in spaces if j is not None and j not in joints)
+        if unknown:
+            raise ModrobError("--space names %s, not among the joints searched (%s)"
+                              % (", ".join(unknown), ", ".join(joints)))
+        if args.samples < 2:
+            raise ModrobError("--samples must be at least 2 (the current gains and one more), got %d"
+                              % args.samples)
+        cpus = connect(args.address, args.workers, 1.0, "tune_pid")
+        print("tune_pid: %s, Ray Tune over %s at %s, %d gain sets per joint, %g CPUs"
+              % (key, ", ".join(joints), args.at or "zeros", args.samples, cpus))
+        sys.stdout.flush()
+        found = {}
+        for j in joints:
+            current = dict(gains.get(j) or {"p": 100.0, "i": 0.0, "d": 10.0, "i_clamp": 0.0})
+            override = dict(spaces.get(None, {}), **spaces.get(j, {}))
+            space = tune_search.default_space(current, override)
+            i_text = ", i %.4g..%.4g" % space["i"] if "i" in space else ""
+            log("%s: p %.4g..%.4g, d %.4g..%.4g%s" % (j, space["p"][0], space["p"][1], space["d"][0],
+                                                      space["d"][1], i_text))
+            found[j] = (current, tune_search.search_joint(urdf, j, at, gains, current, space, args.samples,
+                                                          args.seed, os.path.join(os.path.abspath(args.out),
+                                                                                  "ray_tune"), log))
+    except (ModrobError, OSError, yaml.YAMLError) as exc:
+        print("tune_pid: %s" % exc, file=sys.stderr)
+        return 2
+    finally:
+        import ray
+        if ray.is_initialized():
+            ray.shutdown()
+    os.makedirs(args.out, exist_ok=True)
+    tuned = {j: dict(gains.get(j) or {}) for j in (arm_joints(gains) if args.all else [args.joint])}
+    for j, (current, res) in found.items():
+        better = res["cost"] < res["current_cost"]
+        if better:
+            tuned[j] = res["gains"]
+        loop = PhysicsLoop(urdf, j, start=at, hold_gains=gains)
+        centre = at.get(j, 0.0)
+        tb, mb, sb = measure(loop, current, centre, args.step)
+        ta, ma, sa = measure(loop, res["gains"], centre, args.step)
+        stem = os.path.join(args.out, "%s_%s" % (ns, j))
+        plot_step(stem + "_step.png", "%s %s: step %.3g, current vs Ray Tune's best (%s)"
+                  % (key, j, args.step, "kept" if better else "not better: kept the current"),
+                  [("current: " + _gains_text(current), tb), ("searched: " + _gains_text(res["gains"]), ta)])
+        print("  %-8s cost %.4g -> %.4g (%d tried, %d stopped early): p %.4g i %.4g d %.4g %s; step "
+              "overshoot "
+              "%.0f%% -> %.0f%%, settling %.2f -> %.2f s, sine RMS %.2g -> %.2g rad"
+              % (j, res["current_cost"], res["cost"], res["trials"], res["stopped_early"], res["gains"]["p"],
+                 res["gains"]["i"], res["gains"]["d"], "kept" if better else "(current kept)",
+                 100 * mb.overshoot,
+                 100 * ma.overshoot, mb.settling_time, ma.settling_time, sb.rms_error, sa.rms_error))
+        if args.table and better:
+            update_gains_table(args.table, key, j, res["gains"], {
+                "method": "ray tune (%d samples, seed %d)" % (args.samples, args.seed),
+                "at": {k: float(v) for k, v in at.items()}, "cost": float("%.4g" % res["cost"]),
+                "overshoot": float("%.3g" % ma.overshoot), "settling_time": float("%.3g" % ma.settling_time),
+                "sine_rms": float("%.3g" % sa.rms_error)})
+    path = os.path.join(args.out, "%s_gains.yaml" % ns)
+    with open(path, "w") as fh:
+        data = {ns: {"%s_position_controller" % j: {
+            "type": "effort_controllers/JointPositionController", "joint": j, "pid": round_gains(tuned[j])}
+            for j in tuned}}
+        fh.write("# tuned by tune_pid --search ray for %s at %s\n" % (key, args.at or "zeros"))
+        fh.write(yaml.safe_dump(data, default_flow_style=False, sort_keys=False))
+    print("  wrote %s" % path)
+    if args.table:
+        print("  merged the improved joints into %s" % args.table)
     return 0

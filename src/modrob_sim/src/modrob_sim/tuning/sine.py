@@ -45,15 +45,25 @@ def sine_response(loop, gains, centre, amplitude=0.2, freq=0.5, periods=3, hold_
     return SineResult(rms, aq / ar if ar > 0 else 0.0, lag, sat, trace)
 
 
-def cost(loop, gains, centre, amplitude, freq, step=0.1, hold_rate=None):
-    """Sine RMS error (normalised by the amplitude) + saturation + step overshoot penalties."""
-    s = sine_response(loop, gains, centre, amplitude, freq, hold_rate=hold_rate)
+def cost_stages(loop, gains, centre, amplitude, freq, step=0.1, hold_rate=None):
+    """The cost of ``gains`` in two stages, so that a search can drop bad gains after the first:
+    yields (cost so far, SineResult or None, StepMetrics) after the step response (2 s: overshoot,
+    IAE and steady-state error terms), then the whole cost with the sinusoid's terms added."""
     tr = run_pid(loop, gains, step_setpoint(centre, centre + step, 0.2), 2.0, centre)
     sm = step_metrics(tr, 0.2, centre, centre + step)
-    c = (s.rms_error / amplitude + 0.5 * s.saturation + 2.0 * max(0.0, sm.overshoot - 0.05)
-         + 0.2 * sm.iae / step + 10.0 * sm.steady_state_error / step)
-    if not math.isfinite(c):
-        c = 1e9
+    step_part = (2.0 * max(0.0, sm.overshoot - 0.05) + 0.2 * sm.iae / step
+                 + 10.0 * sm.steady_state_error / step)
+    yield (step_part if math.isfinite(step_part) else 1e9), None, sm
+    s = sine_response(loop, gains, centre, amplitude, freq, hold_rate=hold_rate)
+    c = s.rms_error / amplitude + 0.5 * s.saturation + step_part
+    yield (c if math.isfinite(c) else 1e9), s, sm
+
+
+def cost(loop, gains, centre, amplitude, freq, step=0.1, hold_rate=None):
+    """Sine RMS error (normalised by the amplitude) + saturation + step overshoot, IAE and
+    steady-state error penalties (the last stage of cost_stages)."""
+    for c, s, sm in cost_stages(loop, gains, centre, amplitude, freq, step, hold_rate):
+        pass
     return c, s, sm
 
 
