@@ -155,8 +155,8 @@ def main(argv=None):
     srch.add_argument("--workers", type=int, default=None,
                       help="trials at once on this machine (default: cores)")
     which.add_argument("--evaluate", metavar="p=..,i=..,d=..",
-                       help="score these gains of --eval-joint (the search's cost, step and sinusoid figures) "
-                       "into <out>/pid_result.yaml: one trial of a gains sweep (modrob_sweep's pid_search.yaml)")
+                       help="score these gains of --eval-joint (the search's cost, step and sinusoid "
+                       "figures) into <out>/pid_result.yaml: one trial of a gains sweep (pid_search.yaml)")
     p.add_argument("--eval-joint", default="joint2", help="--evaluate: the joint (default joint2)")
     args = p.parse_args(argv)
     if args.defaults:
