@@ -43,6 +43,11 @@ want_sha=$(sha256sum "$root/requirements.txt" | cut -d' ' -f1)
 if [ "$(cat "$stamp" 2>/dev/null || true)" != "$want_sha" ]; then
   say "installing pinned PyPI extras from requirements.txt"
   "$venv/bin/python3" -m pip install --quiet --disable-pip-version-check -r "$root/requirements.txt"
+  # PyPI's xacro 1.13 came from requirements.txt before the workspace had its own (src/xacro,
+  # Noetic's 1.14): an old venv's copy would shadow it outside the workspace environment.
+  if "$venv/bin/python3" -m pip show --quiet xacro >/dev/null 2>&1; then
+    "$venv/bin/python3" -m pip uninstall --quiet --yes xacro
+  fi
   echo "$want_sha" > "$stamp"
 else
   say "PyPI extras: up to date"

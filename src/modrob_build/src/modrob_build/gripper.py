@@ -1,7 +1,7 @@
 """Attach the gripper (modrob_description/urdf/gripper.xacro) to a generated arm through xacro.
 
 The arm's <robot> element gets an <xacro:include> of the macro file and a call
-<xacro:modrob_gripper prefix=... parent=<ee_link> grip_force=.../>; xacro (1.13, its Python API)
+<xacro:modrob_gripper prefix=... parent=<ee_link> grip_force=.../>; xacro (its Python API)
 expands it, and the result is re-serialised like the arm alone, so the output is deterministic.
 """
 import math
@@ -54,7 +54,7 @@ def attach_gripper(robot_root, prefix, parent, grip_force=DEFAULT_GRIP_FORCE, gr
     try:
         import xacro
     except ImportError:
-        raise BuildError("the gripper needs xacro 1.13 (PyPI, in the workspace .venv): "
+        raise BuildError("the gripper needs the workspace's xacro package (src/xacro): "
                          "source scripts/env.sh first")
     gripper_path = gripper_path or default_gripper_path()
     if not os.path.isfile(gripper_path):
