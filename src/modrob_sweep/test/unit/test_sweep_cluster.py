@@ -44,8 +44,10 @@ def two_nodes(tmp_path):
     net = random.randint(1, 250)
     head_ip, node_ip = "10.231.%d.1" % net, "10.231.%d.2" % net
     port = 6300 + random.randint(0, 600)
-    setup = [["ip", "netns", "add", ns], ["ip", "link", "add", veth_a, "type", "veth", "peer", "name", veth_b],
-             ["ip", "link", "set", veth_b, "netns", ns], ["ip", "addr", "add", head_ip + "/24", "dev", veth_a],
+    setup = [["ip", "netns", "add", ns],
+             ["ip", "link", "add", veth_a, "type", "veth", "peer", "name", veth_b],
+             ["ip", "link", "set", veth_b, "netns", ns],
+             ["ip", "addr", "add", head_ip + "/24", "dev", veth_a],
              ["ip", "link", "set", veth_a, "up"],
              ["ip", "netns", "exec", ns, "ip", "addr", "add", node_ip + "/24", "dev", veth_b],
              ["ip", "netns", "exec", ns, "ip", "link", "set", veth_b, "up"],
@@ -57,9 +59,10 @@ def two_nodes(tmp_path):
             r = sh(*cmd)
             assert r.returncode == 0, "%s: %s" % (" ".join(cmd), r.stderr)
         head_log = open(tmp_path / "head.log", "w")
-        procs.append(subprocess.Popen(["ray", "start", "--head", "--node-ip-address", head_ip, "--port", str(port),
-                                       "--num-cpus", "1", "--include-dashboard=false", "--block"],
-                                      env=env, stdout=head_log, stderr=subprocess.STDOUT, start_new_session=True))
+        head = ["ray", "start", "--head", "--node-ip-address", head_ip, "--port", str(port),
+                "--num-cpus", "1", "--include-dashboard=false", "--block"]
+        procs.append(subprocess.Popen(head, env=env, stdout=head_log, stderr=subprocess.STDOUT,
+                                      start_new_session=True))
         wait_for_line(tmp_path / "head.log", "Ray runtime started", procs[0])
         node_log = open(tmp_path / "node.log", "w")
         procs.append(subprocess.Popen(
