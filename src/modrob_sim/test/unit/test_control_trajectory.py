@@ -251,7 +251,7 @@ def test_a_trajectory_prepared_off_the_loop_samples_as_one_built_point_by_point(
         k = len(names)
         vel = [rng.uniform(-1, 1) for _ in range(k)] if kind != "linear" else []
         acc = [rng.uniform(-1, 1) for _ in range(k)] if kind == "quintic" else []
-        points.append(TrajectoryPoint([rng.uniform(-3, 9) for _ in range(k)], vel, acc, t))
+        points.append(TrajectoryPoint([rng.uniform(-3, 3) for _ in range(k)], vel, acc, t))   # in the limits
     assert ctl.check_points(names, points)[0]
     prepared = ctl.prepare(names, points)          # what the ROS callback does, any thread
     now = mgr.time
@@ -331,3 +331,52 @@ def test_action_feedback_faster_than_the_state_keeps_its_own_times():
     assert len(states) == pytest.approx(10, abs=1)
     gaps = [b - a for a, b in zip(feedback, feedback[1:])]
     assert gaps and all(g == pytest.approx(0.05, abs=1.5e-3) for g in gaps)
+
+
+def test_goals_outside_the_joint_limits_or_not_representable_are_refused_by_name():
+    joints, mgr, ctl, model = rig()
+    beyond = [TrajectoryPoint([0.2, 3.5, 0.3], time_from_start=1.0)]
+    ok, code, text = ctl.submit(JOINTS, beyond, 0.0, 0.0, goal_id="g")
+    assert not ok and code == INVALID_GOAL
+    assert text == ("point 0: position 3.5 of joint 'b' is outside its limits [-3, 3] (URDF <limit lower "
+                    "upper>); the joint cannot get there")
+    # the 1e308 goal that used to be accepted (the state topic then carried inf)
+    huge = [TrajectoryPoint([0.1, 0.1, 0.1], time_from_start=0.5), TrajectoryPoint([1e308, 0.1, 0.1],
+                                                                                   time_from_start=1.0)]
+    ok, code, text = ctl.submit(JOINTS, huge, 0.0, 0.0, goal_id="g")
+    assert not ok and "point 1: position 1e+308 of joint 'a' is outside its limits [-3, 3]" in text
+    fast = [TrajectoryPoint([0.1, 0.1, 0.1], [0.0, 1e200, 0.0], time_from_start=1.0)]
+    ok, code, text = ctl.submit(JOINTS, fast, 0.0, 0.0, goal_id="g")
+    assert not ok and "velocity 1e+200 of joint 'b' is beyond +-1e+06" in text
+    # within a milliradian of the limit is the limit (a joint resting on its stop reads beyond it)
+    assert ctl.submit(JOINTS, [TrajectoryPoint([3.0005, 0.0, 0.0], time_from_start=1.0)], 0.0, 0.0,
+                      goal_id="g")[0]
+    assert not ctl.submit(JOINTS, [TrajectoryPoint([3.002, 0.0, 0.0], time_from_start=1.0)], 0.0, 0.0,
+                          goal_id="g")[0]
+    assert ctl.pending is None or all(map(math.isfinite, ctl.pending["desired"][0]))
+
+
+def test_a_continuous_joint_has_no_limits_but_refuses_unrepresentable_positions():
+    joints = [IntegratorJoint(name="w", type_="continuous", inertia=0.05)]
+    hw = RobotHWSim({"w": joints[0]}, simple_transmissions({"w": "PositionJointInterface"}))
+    mgr = ControllerManager(hw, "/r")
+    ctl = mgr.load("c", {"type": "position_controllers/JointTrajectoryController", "joints": ["w"]})
+    mgr.switch(["c"], [], 2)
+    assert ctl.submit(["w"], [TrajectoryPoint([40.0], time_from_start=1.0)], 0.0, 0.0, goal_id="g")[0]
+    ok, code, text = ctl.submit(["w"], [TrajectoryPoint([1e308], time_from_start=1.0)], 0.0, 0.0, goal_id="g")
+    assert not ok and code == INVALID_GOAL and "position 1e+308 of joint 'w' is beyond +-1e+06" in text
+
+
+def test_velocity_trajectory_controller_tracks_through_the_velocity_interface():
+    gains = {n: {"p": 10.0} for n in JOINTS}
+    joints, mgr, ctl, model = rig("velocity_controllers/JointTrajectoryController",
+                                  {"gains": gains, "velocity_ff": {n: 1.0 for n in JOINTS}},
+                                  iface="VelocityJointInterface")
+    assert ctl.claimed_resources == [("hardware_interface::VelocityJointInterface", JOINTS)]
+    ok, _, text = ctl.submit(JOINTS, three_points(), 0.0, model.time, goal_id="g1")
+    assert ok, text
+    events = run_until_event(ctl, mgr, model, 2.5)
+    assert events[0][:2] == ("g1", "succeeded")
+    for j, target in zip(joints, [0.4, 0.4, 0.8]):
+        assert j.position == pytest.approx(target, abs=0.01)
+    assert mgr.hw.joints["a"].command == pytest.approx(0.0, abs=0.05)     # a velocity, near rest

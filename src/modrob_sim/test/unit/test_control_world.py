@@ -143,3 +143,82 @@ def test_gains_that_cannot_run_at_the_step_are_named_once_at_load_time():
     assert len(warns) == 1
     assert "controller 'shaky' joint 'shoulder'" in warns[0]
     assert "largest stable d is %.3g" % d_max in warns[0]
+
+
+ARM6 = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
+        "wrist_3_joint"]
+
+
+def _arm6_error(model, target):
+    return max(abs(model.joints[j].position - q) for j, q in zip(ARM6, target))
+
+
+def test_six_joint_arm_with_three_interfaces_switches_between_effort_trajectory_and_position_group():
+    with open(os.path.join(FIX, "arm6_controllers.yaml")) as f:
+        cfg = yaml.safe_load(f)
+    world, model, mgr = sim("arm6_three_interfaces.urdf", ns="/arm6")
+    assert {r.interfaces for r in mgr.hw.joints.values()} == {
+        ("PositionJointInterface", "VelocityJointInterface", "EffortJointInterface")}
+    traj = start(mgr, "eff_joint_traj_controller", cfg["eff_joint_traj_controller"])
+    group = mgr.load("joint_group_pos_controller", cfg["joint_group_pos_controller"])
+    first = [0.6, -0.7, 1.2, -0.8, 0.5, 0.9]
+    ok, _, text = traj.submit(ARM6, [TrajectoryPoint(first, [0.0] * 6, time_from_start=2.0)], 0.0, world.time,
+                              goal_id="g1")
+    assert ok, text
+    world.step(3000)
+    assert traj.events[-1][:2] == ("g1", "succeeded")
+    assert _arm6_error(model, first) < 0.01
+    # hand the joints to the position group controller in one switch: it holds, then moves
+    assert mgr.switch(["joint_group_pos_controller"], ["eff_joint_traj_controller"], STRICT)[0]
+    assert {r.interface for r in mgr.hw.joints.values()} == {"PositionJointInterface"}
+    world.step(200)
+    assert _arm6_error(model, first) < 0.01
+    second = [-0.5, 0.4, -0.9, 1.0, -0.6, -1.2]
+    assert group.set_command(second).accepted
+    world.step(1500)
+    assert _arm6_error(model, second) < 0.01
+    # and back to the effort trajectory controller, which holds there and follows a new goal
+    assert mgr.switch(["eff_joint_traj_controller"], ["joint_group_pos_controller"], STRICT)[0]
+    assert {r.interface for r in mgr.hw.joints.values()} == {"EffortJointInterface"}
+    world.step(1000)
+    assert _arm6_error(model, second) < 0.01
+    ok, _, text = traj.submit(ARM6, [TrajectoryPoint(first, [0.0] * 6, time_from_start=2.0)], 0.0, world.time,
+                              goal_id="g2")
+    world.step(3000)
+    assert traj.events[-1][:2] == ("g2", "succeeded")
+    assert _arm6_error(model, first) < 0.01
+    assert world.pop_events() == []
+
+
+def test_effort_gripper_action_controller_closes_on_a_can_stalls_and_opens_to_reach_its_goal():
+    with open(os.path.join(FIX, "gripper_controllers.yaml")) as f:
+        cfg = yaml.safe_load(f)
+    with open(os.path.join(FIX, "..", "sim", "ground.urdf")) as f:
+        ground = f.read()
+    with open(os.path.join(FIX, "can.urdf")) as f:
+        can_xml = f.read()
+    world, model, mgr = sim("gripper_parallel.urdf", ns="/gripper")
+    world.add_urdf("ground", ground)
+    gripper = start(mgr, "gripper_controller", cfg["gripper_controller"])
+    finger = model.joints["finger_joint1"]
+
+    def outcome_of(gid, position, max_effort, steps):
+        del gripper.events[:]
+        assert gripper.submit(gid, position, max_effort, world.time)[0]
+        world.step(steps)
+        (event_gid, outcome, result, text), = gripper.events
+        assert event_gid == gid
+        return outcome, result
+    outcome, result = outcome_of("open", 0.04, 5.0, 1000)          # spawned closed
+    assert outcome == "succeeded" and result["reached_goal"] and not result["stalled"]
+    assert finger.position == pytest.approx(0.04, abs=0.002)
+    can = world.add_urdf("can", can_xml)                            # between the open fingers
+    outcome, result = outcome_of("close", 0.0, 5.0, 1500)
+    assert outcome == "aborted" and result["stalled"] and not result["reached_goal"]
+    assert result["position"] == pytest.approx(0.03, abs=0.001)     # the 60 mm can between the pads
+    assert model.joints["finger_joint2"].position == pytest.approx(finger.position, abs=1e-3)   # mimic
+    assert abs(can.pose[0][0]) < 0.002 and abs(can.pose[0][1]) < 0.002    # squeezed, not pushed away
+    assert finger.effort < -1.0                                      # still pressing
+    outcome, result = outcome_of("reopen", 0.04, 5.0, 1000)
+    assert outcome == "succeeded" and result["reached_goal"]
+    assert world.pop_events() == []

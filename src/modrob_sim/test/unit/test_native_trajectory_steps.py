@@ -240,8 +240,8 @@ def test_mimic_joints_and_soft_limits_in_batches_equal_python_steps_bit_for_bit(
         at_stop = 0
         for chunk in range(150):
             if chunk == 2:
-                rig.inbox.append(("goal", (JOINTS, [TrajectoryPoint([4.8, 0.3, 0.2], [0.0] * 3, None, 0.9)],
-                                           dict(goal_id="past_pi"))))   # beyond its 4.5 limit
+                rig.inbox.append(("goal", (JOINTS, [TrajectoryPoint([4.5, 0.3, 0.2], [0.0] * 3, None, 0.9)],
+                                           dict(goal_id="past_pi"))))   # to its stop at 4.5 (beyond: refused)
             if chunk == 10:
                 rig.finger.set_command(0.03)         # the mimic finger (offset 0.002) meets its stop
             if chunk == 100:

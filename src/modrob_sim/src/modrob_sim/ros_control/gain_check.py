@@ -7,6 +7,8 @@ effective inertia ``I``, one step changes the velocity error by the factor ``1 -
 its effort limit. Gazebo applies the same explicit effort and shows the same. ``I`` is the
 inertia the joint moves directly (its child's body about the axis), the lightest case."""
 
+from modrob_sim.ros_control.transmissions import EFFORT
+
 #: k * dt / I beyond this diverges
 STABILITY_LIMIT = 2.0
 
@@ -27,7 +29,10 @@ def unstable_gains(controller, dt):
 
 
 def _pid_loops(controller):
-    """(joint resource, Pid, name of its damping gain) of the controller's explicit PIDs."""
+    """(joint resource, Pid, name of its damping gain) of the controller's explicit PIDs whose
+    output is an effort (a PID that writes velocities is not such a loop)."""
+    if controller.INTERFACE != EFFORT:
+        return
     pids = getattr(controller, "pids", None)
     joints = getattr(controller, "joints", None)
     if pids is not None and joints is not None:

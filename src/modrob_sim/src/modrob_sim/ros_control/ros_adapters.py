@@ -10,16 +10,17 @@ import time
 import actionlib
 import rospy
 from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryFeedback,
-                              FollowJointTrajectoryResult, JointControllerState,
-                              JointTrajectoryControllerState)
+                              FollowJointTrajectoryResult, GripperCommandAction, GripperCommandResult,
+                              JointControllerState, JointTrajectoryControllerState)
 from control_msgs.srv import QueryTrajectoryState, QueryTrajectoryStateResponse
 from geometry_msgs.msg import Quaternion, TransformStamped, Twist, TwistStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64
+from std_msgs.msg import Float64, Float64MultiArray
 from tf2_msgs.msg import TFMessage
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
+from modrob_sim.errors import ModrobError
 from modrob_sim.gazebo_ros.native_pub import publisher
 from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
 from modrob_sim.ros_control.params import join
@@ -42,6 +43,22 @@ class _Throttle(object):
         if last is None or wall - last >= THROTTLE:
             self._last[key] = wall
             rospy.logwarn(text)
+
+
+def _status_in_sim_time(adapter):
+    """actionlib publishes the status array from a rospy.Timer, which the node's clock wakes
+    after every batch of steps and which ends when time moves backwards (reset_simulation):
+    the node's timer in simulated time does it instead (gazebo_ros.sim_timers)."""
+    server = adapter.server
+    rospy_timer = getattr(server, "status_timer", None)
+    if rospy_timer is None:         # status_frequency 0: no status array
+        return
+    every = getattr(getattr(adapter.plugin, "context", None), "every", None)
+    timer = every and every(1.0 / server.status_frequency, server.publish_status_async,
+                            server.ns + "/status")
+    if timer is not None:
+        rospy_timer.shutdown()
+        adapter.handles.append(timer)
 
 
 class Adapter(object):
@@ -132,6 +149,97 @@ class SingleJointAdapter(Adapter):
         self.state_pub.publish(msg)
 
 
+class JointGroupAdapter(Adapter):
+    """``command`` (std_msgs/Float64MultiArray, one value per joint in the ``joints`` order); with
+    PIDs (effort_controllers/JointGroupPositionController) a reconfigure server at each
+    ``<controller>/<joint>/pid``."""
+
+    def __init__(self, plugin, controller):
+        super(JointGroupAdapter, self).__init__(plugin, controller)
+        self.throttle = _Throttle()
+        self.handles.append(rospy.Subscriber(self.ns + "/command", Float64MultiArray, self._on_command,
+                                             queue_size=1))
+        for pid, ns in zip(getattr(controller, "pids", []), getattr(controller, "pid_namespaces", [])):
+            self.handles.append(PidReconfigure(pid, ns))
+
+    def _on_command(self, msg):
+        res = self.c.set_command(msg.data)
+        if not res.accepted:
+            self.throttle.warn("bad", "%s/command: %s (the controller keeps its last command)"
+                               % (self.ns, res.reason))
+        elif res.clamped_from is not None:
+            self.throttle.warn("clamp", "%s/command: clamped: %s" % (self.ns, res.reason))
+
+
+class GripperActionAdapter(Adapter):
+    """``gripper_cmd`` (control_msgs/GripperCommand action); for the effort type a reconfigure
+    server at ``gains/<joint>``. Goals and cancels are queued and handed to the controller in the
+    loop; outcomes are sent after the update that decided them."""
+
+    def __init__(self, plugin, controller):
+        super(GripperActionAdapter, self).__init__(plugin, controller)
+        self.lock = threading.Lock()
+        self.inbox = collections.deque()
+        self.goals = {}
+        self.server = actionlib.ActionServer(self.ns + "/gripper_cmd", GripperCommandAction,
+                                             self._on_goal, self._on_cancel, auto_start=False)
+        self.server.start()
+        _status_in_sim_time(self)
+        if getattr(controller, "pid", None) is not None:
+            self.handles.append(PidReconfigure(controller.pid, controller.pid_namespace))
+
+    def _on_goal(self, gh):
+        with self.lock:
+            self.inbox.append(("goal", gh))
+
+    def _on_cancel(self, gh):
+        with self.lock:
+            self.inbox.append(("cancel", gh))
+
+    def before_update(self, t):
+        with self.lock:
+            items = list(self.inbox)
+            self.inbox.clear()
+        for kind, gh in items:
+            gid = gh.get_goal_id().id
+            if kind == "cancel":
+                if not self.c.cancel(gid, t) and gid in self.goals:
+                    self.goals.pop(gid).set_canceled(text="canceled before it became active")
+                continue
+            cmd = gh.get_goal().command
+            ok, text = self.c.submit(gid, cmd.position, cmd.max_effort, t)
+            if not ok:
+                rospy.logerr("%s/gripper_cmd: goal rejected: %s" % (self.ns, text))
+                gh.set_rejected(GripperCommandResult(position=self.c.joint.position), text)
+                continue
+            for note in self.c.notes(cmd.position, cmd.max_effort):
+                rospy.logwarn("%s/gripper_cmd: %s" % (self.ns, note))
+            gh.set_accepted("accepted by %s" % self.c.name)
+            self.goals[gid] = gh
+
+    def after_update(self, t):
+        for gid, outcome, result, text in self.c.events:
+            gh = self.goals.pop(gid, None)
+            if gh is None:
+                continue
+            msg = GripperCommandResult(**result)
+            if outcome == "succeeded":
+                gh.set_succeeded(msg, text)
+            elif outcome == "aborted":
+                rospy.loginfo("%s: goal aborted: %s" % (self.ns, text))
+                gh.set_aborted(msg, text)
+            else:
+                gh.set_canceled(msg, text)
+        del self.c.events[:]
+
+    def shutdown(self):
+        for gh in self.goals.values():
+            gh.set_aborted(GripperCommandResult(), "controller unloaded")
+        self.goals = {}
+        self.server.stop()
+        super(GripperActionAdapter, self).shutdown()
+
+
 #: trajectories from this many points on are announced (their segments take a second or more)
 LONG_TRAJECTORY = 10000
 
@@ -169,24 +277,10 @@ class TrajectoryAdapter(Adapter):
                                              FollowJointTrajectoryAction,
                                              self._on_goal, self._on_cancel, auto_start=False)
         self.server.start()
-        self._status_in_sim_time()
+        _status_in_sim_time(self)
         for name in ("pid_namespaces",):
             for pid, ns in zip(getattr(controller, "pids", []), getattr(controller, name, [])):
                 self.handles.append(PidReconfigure(pid, ns))
-
-    def _status_in_sim_time(self):
-        """actionlib publishes the status array from a rospy.Timer, which the node's clock wakes
-        after every batch of steps and which ends when time moves backwards (reset_simulation):
-        the node's timer in simulated time does it instead (gazebo_ros.sim_timers)."""
-        rospy_timer = getattr(self.server, "status_timer", None)
-        if rospy_timer is None:         # status_frequency 0: no status array
-            return
-        every = getattr(getattr(self.plugin, "context", None), "every", None)
-        timer = every and every(1.0 / self.server.status_frequency, self.server.publish_status_async,
-                                self.ns + "/follow_joint_trajectory/status")
-        if timer is not None:
-            rospy_timer.shutdown()
-            self.handles.append(timer)
 
     # callbacks: parse, check and build every segment here, then hand the finished trajectory over:
     # the loop only places it in time (a 100k-point goal built in the loop thread blocked every
@@ -217,13 +311,29 @@ class TrajectoryAdapter(Adapter):
             self.inbox.append(("cancel", gh))
 
     def _on_query(self, req):
+        """ros_controllers' queryStateService: the current trajectory sampled at ``req.time``
+        (absolute, simulated time); fails while the controller is not running or for a time before
+        the trajectory's start."""
+        t = req.time.to_sec()
+
         def sample():       # in the loop thread: the trajectory and the joints belong to it
-            traj = self.c.trajectory
-            t = req.time.to_sec() if req.time.to_sec() > 0 else self.plugin.manager.time
-            if traj is None:
-                return [j.position for j in self.c.joints], [0.0] * self.c.n, [0.0] * self.c.n
+            c = self.c
+            if c.state != "running":
+                return ("Can't sample trajectory. Controller '%s' is not running (state: %s)"
+                        % (c.name, c.state))
+            traj = c.trajectory
+            if traj is None or t < traj.start_time - 1e-9:
+                return ("Requested sample time %.4f precedes trajectory start time %.4f"
+                        % (t, t if traj is None else traj.start_time))
             return traj.sample(t)
-        pos, vel, acc = self.plugin.context.call(sample)
+        try:
+            out = self.plugin.context.call(sample)
+        except ModrobError as exc:
+            raise rospy.ServiceException("%s/query_state: %s" % (self.ns, exc))
+        if isinstance(out, str):
+            rospy.logerr("%s/query_state: %s" % (self.ns, out))
+            raise rospy.ServiceException(out)
+        pos, vel, acc = out
         return QueryTrajectoryStateResponse(name=list(self.c.joint_names), position=pos, velocity=vel,
                                             acceleration=acc)
 
@@ -399,6 +509,8 @@ class MobileBaseAdapter(Adapter):
 
 
 def adapter_for(plugin, controller):
+    from modrob_sim.ros_control.controllers.gripper_action import GripperActionControllerBase
+    from modrob_sim.ros_control.controllers.joint_group import JointGroupControllerBase
     from modrob_sim.ros_control.controllers.joint_state import JointStateController
     from modrob_sim.ros_control.controllers.joint_trajectory import JointTrajectoryControllerBase
     from modrob_sim.ros_control.controllers.mobile_base import MobileBaseController
@@ -408,4 +520,8 @@ def adapter_for(plugin, controller):
         return MobileBaseAdapter(plugin, controller)
     if isinstance(controller, JointTrajectoryControllerBase):
         return TrajectoryAdapter(plugin, controller)
+    if isinstance(controller, JointGroupControllerBase):
+        return JointGroupAdapter(plugin, controller)
+    if isinstance(controller, GripperActionControllerBase):
+        return GripperActionAdapter(plugin, controller)
     return SingleJointAdapter(plugin, controller)

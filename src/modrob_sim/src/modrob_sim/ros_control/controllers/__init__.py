@@ -6,9 +6,14 @@ from modrob_sim.ros_control.controllers.forward_command import (
     EffortJointEffortController, PositionJointPositionController, VelocityJointVelocityController)
 from modrob_sim.ros_control.controllers.effort_joint_position import EffortJointPositionController
 from modrob_sim.ros_control.controllers.effort_joint_velocity import EffortJointVelocityController
+from modrob_sim.ros_control.controllers.gripper_action import (EffortGripperActionController,
+                                                               PositionGripperActionController)
+from modrob_sim.ros_control.controllers.joint_group import (
+    EffortJointGroupEffortController, EffortJointGroupPositionController,
+    PositionJointGroupPositionController, VelocityJointGroupVelocityController)
 from modrob_sim.ros_control.controllers.joint_state import JointStateController
 from modrob_sim.ros_control.controllers.joint_trajectory import (
-    EffortJointTrajectoryController, PositionJointTrajectoryController)
+    EffortJointTrajectoryController, PositionJointTrajectoryController, VelocityJointTrajectoryController)
 
 CONTROLLER_TYPES = {cls.TYPE: cls for cls in (
     JointStateController,
@@ -17,8 +22,15 @@ CONTROLLER_TYPES = {cls.TYPE: cls for cls in (
     EffortJointEffortController,
     PositionJointPositionController,
     VelocityJointVelocityController,
+    PositionJointGroupPositionController,
+    VelocityJointGroupVelocityController,
+    EffortJointGroupEffortController,
+    EffortJointGroupPositionController,
     PositionJointTrajectoryController,
+    VelocityJointTrajectoryController,
     EffortJointTrajectoryController,
+    PositionGripperActionController,
+    EffortGripperActionController,
     DiffDriveController,
     AckermannSteeringController,
 )}

@@ -1,4 +1,4 @@
-"""position_controllers/JointTrajectoryController and effort_controllers/JointTrajectoryController
+"""position_controllers/, velocity_controllers/ and effort_controllers/JointTrajectoryController
 (ros_controllers' joint_trajectory_controller, Noetic), pure.
 
 Parameters (under the controller's namespace):
@@ -12,8 +12,9 @@ Parameters (under the controller's namespace):
   state_publish_rate             default 50 Hz (``state`` topic)
   action_monitor_rate            default 20 Hz (action feedback)
   allow_partial_joints_goal      default false
-  gains/<joint>                  effort type only, required: PID {p, i, d, i_clamp, ...}
-  velocity_ff/<joint>            effort type only, default 0
+  gains/<joint>                  effort and velocity types, required: PID {p, i, d, i_clamp, ...};
+                                 its output is the joint's effort or velocity command
+  velocity_ff/<joint>            effort and velocity types, default 0
 
 The ROS layer passes goals in (``submit``/``cancel``) and drains ``events`` (goal outcomes)
 and ``pending``/``pending_feedback`` (state/feedback data) after each update.
@@ -25,7 +26,7 @@ from modrob_sim.ros_control import angles
 from modrob_sim.ros_control.controllers.base import Controller
 from modrob_sim.ros_control.pid import Pid, PidGains
 from modrob_sim.ros_control.trajectory import PreparedTrajectory, State, Trajectory, hold_trajectory
-from modrob_sim.ros_control.transmissions import EFFORT, POSITION
+from modrob_sim.ros_control.transmissions import EFFORT, POSITION, VELOCITY
 
 SUCCESSFUL = 0
 INVALID_GOAL = -1
@@ -33,6 +34,13 @@ INVALID_JOINTS = -2
 OLD_HEADER_TIMESTAMP = -3
 PATH_TOLERANCE_VIOLATED = -4
 GOAL_TOLERANCE_VIOLATED = -5
+
+#: a goal position may exceed its joint's limit by this much (rad or m): a joint resting on its stop
+#: reads slightly beyond it, and a client that sends the current state as its first point (MoveIt
+#: does) must not be refused for that
+LIMIT_SLACK = 1e-3
+#: positions, velocities and accelerations beyond this (rad, m, /s, /s^2) are refused
+MAX_VALUE = 1e6
 
 
 class TrajectoryPoint(object):
@@ -209,6 +217,9 @@ class JointTrajectoryControllerBase(Controller):
             values = p.positions + p.velocities + p.accelerations + [p.time_from_start]
             if not all(math.isfinite(v) for v in values):
                 return False, INVALID_GOAL, "point %d contains a NaN or infinite value" % i
+            bad = self._unreachable(joint_names, i, p)
+            if bad:
+                return False, INVALID_GOAL, bad
             if p.time_from_start < 0.0:
                 return False, INVALID_GOAL, ("point %d has a negative time_from_start (%g s): times "
                                              "count from the trajectory's start, 0 or later"
@@ -219,6 +230,25 @@ class JointTrajectoryControllerBase(Controller):
                                              % (i, p.time_from_start, last_t))
             last_t = p.time_from_start
         return True, SUCCESSFUL, ""
+
+    def _unreachable(self, joint_names, i, point):
+        """Why point ``i`` cannot be followed ('' when it can): a position outside its joint's
+        URDF limits (beyond LIMIT_SLACK), or a value beyond MAX_VALUE that the trajectory's
+        polynomials cannot represent."""
+        for name, q in zip(joint_names, point.positions):
+            j = self.joints[self.joint_names.index(name)]
+            if j.has_position_limits and not (j.lower - LIMIT_SLACK <= q <= j.upper + LIMIT_SLACK):
+                return ("point %d: position %.6g of joint '%s' is outside its limits [%.6g, %.6g] (URDF "
+                        "<limit lower upper>); the joint cannot get there"
+                        % (i, q, name, j.lower, j.upper))
+        for what, values in (("position", point.positions), ("velocity", point.velocities),
+                             ("acceleration", point.accelerations)):
+            for name, v in zip(joint_names, values):
+                if abs(v) > MAX_VALUE:
+                    return ("point %d: %s %.6g of joint '%s' is beyond +-%g, which this controller does not "
+                            "represent (its trajectory polynomials would overflow)"
+                            % (i, what, v, name, MAX_VALUE))
+        return ""
 
     def _after_check(self, joint_names, points, start, now, goal_id, path_tolerance, goal_tolerance,
                      goal_time_tolerance, prepared=None):
@@ -428,12 +458,13 @@ class PositionJointTrajectoryController(JointTrajectoryControllerBase):
             j.command = p
 
 
-class EffortJointTrajectoryController(JointTrajectoryControllerBase):
-    TYPE = "effort_controllers/JointTrajectoryController"
-    INTERFACE = EFFORT
+class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
+    """ros_controllers' ClosedLoopHardwareInterfaceAdapter: per joint, command =
+    velocity_ff * desired velocity + PID(position error, velocity error); an effort or a velocity
+    depending on the interface."""
 
     def __init__(self, name, hw, params):
-        super(EffortJointTrajectoryController, self).__init__(name, hw, params)
+        super(_ClosedLoopTrajectoryController, self).__init__(name, hw, params)
         gains = params.child("gains", required=True)
         ff = params.child("velocity_ff")
         self.pids = [Pid(PidGains.from_params(gains.child(j, required=True))) for j in self.joint_names]
@@ -447,3 +478,13 @@ class EffortJointTrajectoryController(JointTrajectoryControllerBase):
     def _write(self, dpos, dvel, epos, evel, dt):
         for j, pid, ff, ep, ev, v in zip(self.joints, self.pids, self.velocity_ff, epos, evel, dvel):
             j.command = pid.compute(ep, dt, ev) + ff * v
+
+
+class EffortJointTrajectoryController(_ClosedLoopTrajectoryController):
+    TYPE = "effort_controllers/JointTrajectoryController"
+    INTERFACE = EFFORT
+
+
+class VelocityJointTrajectoryController(_ClosedLoopTrajectoryController):
+    TYPE = "velocity_controllers/JointTrajectoryController"
+    INTERFACE = VELOCITY

@@ -1,0 +1,181 @@
+"""position_controllers/GripperActionController and effort_controllers/GripperActionController
+(ros_controllers' gripper_action_controller, Noetic), pure.
+
+One joint (``joint``) driven to the position of a control_msgs/GripperCommand goal
+(``command.position``, ``command.max_effort``) on the ``gripper_cmd`` action. Parameters:
+
+  joint                      required
+  goal_tolerance             0.01: |position error| below it -> the goal succeeds, reached_goal
+  max_effort                 0: the max_effort the controller holds with when no goal is active
+  stall_velocity_threshold   0.001: slower than this the joint counts as not moving
+  stall_timeout              1.0 s: not moving for longer (and not at the goal) -> the goal is
+                             aborted with stalled: true (the fingers press on something)
+  action_monitor_rate        20 Hz
+  gains/<joint>              effort type only, required: PID {p, i, d, i_clamp, ...}
+
+What the joint gets, as ros_controllers' HardwareInterfaceAdapter: the position type writes the goal
+position to the position interface (the hardware takes it there: kinematically, or through
+``gazebo_ros_control/pid_gains``); the effort type writes PID(position error, velocity error)
+clamped to +-|max_effort| -- so a max_effort of 0 applies no effort at all, exactly as there (the
+ROS layer warns about such a goal).
+
+Outcomes (``events``: (goal id, outcome, result dict, text)), as ros_controllers reports them:
+succeeded with ``reached_goal: true`` once within goal_tolerance; aborted with ``stalled: true``
+after stall_timeout without movement; a new goal preempts the active one; cancel holds where the
+joint is (with the parameter's max_effort); stopping the controller preempts its goal. The result's
+``position`` is the joint's, ``effort`` the last command computed (the effort type's clamped PID
+output; for the position type the goal's max_effort, as ros_controllers returns it).
+"""
+import math
+
+from modrob_sim.errors import ControllerError
+from modrob_sim.ros_control.controllers.base import CommandBuffer, Controller
+from modrob_sim.ros_control.pid import Pid, PidGains
+from modrob_sim.ros_control.transmissions import EFFORT, POSITION
+
+
+class GripperActionControllerBase(Controller):
+    def __init__(self, name, hw, params):
+        super(GripperActionControllerBase, self).__init__(name, hw, params)
+        joint = params.get("joint", kind=str)
+        self.joint = hw.joint(joint, self.INTERFACE, controller=name)
+        self.joint_names = [joint]
+        self.goal_tolerance = abs(params.get("goal_tolerance", 0.01, kind=float))
+        self.default_max_effort = abs(params.get("max_effort", 0.0, kind=float))
+        self.stall_velocity_threshold = params.get("stall_velocity_threshold", 0.001, kind=float)
+        self.stall_timeout = params.get("stall_timeout", 1.0, kind=float)
+        self.action_monitor_rate = params.get("action_monitor_rate", 20.0, kind=float)
+        if self.action_monitor_rate <= 0.0:
+            raise ControllerError("Parameter %s must be > 0" % params.path("action_monitor_rate"))
+        #: (position, max_effort) the update drives to; ROS callbacks may write it
+        self.target = CommandBuffer((self.joint.position, self.default_max_effort))
+        self.goal = None
+        self.events = []
+        self.computed_command = 0.0
+        self._last_movement = 0.0
+
+    # -- goals (loop thread) ---------------------------------------------------------------
+    def check_goal(self, position, max_effort):
+        """'' or why a GripperCommand cannot be followed (pure, any thread)."""
+        for what, v in (("command.position", position), ("command.max_effort", max_effort)):
+            try:
+                v = float(v)
+            except (TypeError, ValueError):
+                return "%s %r is not a number" % (what, v)
+            if not math.isfinite(v):
+                return "%s %r of joint '%s' is not finite" % (what, v, self.joint.name)
+        return ""
+
+    def notes(self, position, max_effort):
+        """Warnings about an accepted goal that will not do what its sender may think."""
+        out = []
+        j = self.joint
+        if j.has_position_limits and not (j.lower <= position <= j.upper):
+            out.append("position %g is outside the limits [%g, %g] of joint '%s': the joint stops at the "
+                       "limit and the goal ends stalled" % (position, j.lower, j.upper, j.name))
+        return out
+
+    def submit(self, goal_id, position, max_effort, now):
+        """A GripperCommand goal: (accepted, text). Accepting preempts the active goal."""
+        if self.state != "running":
+            return False, "Can't accept new action goals. Controller '%s' is not running." % self.name
+        bad = self.check_goal(position, max_effort)
+        if bad:
+            return False, bad
+        self._preempt("preempted by a new goal")
+        self.target.write((float(position), float(max_effort)))
+        self.goal = goal_id
+        self._last_movement = now
+        return True, ""
+
+    def cancel(self, goal_id, now):
+        """Cancel the active goal: hold where the joint is."""
+        if self.goal is None or self.goal != goal_id:
+            return False
+        self.goal = None
+        self.target.write((self.joint.position, self.default_max_effort))
+        self.events.append((goal_id, "canceled", self._result(False, False), "canceled"))
+        return True
+
+    def _preempt(self, text):
+        if self.goal is not None:
+            self.events.append((self.goal, "preempted", self._result(False, False), text))
+            self.goal = None
+
+    def _result(self, reached, stalled):
+        return dict(position=self.joint.position, effort=self.computed_command, stalled=stalled,
+                    reached_goal=reached)
+
+    # -- controller ------------------------------------------------------------------------
+    def starting(self, t):
+        self.target.write((self.joint.position, self.default_max_effort))
+        self._last_movement = t
+        self._start_adapter()
+
+    def stopping(self, t):
+        self._preempt("controller '%s' was stopped" % self.name)
+
+    def update(self, t, dt):
+        position, max_effort = self.target.read()
+        error = position - self.joint.position
+        velocity = self.joint.velocity
+        self._check(t, error, velocity)
+        self.computed_command = self._command(dt, position, error, -velocity, max_effort)
+
+    def _check(self, t, error, velocity):
+        if self.goal is None:
+            return
+        if abs(error) < self.goal_tolerance:
+            self.events.append((self.goal, "succeeded", self._result(True, False), "reached the goal"))
+            self.goal = None
+        elif abs(velocity) > self.stall_velocity_threshold:
+            self._last_movement = t
+        elif t - self._last_movement > self.stall_timeout:
+            self.events.append((self.goal, "aborted", self._result(False, True),
+                                "stalled %.3g from the goal position: joint '%s' has not moved for %g s"
+                                % (error, self.joint.name, self.stall_timeout)))
+            self.goal = None
+
+    def _start_adapter(self):
+        pass
+
+    def _command(self, dt, position, error, error_velocity, max_effort):
+        raise NotImplementedError
+
+
+class PositionGripperActionController(GripperActionControllerBase):
+    TYPE = "position_controllers/GripperActionController"
+    INTERFACE = POSITION
+
+    def _command(self, dt, position, error, error_velocity, max_effort):
+        self.joint.command = position
+        return max_effort
+
+
+class EffortGripperActionController(GripperActionControllerBase):
+    TYPE = "effort_controllers/GripperActionController"
+    INTERFACE = EFFORT
+
+    def __init__(self, name, hw, params):
+        super(EffortGripperActionController, self).__init__(name, hw, params)
+        gains = params.child("gains", required=True)
+        self.pid = Pid(PidGains.from_params(gains.child(self.joint.name, required=True)))
+        self.pid_namespace = gains.path(self.joint.name)
+
+    def notes(self, position, max_effort):
+        out = super(EffortGripperActionController, self).notes(position, max_effort)
+        if max_effort == 0.0:
+            out.append("max_effort 0: %s clamps its PID's effort to +-max_effort, so joint '%s' gets no "
+                       "effort and the goal ends stalled (as in ros_controllers); give command.max_effort"
+                       % (self.TYPE, self.joint.name))
+        return out
+
+    def _start_adapter(self):
+        self.pid.reset()
+        self.joint.command = 0.0
+
+    def _command(self, dt, position, error, error_velocity, max_effort):
+        lim = abs(max_effort)
+        effort = min(lim, max(-lim, self.pid.compute(error, dt, error_velocity)))
+        self.joint.command = effort
+        return effort
