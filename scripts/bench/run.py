@@ -12,10 +12,11 @@ vs PyBullet; Bulbs and Slides one and two robots (simulated s per wall s); rosla
 --full: more and longer repetitions, and the sensor, render, Katana and Polaris benchmarks
 (their own scripts, which write their own sections of docs/benchmarks.md).
 -j N: N units side by side, each a process with its own ROS master on a free port (wall-clock
-figures then share the cores; the ratios divide CPU time and stay comparable).
+figures then share the cores; the ratios divide CPU time and stay comparable). The units run as
+the trials of a sweep on a local Ray (modrob_sweep, docs/sweeps.md): each under its supervisor,
+timed out, its console in out/bench/units/trials/<NNNN>/trial.log.
 """
 import argparse
-import concurrent.futures
 import json
 import os
 import platform
@@ -43,18 +44,32 @@ SCRIPTS = [("sensors", ["bash", "scripts/bench/sensors.sh"]),
            ("spawn_delete_memory", ["bash", "scripts/bench/spawn_delete_memory.sh"])]
 
 
-def run_unit(unit, rep, seconds):
-    cmd = [sys.executable, os.path.join(HERE, "units.py"), unit, "--rep", str(rep)]
-    if seconds:
-        cmd += ["--seconds", str(seconds)]
-    t0 = time.monotonic()
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=1800)
-    wall = time.monotonic() - t0
-    if proc.returncode != 0:
-        return unit, rep, {"error": (proc.stderr or proc.stdout)[-1500:], "wall_s": wall}
-    res = json.loads(proc.stdout.strip().splitlines()[-1])
-    res["wall_s"] = wall
-    return unit, rep, res
+def run_units(jobs, workers):
+    """Every (unit, rep, seconds) as one trial of a sweep on a local Ray with ``workers`` side by
+    side; yields (unit, rep, result dict or {"error": ..., "wall_s": ...})."""
+    from modrob_sweep.runner import run
+    from modrob_sweep.spec import Sweep
+    points = [{"unit": u, "rep": rep, "seconds": seconds} for u, rep, seconds in jobs]
+    sweep = Sweep({"name": "bench_units",
+                   "scenario": {"command": [sys.executable, os.path.join(HERE, "units.py"), "{unit}", "--rep",
+                                            "{rep}", "--seconds", "{seconds}", "--json", "{out}/unit.json"]},
+                   "result": {"file": "unit.json"}, "parameters": {"points": points}, "timeout_s": 1800},
+                  source="scripts/bench/run.py", root=ROOT)
+    rows, interrupted = run(sweep, os.path.join(ROOT, "out", "bench", "units"), workers=workers)
+    if interrupted:
+        raise KeyboardInterrupt()
+    for row in sorted(rows, key=lambda r: r["trial"]):
+        unit, rep = points[row["trial"]]["unit"], points[row["trial"]]["rep"]
+        if row["outcome"] != "success":
+            log = os.path.join(row["out"], "trial.log") if row["out"] else ""
+            tail = open(log).read()[-1500:] if log and os.path.exists(log) else ""
+            error = "%s (%s)\n%s" % (row["outcome"], row["detail"], tail)
+            yield unit, rep, {"error": error, "wall_s": row["wall_s"]}
+            continue
+        with open(os.path.join(row["out"], "unit.json")) as fh:
+            res = json.load(fh)
+        res["wall_s"] = row["wall_s"]
+        yield unit, rep, res
 
 
 def run_script(name, cmd):
@@ -298,9 +313,8 @@ def main():
     meta = machine()
     t0 = time.monotonic()
     results, errors = {u: [] for u in units}, []
-    with concurrent.futures.ThreadPoolExecutor(max(1, args.jobs)) as pool:
-        for fut in concurrent.futures.as_completed([pool.submit(run_unit, *j) for j in jobs]):
-            unit, rep, res = fut.result()
+    if jobs:
+        for unit, rep, res in run_units(jobs, max(1, args.jobs)):
             if "error" in res:
                 errors.append((unit, res["error"]))
                 print("[bench] %s run %d FAILED:\n%s" % (unit, rep + 1, res["error"]), flush=True)

@@ -480,10 +480,15 @@ def main():
     ap.add_argument("unit", choices=sorted(UNITS))
     ap.add_argument("--seconds", type=float, default=0.0)
     ap.add_argument("--rep", type=int, default=0)
+    ap.add_argument("--json", default=None,
+                    help="also write the result to this file (the sweep runner reads it)")
     args = ap.parse_args()
     res = UNITS[args.unit](args)
     res["load_avg"] = os.getloadavg()[0]
     print(json.dumps(res))
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(res, fh)
 
 
 if __name__ == "__main__":
