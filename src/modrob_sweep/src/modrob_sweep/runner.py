@@ -41,6 +41,8 @@ class Progress(object):
         return elapsed / self.done * (self.total - self.done)
 
     def line(self, running=0):
+        """The progress line; ``running`` is the number of trials not finished (at most ``workers``
+        of them run at a time)."""
         el = time.monotonic() - self.t0
         eta = self.eta()
         bar_n = 24
@@ -48,7 +50,7 @@ class Progress(object):
         counts = ", ".join("%s %d" % (k, v) for k, v in sorted(self.counts.items()))
         return "[sweep] [%s%s] %d/%d done%s, %d running, %s elapsed, ETA %s" % (
             "#" * filled, "." * (bar_n - filled), self.done, self.total, (" (%s)" % counts) if counts else "",
-            running, _hms(el), _hms(eta) if eta is not None else "?")
+            min(running, self.workers), _hms(el), _hms(eta) if eta is not None else "?")
 
     def finished(self, row, running):
         self.done += 1

@@ -1,13 +1,65 @@
 """Benchmark of the lap (scripts/bench/polaris_lap.sh): one full lap without obstacles, then
 ``runs`` seeded runs with a street cone placed on the lap; each must stop before touching it.
-Writes lap_paths.png and lap_bench.md into ``--out``."""
+The seeded runs are the trials of the sweep modrob_sweep/sweeps/polaris_cones.yaml on a local Ray
+(``--workers`` side by side; docs/sweeps.md), each ``lap_bench --one SEED --out DIR``, which
+writes lap_run.json. Writes lap_paths.png and lap_bench.md into ``--out``, the sweep's table,
+summary and plots into ``--out``/sweep/."""
 import argparse
+import json
 import os
 import sys
 import time
 
 from polaris_description import parking_lot
 from polaris_description.lap import run_lap, seeded_cone
+
+RUN_FILE = "lap_run.json"
+
+
+def one_run(seed, out):
+    """One seeded cone run: stops before the cone without leaving the path (lap_run.json)."""
+    cone = seeded_cone(seed)
+    r = run_lap(cone=cone, seed=seed)
+    good = bool(r["stopped"] and r["min_gap"] > 0.0 and r["max_cross_track"] < 1.0)
+    det = r["detected_at"]
+    res = {"success": good, "seed": seed, "cone": list(cone), "stopped": bool(r["stopped"]),
+           "detected_ahead": None if det is None else float(det[1]), "min_gap": float(r["min_gap"]),
+           "max_cross_track": float(r["max_cross_track"]), "sim_time": float(r["samples"][-1]["t"]),
+           "samples": [{"x": float(p["x"]), "y": float(p["y"])} for p in r["samples"]]}
+    os.makedirs(out, exist_ok=True)
+    with open(os.path.join(out, RUN_FILE), "w") as fh:
+        json.dump(res, fh)
+    print("RESULT seed %d: cone at (%.2f, %.2f): %s, clearance %.2f m, max path error %.2f m"
+          % (seed, cone[0], cone[1], "stopped" if r["stopped"] else "DID NOT STOP", r["min_gap"],
+             r["max_cross_track"]), flush=True)
+    return 0 if good else 1
+
+
+def cone_runs(runs, workers, out):
+    """The seeded runs as sweep trials; their lap_run.json contents in seed order."""
+    from modrob_sweep import results
+    from modrob_sweep.runner import run
+    from modrob_sweep.cli import find_file
+    from modrob_sweep.spec import load
+    sweep = load(find_file("polaris_cones.yaml"), runs=runs)
+    folder = os.path.join(out, "sweep")
+    rows, interrupted = run(sweep, folder, workers=workers)
+    if interrupted:
+        raise KeyboardInterrupt()
+    results.write_all(rows, folder, sweep.name, sweep.parameter_names, sweep.varying(),
+                      sweep.result["metrics"])
+    got = []
+    for row in sorted(rows, key=lambda r: r["seed"]):
+        path = os.path.join(row["out"], RUN_FILE) if row["out"] else ""
+        if row["outcome"] in ("success", "failure") and os.path.exists(path):
+            with open(path) as fh:
+                got.append(json.load(fh))
+        else:
+            seed = int(row["seed"])
+            got.append({"success": False, "seed": seed, "cone": list(seeded_cone(seed)), "stopped": False,
+                        "detected_ahead": None, "min_gap": float("nan"), "max_cross_track": float("nan"),
+                        "samples": [], "why": "%s: %s" % (row["outcome"], row["detail"])})
+    return got
 
 
 def main(argv=None):
@@ -16,31 +68,25 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__)
     p.add_argument("--out", required=True)
     p.add_argument("--runs", type=int, default=10)
+    p.add_argument("--workers", type=int, default=1, help="seeded runs side by side")
+    p.add_argument("--one", type=int, default=None, metavar="SEED", help="only the cone run of this seed")
     a = p.parse_args(argv)
+    if a.one is not None:
+        return one_run(a.one, a.out)
     os.makedirs(a.out, exist_ok=True)
-    rows, runs = [], []
+    runs = []
     t0 = time.time()
     lap = run_lap(cone=None)
     print("lap: completed %s, max distance from the path %.2f m, %.1f s simulated (%.0f s wall)"
           % (lap["completed"], lap["max_cross_track"], lap["samples"][-1]["t"], time.time() - t0), flush=True)
     runs.append(("lap without obstacle", lap["samples"]))
-    ok = 0
-    cones = []
-    for seed in range(1, a.runs + 1):
-        cone = seeded_cone(seed)
-        cones.append(cone)
-        t0 = time.time()
-        r = run_lap(cone=cone, seed=seed)
-        good = r["stopped"] and r["min_gap"] > 0.0 and r["max_cross_track"] < 1.0
-        ok += good
-        det = r["detected_at"]
-        rows.append((seed, cone, det, r["min_gap"], r["max_cross_track"], good))
-        runs.append(("seed %d" % seed, r["samples"]))
-        print("seed %2d: cone at (%.2f, %.2f): %s, detected %s, clearance %.2f m, max path error %.2f m "
-              "(%.0f s wall)"
-              % (seed, cone[0], cone[1], "stopped" if r["stopped"] else "DID NOT STOP",
-                 "-" if det is None else "%.2f m ahead at t %.1f s" % (det[1], det[0]), r["min_gap"],
-                 r["max_cross_track"], time.time() - t0), flush=True)
+    done = cone_runs(a.runs, a.workers, a.out)
+    ok = sum(r["success"] for r in done)
+    cones = [tuple(r["cone"]) for r in done]
+    rows = [(r["seed"], tuple(r["cone"]), r["detected_ahead"], r["min_gap"], r["max_cross_track"],
+             r["success"]) for r in done]
+    for r in done:
+        runs.append(("seed %d" % r["seed"], r["samples"]))
     wps = parking_lot.lap_waypoints(1.0)
 
     def extra(ax):
@@ -57,7 +103,7 @@ def main(argv=None):
                 "max path error [m] | ok |\n|---|---|---|---|---|---|\n")
         for seed, cone, det, gap, ct, good in rows:
             f.write("| %d | (%.2f, %.2f) | %s | %.2f | %.2f | %s |\n"
-                    % (seed, cone[0], cone[1], "-" if det is None else "%.2f" % det[1], gap, ct,
+                    % (seed, cone[0], cone[1], "-" if det is None else "%.2f" % det, gap, ct,
                        "yes" if good else "NO"))
     print("RESULT: lap %s (max path error %.2f m); cone stops %d/%d"
           % ("completed" if lap["completed"] else "NOT completed", lap["max_cross_track"], ok, a.runs))
