@@ -6,6 +6,8 @@ import pytest
 
 from modrob_sim.errors import ModelError
 from modrob_sim.gazebo_ros import markers, world_file
+from modrob_sim.gazebo_ros import resources
+from modrob_sim.gazebo_ros.resources import ResourceResolver
 from modrob_sim.gazebo_ros.services.properties import collision_names
 from modrob_sim.gazebo_ros.services.models import xml_kind
 from modrob_sim.physics import World
@@ -68,7 +70,7 @@ def test_xml_kind():
 
 
 def test_world_physics_and_find_world():
-    path = world_file.find_world("worlds/empty.world")
+    path = world_file.find_world("worlds/empty.world", ResourceResolver())
     with open(path) as f:
         phys = world_file.world_physics(f.read())
     assert phys["time_step"] == 0.001 and phys["gravity"] == (0.0, 0.0, -9.81)
@@ -76,5 +78,6 @@ def test_world_physics_and_find_world():
 
 def test_missing_world_names_what_was_tried():
     with pytest.raises(ModelError) as err:
-        world_file.find_world("worlds/nope.world")
-    assert "nope.world" in str(err.value) and "tried" in str(err.value)
+        world_file.find_world("worlds/nope.world", ResourceResolver())
+    assert "nope.world" in str(err.value) and "looked in the current folder" in str(err.value)
+    assert resources.PACKAGE_DIR in str(err.value)      # modrob_sim's own worlds/ were searched

@@ -103,7 +103,7 @@ class GazeboRosNode(object):
         self.params = params
         self.node_name = node_name or rospy.get_name()
         self.exports = PackageExports()     # what packages export: plugins, model and media paths
-        self.resolve = ResourceResolver()
+        self.resolve = ResourceResolver(exports=self.exports)
         settings = WorldSettings(params, self.resolve)
         self.world = (world_factory or default_world_factory)(
             float(settings.time_step), tuple(settings.gravity), int(params.seed), self.resolve)

@@ -20,9 +20,48 @@ class MeshError(ModelError):
 
 
 # ---- URI resolution -----------------------------------------------------------------------------
+class ResourceNotFound(MeshError):
+    """A URI that names no file on this machine; ``uri`` and ``searched`` (the folders looked in)
+    let the caller say where it looked (a model:// from Gazebo's online database, for example)."""
+
+    def __init__(self, uri, searched, message):
+        MeshError.__init__(self, message)
+        self.uri = uri
+        self.searched = list(searched)
+
+
+#: Gazebo's download cache of its online model database: searched last, as Gazebo does
+HOME_MODELS = os.path.join("~", ".gazebo", "models")
+
+
+def model_dirs(exported=()):
+    """Gazebo's model path, the one rule for ``model://``: GAZEBO_MODEL_PATH, then the
+    ``gazebo_model_path`` folders that packages export (``exported``), then ~/.gazebo/models."""
+    dirs = [d for d in os.environ.get("GAZEBO_MODEL_PATH", "").split(os.pathsep) if d]
+    dirs += list(exported)
+    dirs.append(os.path.expanduser(HOME_MODELS))
+    out = []
+    for d in dirs:
+        if d not in out:
+            out.append(d)
+    return out
+
+
+def find_model_uri(uri, dirs):
+    """Absolute path of ``model://name/rest`` in the first of ``dirs`` that has it; raises
+    ResourceNotFound naming the URI and the folders."""
+    rel = uri[len("model://"):].lstrip("/")
+    for d in dirs:
+        path = os.path.join(d, rel)
+        if rel and os.path.exists(path):
+            return os.path.abspath(path)
+    raise ResourceNotFound(uri, dirs, "%s: not found on this machine (looked in %s; Gazebo would download "
+                                      "it from its online model database)" % (uri, ", ".join(dirs)))
+
+
 def default_resolver(uri):
     """package:// through rospkg (no rospy), file:// and plain paths as they are, model:// through
-    GAZEBO_MODEL_PATH. Returns an absolute path or raises MeshError."""
+    :func:`model_dirs`. Returns an absolute path or raises MeshError."""
     if uri.startswith("package://"):
         rest = uri[len("package://"):]
         pkg, _, rel = rest.partition("/")
@@ -38,11 +77,7 @@ def default_resolver(uri):
     if uri.startswith("file://"):
         return uri[len("file://"):]
     if uri.startswith("model://"):
-        rel = uri[len("model://"):]
-        for d in os.environ.get("GAZEBO_MODEL_PATH", "").split(os.pathsep):
-            if d and os.path.exists(os.path.join(d, rel)):
-                return os.path.join(d, rel)
-        raise MeshError("'%s' not found in GAZEBO_MODEL_PATH" % uri)
+        return find_model_uri(uri, model_dirs())
     return uri
 
 

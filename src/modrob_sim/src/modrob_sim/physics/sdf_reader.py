@@ -13,12 +13,15 @@ Links not connected by joints are free bodies. Poses are "x y z roll pitch yaw";
 other than the defaults is not supported and is refused.
 """
 import os
+import xml.etree.ElementTree as ET
 
 from ..errors import ModelError
 from . import limits
 from .description import (GeometryDesc, JointDesc, LinkDesc, ModelDesc, PluginSpec, Surface)
+from .meshes import default_resolver
+from .sdf_versions import upgrade
 from .gripper import read_gripper
-from .transforms import IDENTITY_POSE, pose_inv, pose_mul, quat_from_rpy, quat_rotate
+from .transforms import IDENTITY_POSE, pose_inv, pose_mul, quat_from_rpy, quat_rotate, rpy_from_quat
 from .xml_util import Reader, local, parse_xml
 
 SDF_JOINT_TYPES = {"revolute": "revolute", "continuous": "continuous", "prismatic": "prismatic",
@@ -151,7 +154,76 @@ def _plugin(pe, link=None, sensor=None):
     return PluginSpec(pe.get("name", ""), pe.get("filename", ""), pe, ns, link, sensor)
 
 
-def _model(rd, me, name, warn):
+def _pose_text(pose):
+    (x, y, z), q = pose
+    return "%r %r %r %r %r %r" % ((x, y, z) + tuple(rpy_from_quat(q)))
+
+
+def _set_pose(elem, pose):
+    pe = _child(elem, "pose")
+    if pe is None:
+        pe = ET.SubElement(elem, "pose")
+    pe.attrib.pop("frame", None)
+    pe.text = _pose_text(pose)
+
+
+def _flatten_nested(rd, me, name, warn, resolver):
+    """Nested models (SDF 1.5+: a ``<model>`` or ``<include>`` inside a ``<model>``, as in
+    turtlebot3_house) become links and joints of the outer model, named ``nested::link`` as Gazebo
+    scopes them, their poses composed with the nested model's pose. The outer model's ``<static>``
+    holds for all of them (a nested ``<static>`` that differs is warned about)."""
+    outer_static = (_text(me, "static", "false") or "").lower() in ("1", "true")
+    for index, c in enumerate(list(me)):
+        tag = local(c.tag)
+        if tag == "include":
+            uri = _text(c, "uri", "")
+            inner = _included_model(rd, uri, resolver, warn) if uri else None
+            if inner is None:
+                me.remove(c)
+                continue
+            if _text(c, "name"):
+                inner.set("name", _text(c, "name"))
+            if _child(c, "pose") is not None:
+                _set_pose(inner, _pose(rd, c, "<include><pose>"))
+            me.remove(c)
+            me.insert(index, inner)
+            c = inner
+        elif tag != "model":
+            continue
+        nested = c.get("name") or "model_%d" % index
+        _flatten_nested(rd, c, name + "::" + nested, warn, resolver)
+        where = "nested model '%s'" % nested
+        at = _pose(rd, c, where)
+        inner_static = _text(c, "static")
+        if inner_static is not None and (inner_static.lower() in ("1", "true")) != outer_static:
+            warn("sdf-nested-static:%s:%s" % (name, nested),
+                 "model '%s': nested model '%s' has <static>%s</static>; it is simulated as part of "
+                 "'%s' (static: %s)" % (name, nested, inner_static, name, "yes" if outer_static else "no"))
+        for e in list(c):
+            t = local(e.tag)
+            if t == "link":
+                e.set("name", "%s::%s" % (nested, e.get("name", "")))
+                _set_pose(e, pose_mul(at, _pose(rd, e, where + " link '%s'" % e.get("name"))))
+            elif t == "joint":
+                e.set("name", "%s::%s" % (nested, e.get("name", "")))
+                for end in ("parent", "child"):
+                    ee = _child(e, end)
+                    if ee is not None and ee.text and ee.text.strip() != "world":
+                        ee.text = "%s::%s" % (nested, ee.text.strip())
+                axis = _child(e, "axis")
+                xyz = _child(axis, "xyz") if axis is not None else None
+                if xyz is not None and (xyz.get("expressed_in") == "__model__" or (
+                        _text(axis, "use_parent_model_frame", "false").lower() in ("1", "true"))):
+                    xyz.text = "%r %r %r" % quat_rotate(at[1], rd.floats(xyz.text, 3, where, "<axis><xyz>"))
+            elif t != "plugin":
+                continue
+            c.remove(e)
+            me.append(e)
+        me.remove(c)
+
+
+def _model(rd, me, name, warn, resolver=None):
+    _flatten_nested(rd, me, name, warn, resolver)
     desc = ModelDesc(name, "sdf", None)
     desc.static = rd.bool(_text(me, "static", "false"), "<static>", "static")
     desc.self_collide = rd.bool(_text(me, "self_collide", "false"), "<self_collide>", "self_collide")
@@ -315,7 +387,7 @@ def read_sdf(xml_text, name, warn, resolver=None):
     """Parse SDF text; returns (list of ModelDesc, world settings dict or None)."""
     label = name or "sdf"
     rd = Reader(label, "SDF")
-    root = parse_xml(xml_text, label, "SDF")
+    root = upgrade(parse_xml(xml_text, label, "SDF"), label, warn)
     tag = local(root.tag)
     if tag == "sdf":
         worlds = _children(root, "world")
@@ -335,7 +407,7 @@ def read_sdf(xml_text, name, warn, resolver=None):
     if not mname:
         rd.fail("<model>", "the model has no name and none was given")
     rd = Reader(mname, "SDF")
-    d = _model(rd, me, mname, warn)
+    d = _model(rd, me, mname, warn, resolver)
     d.source_xml = xml_text
     return [d], None
 
@@ -384,15 +456,23 @@ def _world(rd, we, warn, resolver, xml_text):
         if t == "include":
             uri = _text(c, "uri", "")
             nm = _text(c, "name")
+            if not uri:
+                warn("sdf-include-no-uri:%s" % (c.get("filename") or nm), "SDF world <include> without <uri> "
+                     "(%s) skipped: name the model as <uri>model://name</uri>"
+                     % ("filename='%s', the form before SDF 1.0" % c.get("filename") if c.get("filename")
+                        else "nothing to include"))
+                continue
             if uri in ("model://sun",) or uri.endswith("/sun"):
                 continue  # a light: nothing to simulate
             if uri == "model://ground_plane":
                 me = parse_xml(GROUND_PLANE, "ground_plane", "SDF")
             else:
-                me = _included_model(rd, uri, resolver)
+                me = _included_model(rd, uri, resolver, warn)
+                if me is None:
+                    continue
             mname = nm or me.get("name")
             mrd = Reader(mname, "SDF")
-            d = _model(mrd, me, mname, warn)
+            d = _model(mrd, me, mname, warn, resolver)
             if _child(c, "pose") is not None:
                 d.pose = _pose(mrd, c, "<include><pose>")
             if _text(c, "static") is not None:
@@ -403,7 +483,7 @@ def _world(rd, we, warn, resolver, xml_text):
             mname = c.get("name")
             if not mname:
                 rd.fail("<world>", "a <model> has no name")
-            d = _model(Reader(mname, "SDF"), c, mname, warn)
+            d = _model(Reader(mname, "SDF"), c, mname, warn, resolver)
             d.source_xml = xml_text
             descs.append(d)
         elif t not in ("physics", "gravity", "light", "scene", "gui", "plugin", "magnetic_field",
@@ -419,29 +499,55 @@ def _checked(rd, check, value, what):
         rd.fail("<world>", str(e))
 
 
-def _included_model(rd, uri, resolver):
-    path = None
+#: the newest SDF version Gazebo 11 reads (a model.config may list newer files; they are skipped)
+SDF_VERSION = (1, 7)
+
+
+def _version(text):
     try:
-        if resolver is not None:
-            path = resolver(uri)
-        elif uri.startswith("model://"):
-            rel = uri[len("model://"):]
-            for d in os.environ.get("GAZEBO_MODEL_PATH", "").split(os.pathsep):
-                if d and os.path.isdir(os.path.join(d, rel)):
-                    path = os.path.join(d, rel)
-                    break
+        return tuple(int(x) for x in (text or "").strip().split("."))
+    except ValueError:
+        return None
+
+
+def _model_file(folder):
+    """The SDF file of a model folder, as Gazebo picks it: from model.config the ``<sdf>`` of the
+    highest version it reads, else model.sdf."""
+    config = os.path.join(folder, "model.config")
+    best = None
+    if os.path.isfile(config):
+        try:
+            root = parse_xml(open(config).read(), config, "model.config")
+        except ModelError:
+            root = None
+        for e in (_children(root, "sdf") if root is not None else ()):
+            v = _version(e.get("version"))
+            readable = e.text and e.text.strip() and (v is None or v <= SDF_VERSION)
+            if readable and (best is None or (v or ()) > best[0]):
+                best = (v or (), e.text.strip())
+    return os.path.join(folder, best[1] if best else "model.sdf")
+
+
+def _included_model(rd, uri, resolver, warn):
+    """The <model> Element an <include> names, or None when the URI is found nowhere on this
+    machine (warned about once, naming the URI and where it looked: the rest of the world loads,
+    as Gazebo goes on when it cannot download a model)."""
+    try:
+        path = (resolver or default_resolver)(uri)
+    except ModelError as e:     # meshes.ResourceNotFound (a model:// found nowhere) and the like
+        warn("sdf-include-missing:" + uri, "SDF <include><uri>%s</uri> skipped: %s" % (uri, e))
+        return None
     except Exception as e:  # a user resolver may raise anything: report it
-        raise ModelError("SDF <include><uri>%s</uri>: cannot resolve: %s" % (uri, e))
+        raise ModelError("SDF <include><uri>%s</uri>: cannot resolve: %s: %s" % (uri, type(e).__name__, e))
     if not path:
-        raise ModelError("SDF <include><uri>%s</uri>: not found (built in: model://ground_plane, "
-                         "model://sun; others through GAZEBO_MODEL_PATH or the resolver)" % uri)
-    f = os.path.join(path, "model.sdf") if os.path.isdir(path) else path
+        raise ModelError("SDF <include><uri>%s</uri>: the resource resolver returned nothing" % uri)
+    f = _model_file(path) if os.path.isdir(path) else path
     try:
         with open(f) as fh:
             text = fh.read()
     except OSError as e:
         raise ModelError("SDF <include><uri>%s</uri>: cannot read '%s': %s" % (uri, f, e))
-    root = parse_xml(text, uri, "SDF")
+    root = upgrade(parse_xml(text, uri, "SDF"), uri, warn)
     if local(root.tag) == "sdf":
         ms = _children(root, "model")
         if not ms:

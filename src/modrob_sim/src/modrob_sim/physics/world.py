@@ -571,8 +571,32 @@ class World(object):
             return path
         return meshlib.default_resolver(uri)
 
+    def _offline_meshes(self, desc):
+        """A ``model://`` mesh found nowhere on this machine (Gazebo would download it from its
+        online model database) is dropped from its link with one warning naming the URI and where
+        it looked, as Gazebo goes on without it; the rest of the model loads. Visual meshes with a
+        ``model://`` URI that is found become ``file://`` paths, so that RViz can load them."""
+        for ld in desc.links.values():
+            for kind, geoms in (("collision", ld.collisions), ("visual", ld.visuals)):
+                for gd in list(geoms):
+                    if gd.kind != "mesh" or not (gd.uri or "").startswith("model://"):
+                        continue
+                    try:
+                        path = self._resolve(gd.uri)
+                    except meshlib.ResourceNotFound as e:
+                        geoms.remove(gd)
+                        self._warn_once("mesh-offline:%s:%s" % (desc.name, gd.uri),
+                                        "model '%s' link '%s': %s mesh skipped: %s"
+                                        % (desc.name, ld.name, kind, e))
+                        continue
+                    except Exception:   # reported with the link by _prepare_meshes
+                        continue
+                    if kind == "visual" and path:
+                        gd.uri = "file://" + os.path.abspath(path)
+
     def _prepare_meshes(self, desc):
         """Resolve and load every collision mesh of ``desc`` before any ODE object is made."""
+        self._offline_meshes(desc)
         out = {}
         for ld in desc.links.values():
             for gd in ld.collisions:
