@@ -124,8 +124,8 @@ def test_a_world_is_found_through_an_exported_media_path_and_a_missing_include_i
 def test_model_config_chooses_the_newest_sdf_gazebo_reads(places):
     r = places["resolver"]
     folder = model_folder(places["models"], "versions", box_model("from_model_sdf"),
-                          '<model><name>v</name><sdf version="1.4">old.sdf</sdf><sdf version="1.6">new.sdf</sdf>'
-                          '<sdf version="1.9">future.sdf</sdf></model>')
+                          '<model><name>v</name><sdf version="1.4">old.sdf</sdf>'
+                          '<sdf version="1.6">new.sdf</sdf><sdf version="1.9">future.sdf</sdf></model>')
     for name in ("old", "new", "future"):
         with open(os.path.join(folder, name + ".sdf"), "w") as f:
             f.write(box_model("from_" + name))
@@ -140,12 +140,15 @@ def test_an_offline_model_mesh_is_dropped_with_one_warning_and_a_found_one_kept(
     r = places["resolver"]
     mesh_dir = os.path.join(places["models"], "cube_kit", "meshes")
     os.makedirs(mesh_dir)
-    with open(os.path.join(CUBE_STL, "cube_binary.stl"), "rb") as src, open(os.path.join(mesh_dir, "cube.stl"), "wb") as dst:
-        dst.write(src.read())
-    text = box_model("kit", extra="""
-          <collision name="gone"><geometry><mesh><uri>model://mailbox_db/meshes/mailbox.dae</uri></mesh></geometry></collision>
-          <visual name="gone_v"><geometry><mesh><uri>model://mailbox_db/meshes/mailbox.dae</uri></mesh></geometry></visual>
-          <visual name="kept"><geometry><mesh><uri>model://cube_kit/meshes/cube.stl</uri></mesh></geometry></visual>""")
+    with open(os.path.join(CUBE_STL, "cube_binary.stl"), "rb") as src:
+        with open(os.path.join(mesh_dir, "cube.stl"), "wb") as dst:
+            dst.write(src.read())
+
+    def mesh(kind, name, uri):
+        return '<%s name="%s"><geometry><mesh><uri>%s</uri></mesh></geometry></%s>' % (kind, name, uri, kind)
+    text = box_model("kit", extra=mesh("collision", "gone", "model://mailbox_db/meshes/mailbox.dae")
+                     + mesh("visual", "gone_v", "model://mailbox_db/meshes/mailbox.dae")
+                     + mesh("visual", "kept", "model://cube_kit/meshes/cube.stl"))
     world = World(resource_resolver=r)
     with caplog.at_level(logging.WARNING):
         model = world.add_sdf(text)[0]
@@ -174,7 +177,8 @@ NESTED = """<sdf version="1.6"><model name="house"><static>true</static>
     <link name="link"><pose>0.5 0 0.5 0 0 0</pose>
       <collision name="c"><geometry><box><size>0.4 0.4 1</size></box></geometry></collision></link>
     <model name="book"><pose>0 0 1.1 0 0 0</pose>
-      <link name="link"><collision name="c"><geometry><box><size>0.2 0.1 0.2</size></box></geometry></collision>
+      <link name="link">
+        <collision name="c"><geometry><box><size>0.2 0.1 0.2</size></box></geometry></collision>
       </link></model>
   </model>
   <model name="lamp"><static>false</static><link name="link"><pose>-1 0 0.5 0 0 0</pose>
