@@ -11,7 +11,7 @@ class Params(object):
     def __init__(self, time_step=None, real_time_factor=None, paused=False, seed=0, world_name="",
                  pub_clock_frequency=1000.0, publish_rate=100.0, marker_rate=10.0, marker_models="props",
                  rtf_log_period=5.0, plugin_modules=(), gravity=None, scene_rate=30.0,
-                 native_publishing=False):
+                 native_publishing=False, enable_ros_network=True):
         self.time_step = time_step
         self.real_time_factor = real_time_factor
         self.paused = paused
@@ -26,6 +26,7 @@ class Params(object):
         self.gravity = gravity
         self.scene_rate = scene_rate
         self.native_publishing = native_publishing
+        self.enable_ros_network = enable_ros_network
 
     @classmethod
     def from_ros(cls, argv=()):
@@ -57,7 +58,15 @@ class Params(object):
                    scene_rate=number("scene_rate", 30.0),
                    native_publishing=bool(rospy.get_param("~native_publishing",
                                                           native_pub.wanted_by_default())),
-                   plugin_modules=_as_list(rospy.get_param("~plugin_modules", [])))
+                   plugin_modules=_as_list(rospy.get_param("~plugin_modules", [])),
+                   enable_ros_network=_as_bool(rospy.get_param("~enable_ros_network", True)))
+
+
+def _as_bool(value):
+    """A boolean parameter; launch files may give it as the text "false"."""
+    if isinstance(value, str):
+        return value.strip().lower() not in ("false", "0", "no", "off", "")
+    return bool(value)
 
 
 def _as_list(value):

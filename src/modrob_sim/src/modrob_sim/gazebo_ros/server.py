@@ -27,6 +27,7 @@ from modrob_sim.gazebo_ros import memory_debug
 from modrob_sim.gazebo_ros.lookup import Lookup
 from modrob_sim.gazebo_ros.node_params import Params, parse_server_args  # noqa: F401 (the node's API)
 from modrob_sim.gazebo_ros.package_exports import PackageExports
+from modrob_sim.gazebo_ros.physics_reconfigure import PhysicsReconfigure
 from modrob_sim.gazebo_ros.plugin_host import PluginHost
 from modrob_sim.gazebo_ros.publishing import PublishQueue, ros_advertiser
 from modrob_sim.gazebo_ros.resources import ResourceResolver
@@ -137,8 +138,15 @@ class GazeboRosNode(object):
         self.outputs.publish_clock()
         sim = Sim(self.world, self.loop, Lookup(self.world), self.forces, self.outputs, self.plugins)
         self._services = []
-        for group in (ModelServices(sim), PropertyServices(sim), ForceServices(sim), PhysicsServices(sim)):
-            self._services.extend(group.advertise())
+        self._physics_services = PhysicsServices(sim)
+        self._physics_reconfigure = None
+        if params.enable_ros_network:
+            groups = (ModelServices(sim), PropertyServices(sim), ForceServices(sim), self._physics_services)
+            for group in groups:
+                self._services.extend(group.advertise())
+        else:
+            rospy.loginfo("%s: ~enable_ros_network is false: the /gazebo topics and services are not "
+                          "offered (only /clock, and what plugins publish)" % self.node_name)
         debug = memory_debug.advertise(self.node_name)
         if debug is not None:
             self._services.append(debug)
@@ -160,10 +168,15 @@ class GazeboRosNode(object):
     # ---- life cycle ----------------------------------------------------------------------------
     def start(self):
         self.loop.start()
+        if self.params.enable_ros_network:
+            # /gazebo/set_parameters reads and sets the physics through the loop, so after it runs
+            self._physics_reconfigure = PhysicsReconfigure(self._physics_services, self.node_name)
 
     def shutdown(self):
         """Plugins first, in the loop thread while it still runs (their services go away before
         the loop stops answering), then the loop, then the publishing thread."""
+        if self._physics_reconfigure is not None:
+            self._physics_reconfigure.shutdown()
         if self.loop.running:
             try:
                 self.loop.call(self.plugins.shutdown, timeout=10.0)

@@ -53,6 +53,19 @@ def _next_on_grid(t, period):
     return (math.floor(t / period) + 1) * period if period > 0 else 0.0
 
 
+class _NotAdvertised(object):
+    """Stands in for a /gazebo topic when ~enable_ros_network is false: nothing is advertised."""
+
+    def __init__(self, topic, *args, **kwargs):
+        self.resolved_name = rospy.resolve_name(topic)
+
+    def publish(self, msg):
+        pass
+
+    def get_num_connections(self):
+        return 0
+
+
 class StatePublishers(object):
     def __init__(self, world, params):
         self.world = world
@@ -60,11 +73,14 @@ class StatePublishers(object):
         # latched: a node that starts while the simulation is paused still learns the time
         self._clock_pub = publisher("/clock", Clock, queue_size=10, latch=True)
         self._clock_msg = Clock()
-        self._model_states_pub = publisher("~model_states", gzm.ModelStates, queue_size=1)
-        self._link_states_pub = publisher("~link_states", gzm.LinkStates, queue_size=1)
-        self._perf_pub = rospy.Publisher("~performance_metrics", gzm.PerformanceMetrics, queue_size=1)
-        self._guard_pub = rospy.Publisher("~guard_events", String, queue_size=20)
-        self._marker_pub = rospy.Publisher("~world_markers", MarkerArray, queue_size=1, latch=True)
+        # gazebo_ros's enable_ros_network false: /clock only, none of the /gazebo topics
+        net = getattr(params, "enable_ros_network", True)
+        native, plain = (publisher, rospy.Publisher) if net else (_NotAdvertised, _NotAdvertised)
+        self._model_states_pub = native("~model_states", gzm.ModelStates, queue_size=1)
+        self._link_states_pub = native("~link_states", gzm.LinkStates, queue_size=1)
+        self._perf_pub = plain("~performance_metrics", gzm.PerformanceMetrics, queue_size=1)
+        self._guard_pub = plain("~guard_events", String, queue_size=20)
+        self._marker_pub = plain("~world_markers", MarkerArray, queue_size=1, latch=True)
         self._markers = markers.WorldMarkers(world, params.marker_models)
         # every model's visuals + per-link tf for RViz and the camera renderer (modrob_sim.camera)
         self._scene = ScenePublisher.for_world(world, params.scene_rate)

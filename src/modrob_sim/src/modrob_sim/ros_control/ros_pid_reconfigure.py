@@ -7,6 +7,7 @@ config description the server needs is built here in Python (the same dict layou
 generator writes)."""
 from dynamic_reconfigure.server import Server
 
+from modrob_sim.reconfigure_config import ConfigType, Param, shutdown_server
 from modrob_sim.ros_control.pid import PidGains
 
 _DESCR = (("p", "double", "Proportional gain."), ("i", "double", "Integral gain."),
@@ -16,30 +17,16 @@ _DESCR = (("p", "double", "Proportional gain."), ("i", "double", "Integral gain.
           ("antiwindup", "bool", "Antiwindup."))
 
 
-class PidConfigType(object):
-    """What dynamic_reconfigure.server.Server expects of a generated Config module."""
-
-    def __init__(self, gains):
-        big = max(100000.0, 10.0 * max(abs(gains.p), abs(gains.i), abs(gains.d),
-                                       abs(gains.i_max), abs(gains.i_min)))
-        # doubles as dynamic_reconfigure declares them: a YAML gain written as 30 must not reach
-        # clients as an int parameter
-        self.defaults = {"p": float(gains.p), "i": float(gains.i), "d": float(gains.d),
-                         "i_clamp_min": float(gains.i_min), "i_clamp_max": float(gains.i_max),
-                         "antiwindup": bool(gains.antiwindup)}
-        self.min = {"p": -big, "i": -big, "d": -big, "i_clamp_min": -big, "i_clamp_max": 0.0,
-                    "antiwindup": False}
-        self.max = {"p": big, "i": big, "d": big, "i_clamp_min": 0.0, "i_clamp_max": big, "antiwindup": True}
-        params = []
-        for name, kind, text in _DESCR:
-            params.append({"name": name, "type": kind, "default": self.defaults[name], "level": 1,
-                           "description": text, "min": self.min[name], "max": self.max[name],
-                           "edit_method": "", "srcline": 0, "srcfile": "", "ctype": kind})
-        self.config_description = {"name": "Default", "type": "", "state": True, "cstate": "true",
-                                   "id": 0, "parent": 0, "parameters": params, "groups": [],
-                                   "srcline": 0, "srcfile": "", "class": "DEFAULT", "parentclass": "",
-                                   "parentname": "Default", "field": "default", "upper": "DEFAULT",
-                                   "lower": "groups"}
+def PidConfigType(gains):
+    """The Config type of a PID's dynamic_reconfigure server, ranges wide enough for its gains."""
+    big = max(100000.0, 10.0 * max(abs(gains.p), abs(gains.i), abs(gains.d),
+                                   abs(gains.i_max), abs(gains.i_min)))
+    defaults = {"p": gains.p, "i": gains.i, "d": gains.d, "i_clamp_min": gains.i_min,
+                "i_clamp_max": gains.i_max, "antiwindup": gains.antiwindup}
+    low = {"p": -big, "i": -big, "d": -big, "i_clamp_min": -big, "i_clamp_max": 0.0, "antiwindup": False}
+    high = {"p": big, "i": big, "d": big, "i_clamp_min": 0.0, "i_clamp_max": big, "antiwindup": True}
+    return ConfigType([Param(name, kind, defaults[name], low[name], high[name], text)
+                       for name, kind, text in _DESCR])
 
 
 class PidReconfigure(object):
@@ -62,7 +49,4 @@ class PidReconfigure(object):
         return config
 
     def shutdown(self):
-        srv = self.server
-        srv.set_service.shutdown()
-        srv.descr_topic.unregister()
-        srv.update_topic.unregister()
+        shutdown_server(self.server)
