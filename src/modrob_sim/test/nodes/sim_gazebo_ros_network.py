@@ -29,13 +29,14 @@ def graph():
 class NetworkOff(unittest.TestCase):
     def test_only_clock_and_the_simulation_runs(self):
         clock = Latest("/clock", Clock)
-        self.assertTrue(wait_for(lambda: clock.get() is not None and clock.get().clock.to_sec() > 0.2, 30.0),
-                        "no /clock")
+        ok = wait_for(lambda: clock.get() is not None and clock.get().clock.to_sec() > 0.2, 30.0)
+        self.assertTrue(ok, "no /clock")
         pubs, services = graph()
         self.assertIn("/clock", pubs)
         gazebo_topics = sorted(t for t in pubs if t.startswith("/gazebo/") and t != "/gazebo/scene_markers")
         self.assertEqual(gazebo_topics, [])
-        self.assertEqual(sorted(s for s in services if not s.endswith(("/get_loggers", "/set_logger_level"))), [])
+        loggers = ("/get_loggers", "/set_logger_level")
+        self.assertEqual(sorted(s for s in services if not s.endswith(loggers)), [])
 
 
 class Reconfigure(unittest.TestCase):
@@ -47,7 +48,8 @@ class Reconfigure(unittest.TestCase):
         self.assertAlmostEqual(config["time_step"], 0.001)
         self.assertAlmostEqual(config["gravity_z"], -9.81)
         self.assertEqual(config["max_update_rate"], 0.0)           # real_time_factor 0: unlimited
-        new = client.update_configuration({"time_step": 0.002, "gravity_z": -5.0, "sor_pgs_iters": 33})
+        new = client.update_configuration({"time_step": 0.002, "gravity_z": -5.0,
+                                           "sor_pgs_iters": 33})
         self.assertAlmostEqual(new["time_step"], 0.002)
         props = gz.get_physics_properties()
         self.assertAlmostEqual(props.time_step, 0.002)
@@ -65,4 +67,5 @@ class Reconfigure(unittest.TestCase):
 if __name__ == "__main__":
     rospy.init_node("sim_gazebo_ros_network_test")
     mode = rospy.get_param("~mode")
-    rostest.rosrun("modrob_sim", "sim_gazebo_ros_network_" + mode, NetworkOff if mode == "off" else Reconfigure)
+    case = NetworkOff if mode == "off" else Reconfigure
+    rostest.rosrun("modrob_sim", "sim_gazebo_ros_network_" + mode, case)
