@@ -29,8 +29,8 @@ WORLDS = {
                      lambda w: max(m.pose[0][2] for n, m in w.models.items()
                                    if n.startswith("rubble")) < 1.0),
     "willowgarage.world": (["ground_plane", "willowgarage"], lambda w: len(w.models["willowgarage"].links) == 24),
-    "mud.world": (["ground_plane", "pendulum_thick_mud", "pendulum_thin_mud", "pendulum_no_mud", "mud_pit_thin",
-                   "mud_pit_thick"],
+    "mud.world": (["ground_plane", "pendulum_thick_mud", "pendulum_thin_mud", "pendulum_no_mud",
+                   "mud_pit_thin", "mud_pit_thick"],
                   # the arms fell from horizontal and swing about the hinge at the post's top
                   lambda w: abs(w.models["pendulum_no_mud"].joints["upper_joint"].velocity) > 0.1
                   and abs(math.dist(w.models["pendulum_no_mud"].links["upper_link"].pose[0], (2.0, 0.0, 2.1))
