@@ -28,7 +28,8 @@ WORLDS = {
     "rubble.world": (["ground_plane"] + ["rubble_%02d" % i for i in range(1, 19)],
                      lambda w: max(m.pose[0][2] for n, m in w.models.items()
                                    if n.startswith("rubble")) < 1.0),
-    "willowgarage.world": (["ground_plane", "willowgarage"], lambda w: len(w.models["willowgarage"].links) == 24),
+    "willowgarage.world": (["ground_plane", "willowgarage"],
+                           lambda w: len(w.models["willowgarage"].links) == 24),
     "mud.world": (["ground_plane", "pendulum_thick_mud", "pendulum_thin_mud", "pendulum_no_mud",
                    "mud_pit_thin", "mud_pit_thick"],
                   # the arms fell from horizontal and swing about the hinge at the post's top
