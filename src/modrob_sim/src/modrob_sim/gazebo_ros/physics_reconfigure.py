@@ -74,7 +74,7 @@ class PhysicsReconfigure(object):
             self._initialized = True
             config.update(current)
             return config
-        if all(config[k] == type(config[k])(current[k]) for k in current):
+        if all(float(config[k]) == float(current[k]) for k in current):     # all numbers or bools
             return config
         resp = self.physics.set_physics_properties(request_from(config))
         if not resp.success:
