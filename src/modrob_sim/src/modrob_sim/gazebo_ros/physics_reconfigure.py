@@ -22,7 +22,8 @@ PARAMS = (
     Param("gravity_x", "double", 0.0, -100.0, 100.0, "Simulated gravity in the x direction."),
     Param("gravity_y", "double", 0.0, -100.0, 100.0, "Simulated gravity in the y direction."),
     Param("gravity_z", "double", -9.8, -100.0, 100.0, "Simulated gravity in the z direction."),
-    Param("auto_disable_bodies", "bool", False, False, True, "Auto disable of bodies at rest (not applied here)."),
+    Param("auto_disable_bodies", "bool", False, False, True,
+          "Auto disable of bodies at rest (not applied here)."),
     Param("sor_pgs_precon_iters", "int", 0, 0, 10000, "Preconditioning iterations of quickstep."),
     Param("sor_pgs_iters", "int", 20, 0, 10000, "Iterations of the SOR PGS LCP solver (quickstep)."),
     Param("sor_pgs_w", "double", 1.3, 0.0, 5.0, "Relaxation parameter of SOR PGS."),
@@ -53,7 +54,8 @@ def request_from(config):
     req = gzs.SetPhysicsPropertiesRequest()
     req.time_step = config["time_step"]
     req.max_update_rate = config["max_update_rate"]
-    req.gravity.x, req.gravity.y, req.gravity.z = config["gravity_x"], config["gravity_y"], config["gravity_z"]
+    req.gravity.x, req.gravity.y = config["gravity_x"], config["gravity_y"]
+    req.gravity.z = config["gravity_z"]
     for name in _ODE:
         field = getattr(req.ode_config, name)
         setattr(req.ode_config, name, type(field)(config[name]))
