@@ -62,11 +62,24 @@ def _has_token(pid, token):
 
 
 def _name(pid):
+    """The command line of a process (None when it is gone)."""
     try:
         with open("/proc/%d/cmdline" % pid, "rb") as fh:
-            return " ".join(a.decode(errors="replace") for a in fh.read().split(b"\0") if a)[:120]
+            return " ".join(a.decode(errors="replace") for a in fh.read().split(b"\0") if a)[:120] or None
     except OSError:
-        return "?"
+        return None
+
+
+def _under(pid, ancestor):
+    """Whether ``pid`` is ``ancestor`` or below it (False for a process that is gone)."""
+    while ancestor and pid > 1:
+        if pid == ancestor:
+            return True
+        st = _stat(pid)
+        if st is None:
+            return True          # gone: nothing to report
+        pid = st[0]
+    return False
 
 
 def members(root, token):
@@ -106,7 +119,7 @@ def stop_all(token, grace=GRACE_S):
     the command lines of the processes that were found running."""
     me = os.getpid()
     first = members(me, token)
-    names = [_name(p) for p in sorted(first)]
+    names = [n for n in (_name(p) for p in sorted(first)) if n is not None]
     for sig, wait in ((signal.SIGINT, grace), (signal.SIGKILL, 5.0)):
         live = members(me, token)
         for pid in live:
@@ -137,9 +150,17 @@ def _start_xvfb(env):
         raise RuntimeError("Xvfb could not be started (%s): install the xvfb package on this node" % exc)
     finally:
         os.close(w)
-    ready, _, _ = select.select([r], [], [], 30.0)
-    number = os.read(r, 64).decode().strip() if ready else ""
+    # read up to the newline before closing: Xvfb may write the number and the newline apart, and a
+    # write to a closed pipe is fatal to it
+    text, deadline = b"", time.monotonic() + 30.0
+    while not text.endswith(b"\n") and time.monotonic() < deadline:
+        ready, _, _ = select.select([r], [], [], max(0.0, deadline - time.monotonic()))
+        chunk = os.read(r, 64) if ready else b""
+        if not chunk:
+            break
+        text += chunk
     os.close(r)
+    number = text.decode().strip()
     if not number.isdigit():
         proc.kill()
         raise RuntimeError("Xvfb did not report a display within 30 s (exit %s)" % proc.poll())
@@ -190,8 +211,9 @@ def main(argv=None):
                 code = 128 + status["signal"]
             else:
                 status["exit"] = code = os.WEXITSTATUS(st)
-            left = members(os.getpid(), args.token) - {xvfb}
-            status["leftovers"] = [_name(pid) for pid in sorted(left)]
+            # the trial's own display (and the xkbcomp it runs) is no leftover of the scenario
+            left = [pid for pid in sorted(members(os.getpid(), args.token)) if not _under(pid, xvfb)]
+            status["leftovers"] = [n for n in (_name(pid) for pid in left) if n is not None]
     except Stop:
         status["stopped"] = True
         code = 128 + signal.SIGTERM

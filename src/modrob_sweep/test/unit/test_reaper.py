@@ -114,3 +114,23 @@ def test_the_trial_goes_when_its_parent_dies(tmp_path):
     while with_token(token) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert with_token(token) == [] and not alive(grandchild)
+
+
+def test_render_gives_the_trial_its_own_display_and_stops_it(tmp_path):
+    """render: true -> an Xvfb on a free display for the command, gone when the trial ends."""
+    token = uuid.uuid4().hex
+    status = str(tmp_path / "status.json")
+    probe = ("import os, subprocess, sys\n"
+             "d = os.environ['DISPLAY']\n"
+             "ok = subprocess.call(['xdpyinfo', '-display', d], stdout=subprocess.DEVNULL) == 0 if "
+             "os.path.exists('/usr/bin/xdpyinfo') else os.path.exists('/tmp/.X11-unix/X' + d[1:])\n"
+             "open(sys.argv[1], 'w').write('%s %s' % (d, ok))\n")
+    out = str(tmp_path / "display")
+    rc = subprocess.call([sys.executable, "-m", "modrob_sweep.reaper", "--token", token, "--parent",
+                          str(os.getpid()),
+                          "--status", status, "--xvfb", "--", sys.executable, "-c", probe, out], timeout=60)
+    assert rc == 0, open(status).read()
+    display, ok = open(out).read().split()
+    assert display.startswith(":") and ok == "True"
+    assert json.load(open(status))["leftovers"] == []      # its own Xvfb is not a leftover of the scenario
+    assert with_token(token) == []
