@@ -1,0 +1,1 @@
+"""joy: a Linux joystick device as sensor_msgs/Joy (ROS's joy_node)."""
