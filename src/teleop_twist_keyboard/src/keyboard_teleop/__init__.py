@@ -1,0 +1,1 @@
+"""teleop_twist_keyboard's key map and state, and its terminal and publishing helpers."""
