@@ -6,7 +6,7 @@ process, its own ROS master on a free port), so that units can run side by side 
 
 A unit measures our figure AND its peer in the same process and run, so that a busy machine hits
 both alike; run.py takes the median, min and max over repetitions and the ratio per repetition.
-Units: physics_core, node, bulbs_one, bulbs_two, startup, rss, kdl_fk.
+Units: physics_core, node, sensor_arm, bulbs_one, bulbs_two, startup, rss, kdl_fk.
 """
 import argparse
 import json
@@ -271,6 +271,113 @@ def unit_node(args):
         master.close()
 
 
+# ---- a robot with sensors against the same robot without: the step loop's due times (issue 33) -----
+ARM_NS = "/sarm"
+ARM_JOINTS = ["yaw", "shoulder", "elbow"]
+SENSOR_LASER = """<link name="laser_link"><inertial><mass value="0.1"/><inertia ixx="1e-4" ixy="0" ixz="0"
+  iyy="1e-4" iyz="0" izz="1e-4"/></inertial></link>
+<joint name="laser_joint" type="fixed"><parent link="base"/><child link="laser_link"/>
+  <origin xyz="0.15 0 0.15"/></joint>
+<gazebo reference="laser_link"><sensor type="ray" name="laser"><update_rate>40</update_rate>
+  <ray><scan><horizontal><samples>360</samples><resolution>1</resolution><min_angle>-3.14159</min_angle>
+  <max_angle>3.14159</max_angle></horizontal></scan><range><min>0.1</min><max>10</max>
+  <resolution>0.01</resolution></range></ray>
+  <plugin name="laser" filename="libgazebo_ros_laser.so"><topicName>/sarm/scan</topicName>
+  <frameName>laser_link</frameName></plugin></sensor></gazebo>
+<gazebo reference="l3"><sensor type="imu" name="imu"><always_on>true</always_on><update_rate>200</update_rate>
+  <plugin name="imu" filename="libgazebo_ros_imu_sensor.so"><topicName>/sarm/imu</topicName>
+  <updateRateHZ>200</updateRateHZ><frameName>l3</frameName></plugin></sensor></gazebo>
+"""
+
+
+def sensor_arm_urdf(sensors):
+    """The 3-joint arm of the control tests on effort joints, with (``sensors``) a 40 Hz 360-ray laser
+    on its base and a 200 Hz IMU on its last link."""
+    with open(os.path.join(ROOT, "src/modrob_sim/test/fixtures/control/arm_3dof.urdf")) as f:
+        urdf = f.read().replace("PositionJointInterface", "EffortJointInterface").replace("/arm3", ARM_NS)
+    return urdf.replace("</robot>", (SENSOR_LASER if sensors else "") + "</robot>")
+
+
+def run_sensor_arm_once(seconds, sensors, subscribe, env=None):
+    """The node as ``empty_world.launch real_time_factor:=0`` starts it (its world file, as fast as
+    possible, no environment switches), the arm spawned and its controllers started through the
+    services; simulated s per CPU s of the node over ``seconds`` of wall time."""
+    import rospy
+    from controller_manager_msgs.srv import LoadController, SwitchController
+    from gazebo_msgs.srv import GetWorldProperties, SpawnModel
+    from geometry_msgs.msg import Pose, Quaternion
+    from sensor_msgs.msg import Imu, LaserScan
+    node = subprocess.Popen([sys.executable, os.path.join(ROOT, "src/modrob_sim/scripts/gazebo"),
+                             "_world_name:=worlds/empty.world", "_publish_rate:=100", "_real_time_factor:=0",
+                             "_rtf_log_period:=0"],
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        g = "/gazebo/"
+        rospy.wait_for_service(g + "spawn_urdf_model", timeout=60)
+        rospy.set_param(ARM_NS + "/joint_state_controller",
+                        {"type": "joint_state_controller/JointStateController", "publish_rate": 50})
+        names = ["joint_state_controller"]
+        for j in ARM_JOINTS:
+            rospy.set_param("%s/%s_controller" % (ARM_NS, j),
+                            {"type": "effort_controllers/JointPositionController", "joint": j,
+                             "pid": {"p": 100.0, "i": 10.0, "d": 5.0, "i_clamp": 5.0}})
+            names.append("%s_controller" % j)
+        ok = rospy.ServiceProxy(g + "spawn_urdf_model", SpawnModel)(
+            "sarm", sensor_arm_urdf(sensors), "", Pose(orientation=Quaternion(0, 0, 0, 1)), "").success
+        rospy.wait_for_service(ARM_NS + "/controller_manager/load_controller", timeout=30)
+        load = rospy.ServiceProxy(ARM_NS + "/controller_manager/load_controller", LoadController)
+        ok = ok and all(load(n).ok for n in names)
+        ok = ok and rospy.ServiceProxy(ARM_NS + "/controller_manager/switch_controller", SwitchController)(
+            names, [], 2, False, 0.0).ok
+        if not ok:
+            raise RuntimeError("building the sensor arm scene failed")
+        got = {"scan": 0, "imu": 0}
+        subs = []
+        if sensors and subscribe:
+            def count(key):
+                return lambda _msg: got.__setitem__(key, got[key] + 1)
+            subs = [rospy.Subscriber(ARM_NS + "/scan", LaserScan, count("scan")),
+                    rospy.Subscriber(ARM_NS + "/imu", Imu, count("imu"))]
+            deadline = time.time() + 20
+            while time.time() < deadline and any(s.get_num_connections() == 0 for s in subs):
+                time.sleep(0.05)
+        world = rospy.ServiceProxy(g + "get_world_properties", GetWorldProperties)
+        time.sleep(1.0)
+        t0, w0, c0 = world().sim_time, time.perf_counter(), cpu_seconds(node.pid)
+        n0 = dict(got)
+        time.sleep(seconds)
+        t1, w1, c1 = world().sim_time, time.perf_counter(), cpu_seconds(node.pid)
+        for s in subs:
+            s.unregister()
+        wall = w1 - w0
+        return {"sim_per_cpu": (t1 - t0) / max(1e-9, c1 - c0), "rtf": (t1 - t0) / wall,
+                "cpu_load": (c1 - c0) / wall, "rates": {k: (got[k] - n0[k]) / wall for k in got}}
+    finally:
+        node.terminate()
+        try:
+            node.wait(10)
+        except subprocess.TimeoutExpired:
+            node.kill()
+
+
+def unit_sensor_arm(args):
+    """The arm with and without its laser and IMU, nobody subscribed to the sensors (what a user
+    who starts a robot and looks at nothing pays), then with both sensors subscribed."""
+    master = Master()
+    try:
+        import rospy
+        rospy.set_param("/use_sim_time", True)
+        # this process does not subscribe to /clock: only the node and its robot are measured
+        rospy.init_node("bench_sensor_arm", disable_signals=True, disable_rostime=True)
+        seconds = args.seconds or 6.0
+        env = {k: v for k, v in os.environ.items() if not k.startswith("MODROB_SIM_")}
+        return {"bare": run_sensor_arm_once(seconds, False, False, env),
+                "sensors": run_sensor_arm_once(seconds, True, False, env),
+                "sensors_subscribed": run_sensor_arm_once(seconds, True, True, env)}
+    finally:
+        master.close()
+
+
 # ---- Bulbs and Slides: simulated seconds per wall second ----------------------------------------------
 PACE_PROBE_S = 4.0
 
@@ -472,7 +579,7 @@ UNITS = {"physics_core": unit_physics_core, "node": unit_node,
          "bulbs_one": lambda a: unit_bulbs("one_robot", a),
          "bulbs_two": lambda a: unit_bulbs("two_robots", a),
          "bulbs_one_rospy": lambda a: unit_bulbs("one_robot", a, roscpp="0"),
-         "startup": unit_startup, "rss": unit_rss, "kdl_fk": unit_kdl_fk}
+         "startup": unit_startup, "rss": unit_rss, "kdl_fk": unit_kdl_fk, "sensor_arm": unit_sensor_arm}
 
 
 def main():

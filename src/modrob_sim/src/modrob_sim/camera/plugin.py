@@ -49,7 +49,8 @@ def camera_info(cfg, hfov, frame_id):
 
 
 class GazeboRosCameraPlugin(SensorPlugin):
-    """No per-step work: the renderer renders at the update rate from the published frame."""
+    """No per-step work (no ``sense``: no due time): the renderer renders at the update rate from
+    the published frame."""
 
     def load(self, model, spec, context):
         cfg = sensor_config.parse(spec.sensor, spec.element, spec.link, model.name,
@@ -116,9 +117,6 @@ class GazeboRosCameraPlugin(SensorPlugin):
             return SetCameraInfoResponse(False, "K[0] (fx) must be a positive number, got %r" % (fx,))
         err = self.set_hfov(2.0 * math.atan(self.cfg.width / (2.0 * fx)))
         return SetCameraInfoResponse(not err, err or "hfov %.4f rad" % self.hfov)
-
-    def after_step(self, t, dt):
-        pass
 
     def shutdown(self):
         self._zoom_sub.unregister()

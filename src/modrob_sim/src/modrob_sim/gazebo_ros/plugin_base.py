@@ -37,6 +37,7 @@ from modrob_sim.errors import PluginError
 from modrob_sim.physics.transforms import quat_from_rpy
 
 _UNSET = object()
+INF = float("inf")
 
 
 class ModelPlugin(object):
@@ -73,6 +74,17 @@ class ModelPlugin(object):
 
     def after_step(self, t, dt):
         """After every physics step; ``t`` is the new simulated time. Sensors and publishing."""
+
+    def before_due(self):
+        """The simulated time from which :meth:`before_step` next has work: the node calls it at
+        the first step starting at a ``t`` with ``t + 1e-9 >= before_due()`` and steps natively
+        until then (``math.inf``: not until :meth:`PluginContext.wake`). None, the default: at
+        every step. Cheap, no side effects (docs/plugins.md, "Due times")."""
+        return None
+
+    def after_due(self):
+        """As :meth:`before_due`, for :meth:`after_step` (the step ending at ``t``)."""
+        return None
 
     def reset(self):
         """reset_simulation (time back to 0, rng re-seeded before this call) or reset_world."""
@@ -146,6 +158,17 @@ class SensorPlugin(ModelPlugin):
         if self.gate.due(t):
             self.sense(t)
 
+    def after_due(self):
+        """From the update rate: the gate's next time. A subclass that overrides
+        :meth:`after_step` with a decimation of its own declares its own (else: every step);
+        one that overrides neither after_step nor :meth:`sense` has no step work."""
+        cls = type(self)
+        if cls.after_step is not SensorPlugin.after_step:
+            return None
+        if cls.sense is SensorPlugin.sense:
+            return INF
+        return self.gate.next_time
+
     def sense(self, t):
         """Take a reading at simulated time ``t`` and publish it (loop thread)."""
 
@@ -176,6 +199,14 @@ class RateGate(object):
             self._next = nxt
             return True
         return False
+
+    @property
+    def next_time(self):
+        """The simulated time from which :meth:`due` is true (-inf before the first reading):
+        what a plugin's ``before_due``/``after_due`` returns for this gate."""
+        if self.period <= 0.0 or self._next is None:
+            return -INF
+        return self._next
 
     def reset(self):
         self._next = None

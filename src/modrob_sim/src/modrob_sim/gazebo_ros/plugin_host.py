@@ -17,10 +17,25 @@ LOG = logging.getLogger("modrob_sim.gazebo_ros.plugins")
 _Loaded = collections.namedtuple("_Loaded", "model_name spec plugin context")
 
 
+INF = float("inf")
+
+
 def _overrides(plugin, hook):
-    """True when the plugin's class overrides the base's no-op ``hook`` (only those are called
-    every step, so a plugin pays nothing for the hooks it does not use)."""
+    """True when the plugin's class overrides the base's no-op ``hook`` (only those are called,
+    so a plugin pays nothing for the hooks it does not use)."""
     return getattr(type(plugin), hook) is not getattr(ModelPlugin, hook)
+
+
+def _earliest(fns):
+    """The earliest due time of the hooks' due functions (None from one of them: now)."""
+    due = INF
+    for f in fns:
+        d = f()
+        if d is None:
+            return -INF
+        if d < due:
+            due = d
+    return due
 
 
 class PluginHost(object):
@@ -28,7 +43,8 @@ class PluginHost(object):
     ``exports`` (a package_exports.PackageExports, or None) finds the plugins that packages export:
     a file name the registry does not know is looked up there and its module imported."""
 
-    def __init__(self, world, node_name, resolve, call=None, advertise=None, timers=None, exports=None):
+    def __init__(self, world, node_name, resolve, call=None, advertise=None, timers=None, exports=None,
+                 wake=None):
         self.world = world
         self.exports = exports
         self.node_name = node_name
@@ -36,11 +52,14 @@ class PluginHost(object):
         self._call = call
         self._advertise = advertise
         self._timers = timers
+        self._wake = wake
         self._loaded = collections.OrderedDict()    # model name -> [_Loaded]
         self._warned = set()
         self._import_failed = set()
         self._before = ()
         self._after = ()
+        self._before_due = ()
+        self._after_due = ()
         self._native = ()
 
     # ---- loading -----------------------------------------------------------------------------
@@ -62,7 +81,8 @@ class PluginHost(object):
                 spec = spec._replace(robot_namespace=ns)
             ctx = plugins.PluginContext(self.world, self.node_name, self.resolve, model.name, ns,
                                         seed=plugins.plugin_seed(self.world.seed, model.name, index, spec),
-                                        call=self._call, advertise=self._advertise, timers=self._timers)
+                                        call=self._call, advertise=self._advertise, timers=self._timers,
+                                        wake=self._wake)
             plugin = self._construct(factory, model, spec, ctx)
             if plugin is not None:
                 loaded.append(_Loaded(model.name, spec, plugin, ctx))
@@ -134,27 +154,39 @@ class PluginHost(object):
 
     def _rebuild(self):
         before, after = [], []
+        before_due, after_due = [], []
+        controls = []
         for items in self._loaded.values():
             for item in items:
-                if _overrides(item.plugin, "before_step"):
-                    before.append((item, item.plugin.before_step))
-                if _overrides(item.plugin, "after_step"):
-                    after.append((item, item.plugin.after_step))
+                p = item.plugin
+                nc = getattr(p, "native_control", None)
+                if nc is not None and nc not in controls:
+                    controls.append(nc)
+                for hook, hooks, dues in (("before_step", before, before_due),
+                                          ("after_step", after, after_due)):
+                    if not _overrides(p, hook):
+                        continue
+                    hooks.append((item, getattr(p, hook)))
+                    # a hook with a due time (docs/plugins.md, "Due times"), or one whose update the
+                    # C loop does (native_control); else it needs Python at every step
+                    if nc is None:
+                        dues.append(getattr(p, hook.replace("_step", "_due")))
         self._before, self._after = tuple(before), tuple(after)
-        controls = []
-        for item, _hook in before + after:
-            nc = getattr(item.plugin, "native_control", None)
-            if nc is None:
-                controls = None     # a plugin whose hooks need Python at every step
-                break
-            if nc not in controls:
-                controls.append(nc)
-        self._native = tuple(controls) if controls is not None else None
+        self._before_due, self._after_due = tuple(before_due), tuple(after_due)
+        self._native = tuple(controls)
 
     def native_controls(self):
-        """The ``native_control`` of every plugin with step hooks (gazebo_ros.fast_steps), or None
-        when a plugin's hooks have no native counterpart (then every step runs in Python)."""
+        """The ``native_control`` of every plugin that has one (gazebo_ros.fast_steps)."""
         return self._native
+
+    def before_due(self):
+        """The earliest simulated time from which a plugin's before_step has work (-inf: now;
+        a plugin that declares no due time is due at every step)."""
+        return _earliest(self._before_due)
+
+    def after_due(self):
+        """The same for after_step."""
+        return _earliest(self._after_due)
 
     def plugins_of(self, model_name):
         return [item.plugin for item in self._loaded.get(model_name, [])]

@@ -131,6 +131,9 @@ class PluginContext(object):
                      the hook for small messages; publish_later(build) hands the building and
                      serialisation of a big one to the node's publishing thread. The plugin owns
                      them: unregister them in its shutdown().
+    wake()           any thread: a ROS callback stored work for one of the plugin's hooks; the
+                     node asks the plugins' due times again after the step in progress, so the
+                     hook runs at the next step instead of at its declared due time
     every(period, callback, name)   ``callback(rospy.TimerEvent)`` every ``period`` seconds of
                      simulated time, in the node's publishing thread (a rospy.Timer in simulated
                      time without waking at every step; see sim_timers). Returns a handle with
@@ -139,7 +142,7 @@ class PluginContext(object):
     """
 
     def __init__(self, world, node_name, resolve, model_name="", robot_namespace="", seed=0, call=None,
-                 advertise=None, timers=None):
+                 advertise=None, timers=None, wake=None):
         self.world = world
         self.node_name = node_name
         self.resolve = resolve
@@ -150,6 +153,11 @@ class PluginContext(object):
         self._call = call
         self._advertise = advertise
         self._timers = timers
+        self._wake = wake
+
+    def wake(self):
+        if self._wake is not None:
+            self._wake()
 
     def call(self, fn, timeout=30.0):
         if self._call is None:      # no loop (a unit test drives the plugin itself)

@@ -50,13 +50,17 @@ class ControlRig(object):
         if data is not None:
             self.log.append(("joint_states", t, data))
 
-    def start(self, fast, batch_after_due=lambda: float("inf"), after=None):
+    def start(self, fast, batch_after_due=lambda: float("inf"), after=None, plugins=None):
         """The step hooks (``after``: the node's after-step work, e.g. its state messages) and, with
-        ``fast``, the node's FastSteps with ``batch_after_due`` as its publishers' schedule."""
+        ``fast``, the node's FastSteps with ``batch_after_due`` as its publishers' schedule and the
+        due times of ``plugins`` (a PluginHost whose hooks ``after`` calls) as the node's."""
         self.world.add_step_hook(before=self.before, after=after)
         if fast:
             self.nc = NativeControl(self.plugin)
-            host = types.SimpleNamespace(native_controls=lambda: (self.nc,))
+            never = lambda: float("inf")  # noqa: E731
+            host = types.SimpleNamespace(native_controls=lambda: (self.nc,),
+                                         before_due=plugins.before_due if plugins else never,
+                                         after_due=plugins.after_due if plugins else never)
             outputs = types.SimpleNamespace(batch_after_due=batch_after_due, batch_clock=lambda: None,
                                             after_batch=lambda **_kw: None)
             self.fast = FastSteps(self.world, host, types.SimpleNamespace(idle=True), outputs)

@@ -47,6 +47,14 @@ class Rate(object):
             self.next = t + self.period
         return True
 
+    @property
+    def next_time(self):
+        """The simulated time from which :meth:`due` is true (-inf before the first call or
+        with no rate): what a plugin declares as its hook's due time."""
+        if self.next is None or not self.period:
+            return -float("inf")
+        return self.next
+
     def reset(self):
         self.next = None
         self.last = None

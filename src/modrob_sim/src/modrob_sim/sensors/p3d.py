@@ -60,9 +60,10 @@ class P3d(object):
             self.rng = noise_rng(self.world, self.seed)
         self.rate.reset()
 
-    def step(self, t):
-        """(position, orientation, linear, angular) or None when not due."""
-        if not self.rate.due(t):
+    def step(self, t, measure=True):
+        """(position, orientation, linear, angular) or None when not due (or not ``measure``d: the
+        rate advances all the same)."""
+        if not self.rate.due(t) or not measure:
             return None
         pos, rot = self.link.pose
         v, w = self.link.twist

@@ -201,6 +201,9 @@ class ImuSensorPlugin(_Publishing, SensorPlugin):
         if r is not None and self.active():
             self.pub.publish(_imu_msg(r, self.frame, t, self.imu.noise))
 
+    def after_due(self):
+        return self.imu.sensor_rate.next_time
+
 
 class ImuModelRosPlugin(_Publishing, ModelPlugin):
     """libgazebo_ros_imu.so (model plugin) with its serviceName (std_srvs/Empty, a no-op
@@ -225,6 +228,9 @@ class ImuModelRosPlugin(_Publishing, ModelPlugin):
         if r is not None and self.active():
             self.pub.publish(_imu_msg(r, self.frame, t, self.imu.noise))
 
+    def after_due(self):
+        return self.imu.rate.next_time
+
     def shutdown(self):
         _Publishing.shutdown(self)
         self.srv.shutdown()
@@ -244,6 +250,9 @@ class GpsPlugin(_Publishing, ModelPlugin):
 
     def reset(self):
         self.gps.reset(_reseed(self.context))
+
+    def after_due(self):
+        return self.gps.rate.next_time
 
     def after_step(self, t, dt):
         f = self.gps.step(t)       # the error processes run whether or not anyone listens
@@ -280,10 +289,13 @@ class P3dPlugin(_Publishing, ModelPlugin):
     def reset(self):
         self.p3d.reset(_reseed(self.context))
 
+    def after_due(self):
+        return self.p3d.rate.next_time
+
     def after_step(self, t, dt):
-        if not self.active():
-            return
-        s = self.p3d.step(t)
+        # the rate keeps its grid whether or not anyone listens (a due time of its own), but the
+        # pose is only taken (and noise only drawn) for a subscriber
+        s = self.p3d.step(t, measure=self.active())
         if s is None:
             return
         pos, rot, v, w = s
