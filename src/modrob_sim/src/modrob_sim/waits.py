@@ -55,3 +55,93 @@ def stop_following_clock():
     sub.unregister()
     simtime._clock_sub = None
     return True
+
+
+class GraphWait(object):
+    """Wait from a shell for a ROS graph to be up: the master, then each name as an advertised
+    service or as a topic that has delivered one message (``rosrun modrob_sim wait_for``).
+
+    ROS 1's ``rostopic``/``rosservice``/``rosparam`` give up at once ("Unable to communicate with
+    master!") when they run before the master of a ``roslaunch ... &`` is up, and ``rosservice``
+    has no ``wait``; this is the missing piece between a backgrounded launch and the next command.
+    ``master`` is a ``rosgraph.Master``; ``subscribe(topic, callback)`` makes a subscription (in a
+    node, after the master is up) and returns it.
+    """
+
+    def __init__(self, master, subscribe):
+        self.master = master
+        self.subscribe = subscribe
+        self.subscriptions = {}
+        self.received = set()
+
+    def master_up(self):
+        try:
+            self.master.getPid()
+            return True
+        except Exception:  # noqa: B902 - any failure to reach the master means "not yet"
+            return False
+
+    def _state(self):
+        try:
+            publishers, _subscribers, services = self.master.getSystemState()
+        except Exception:  # noqa: B902 - the master went away (launch ended): not there
+            return set(), set()
+        return {t for t, _ in publishers}, {s for s, _ in services}
+
+    def pending(self, names):
+        """The names not there yet (subscribing to those that became published topics)."""
+        topics, services = self._state()
+        left = []
+        for name in names:
+            if name in services or name in self.received:
+                continue
+            if name in topics and name not in self.subscriptions:
+                self.subscriptions[name] = self.subscribe(
+                    name, lambda _msg, n=name: self.received.add(n))
+            left.append(name)
+        return left
+
+    def kind(self, name):
+        return "topic" if name in self.subscriptions else "service or topic"
+
+    def close(self):
+        for sub in self.subscriptions.values():
+            sub.unregister()
+        self.subscriptions.clear()
+
+
+def wait_for_graph(names, timeout, log=print):
+    """The command line's body: wait up to ``timeout`` wall seconds for the master and ``names``.
+    Returns 0 when all are there, 1 (after saying which are missing and why) otherwise."""
+    import rosgraph
+    start = time.monotonic()
+    graph = GraphWait(rosgraph.Master("/wait_for"),
+                      lambda topic, callback: rospy.Subscriber(topic, rospy.AnyMsg, callback))
+    uri = rosgraph.get_master_uri()
+    if not _poll(graph.master_up, start + timeout):
+        log("wait_for: no ROS master at %s within %.0f s: start a launch file (roslaunch ... &) or roscore "
+            "first, or check ROS_MASTER_URI" % (uri, timeout))
+        return 1
+    left = list(names)
+    if left:
+        rospy.init_node("wait_for", anonymous=True, disable_rosout=True, disable_rostime=True)
+        ok = _poll(lambda: not graph.pending(left), start + timeout)
+        left = graph.pending(left)
+        graph.close()
+        if not ok and left:
+            log("wait_for: not there after %.0f s: %s (no such service, and no message on such a topic; "
+                "`rosservice list` and `rostopic list` show what there is)"
+                % (timeout, ", ".join("%s (%s)" % (n, graph.kind(n)) for n in left)))
+            return 1
+    log("wait_for: %s up after %.1f s" % (", ".join([uri] + list(names)), time.monotonic() - start))
+    return 0
+
+
+def _poll(condition, end):
+    """``condition()`` every POLL wall seconds until it is true (True) or ``end`` passes (False)."""
+    while True:
+        if condition():
+            return True
+        if time.monotonic() > end:
+            return False
+        time.sleep(POLL)

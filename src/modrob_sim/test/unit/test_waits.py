@@ -45,3 +45,55 @@ def test_stop_following_clock_drops_rospys_clock_subscription_once(monkeypatch):
     assert waits.stop_following_clock() is True
     assert dropped == [1] and simtime._clock_sub is None
     assert waits.stop_following_clock() is False and dropped == [1]
+
+
+class FakeMaster(object):
+    """rosgraph.Master's two calls GraphWait makes; ``state`` is (publishers, subscribers, services)."""
+
+    def __init__(self):
+        self.up = False
+        self.state = ([], [], [])
+
+    def getPid(self):
+        if not self.up:
+            raise OSError("connection refused")
+        return 1
+
+    def getSystemState(self):
+        if not self.up:
+            raise OSError("connection refused")
+        return self.state
+
+
+class FakeSub(object):
+    def __init__(self, callback):
+        self.callback = callback
+        self.unregistered = False
+
+    def unregister(self):
+        self.unregistered = True
+
+
+def test_graph_wait_needs_the_service_advertised_and_a_message_on_the_topic():
+    master, subs = FakeMaster(), {}
+    graph = waits.GraphWait(master, lambda topic, cb: subs.setdefault(topic, FakeSub(cb)))
+    assert not graph.master_up()
+    assert graph.pending(["/clock", "/gazebo/spawn"]) == ["/clock", "/gazebo/spawn"]
+    master.up = True
+    assert graph.master_up()
+    master.state = ([("/clock", ["/gazebo"])], [], [("/gazebo/spawn", ["/gazebo"])])
+    assert graph.pending(["/clock", "/gazebo/spawn"]) == ["/clock"]  # published, nothing received yet
+    assert graph.kind("/clock") == "topic" and list(subs) == ["/clock"]
+    subs["/clock"].callback(object())
+    assert graph.pending(["/clock", "/gazebo/spawn"]) == []
+    graph.close()
+    assert subs["/clock"].unregistered
+
+
+def test_wait_for_graph_says_when_there_is_no_master(monkeypatch):
+    monkeypatch.setenv("ROS_MASTER_URI", "http://localhost:1")
+    said = []
+    start = time.monotonic()
+    assert waits.wait_for_graph(["/clock"], 0.3, log=said.append) == 1
+    assert time.monotonic() - start >= 0.3
+    assert "no ROS master at http://localhost:1" in said[0] and "roslaunch" in said[0]
