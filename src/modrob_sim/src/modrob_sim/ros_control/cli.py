@@ -166,9 +166,15 @@ def spawner_main(argv=None):
                 else:
                     rospy.logwarn("Could not unload %s (the simulator's log says why)" % name)
         except (rospy.ServiceException, rospy.ROSException) as exc:
+            if not all(_service_registered(rospy.resolve_name(client.names[k]))
+                       for k in ("switch_controller", "unload_controller")):
+                # the simulator stopped between the look above and the request: the usual end of a
+                # launch (roslaunch stops every node at once), and its controllers went with it
+                rospy.loginfo("Controller Spawner: the controller_manager went away with the simulator, "
+                              "and its controllers with it")
+                return
             rospy.logwarn("Controller Spawner couldn't reach controller_manager to take down "
-                          "controllers (%s) after %.1f s: the simulator has probably stopped already"
-                          % (exc, time.monotonic() - t0))
+                          "controllers (%s) after %.1f s" % (exc, time.monotonic() - t0))
 
     rospy.on_shutdown(shutdown)
     for name in controllers:
