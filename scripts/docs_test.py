@@ -1,0 +1,512 @@
+#!/usr/bin/env python3
+"""The docs test: every shell and Python block of README.md and docs/*.md runs as written, or is
+marked as not run with the reason. The convention is in docs/development.md ("Code blocks in the
+docs"); in short, on the line directly before a fenced ```bash / ```python block:
+
+    <!-- docs-test: skip (reason a reader understands) -->
+    <!-- docs-test: run [session=NAME] [until=CHECK,..] [expect=REGEX] [creates=PATH,..]
+                        [status=N] [timeout=S] [allow=REGEX] -->
+
+    docs_test.py                    check every block's marker, then run the blocks marked run
+    docs_test.py --check            only check the markers (no ROS, a second)
+    docs_test.py docs/ptrz.md       one document; docs/ptrz.md:99 only the session of that block
+    docs_test.py --list             the sessions that would run
+"""
+import argparse
+import glob
+import hashlib
+import os
+import re
+import shlex
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# fence languages that are run; every other language is text for the reader (xml, yaml, text ...)
+RUNNABLE = {"bash": "bash", "sh": "bash", "shell": "bash", "python": "python", "python3": "python"}
+# a block in another language whose first line starts with one of these is a command in disguise
+COMMANDS = {"rosrun", "roslaunch", "rostopic", "rosservice", "rosparam", "rosbag", "rosnode", "roscore",
+            "make", "source", "python3", "catkin_make", "colcon", "bash", "export", "rviz", "cd"}
+# what a successful run must not print (roslaunch's and rospy's red lines, tracebacks)
+RED_LINES = [re.compile(p) for p in (
+    r"\[(ERROR|FATAL)\]", r"^ERROR: ", r"Traceback \(most recent call last\)", r"process has died",
+    r"\[rospack\] Error", r"^Error: ", r"Segmentation fault", r"core dumped")]
+OPTIONS = {"session", "until", "expect", "creates", "status", "timeout", "allow", "display"}
+MARKER = re.compile(r"^\s*<!--\s*docs-test:\s*(.*?)\s*-->\s*$")
+FENCE = re.compile(r"^(\s*)(```+|~~~+)\s*([^`\s]*)[^`]*$")
+LIST_ITEM = re.compile(r"^(\s*)([-*+]|\d+[.)])(\s+)\S")
+DEFAULT_TIMEOUT = 60.0
+STOP_GRACE = 20.0  # wall seconds for a Ctrl-C'd launch to end before SIGTERM
+
+
+class Block(object):
+    def __init__(self, doc, line, lang, text, marker, indent):
+        self.doc, self.line, self.lang, self.text = doc, line, lang, text
+        self.marker, self.indent = marker, indent  # marker: None or the comment's inside
+        self.kind = RUNNABLE.get(lang)
+        self.action = None  # "run" | "skip"
+        self.reason = ""
+        self.opts = {}
+
+    @property
+    def where(self):
+        return "%s:%d" % (self.doc, self.line)
+
+
+class Problem(Exception):
+    pass
+
+
+def parse_marker(block):
+    """Fill block.action/reason/opts from its marker; raise Problem on a malformed one."""
+    text = block.marker
+    if text.startswith("skip"):
+        m = re.match(r"^skip\s*\((.+)\)$", text)
+        if not m or not m.group(1).strip():
+            raise Problem("the skip marker needs a reason: <!-- docs-test: skip (needs a display) -->")
+        block.action, block.reason = "skip", m.group(1).strip()
+        return
+    if text != "run" and not text.startswith("run "):
+        raise Problem("unknown docs-test marker %r: 'run [options]' or 'skip (reason)'" % text)
+    block.action = "run"
+    try:
+        words = shlex.split(text[3:])
+    except ValueError as e:
+        raise Problem("marker options do not parse (%s): quote values with spaces" % e)
+    for word in words:
+        key, eq, value = word.partition("=")
+        if not eq or key not in OPTIONS:
+            raise Problem("marker option %r: expected one of %s as key=value"
+                          % (word, ", ".join(sorted(OPTIONS))))
+        block.opts[key] = value
+    for check in split_list(block.opts.get("until", "")):
+        kind, _, name = check.partition(":")
+        if kind not in ("topic", "service", "file") or not name:
+            raise Problem("until=%s: each check is topic:/name, service:/name or file:path" % check)
+    if block.opts.get("display", "xvfb") != "xvfb":
+        raise Problem("display=%s: the only display is display=xvfb (a private X server)"
+                      % block.opts["display"])
+    for key in ("status", "timeout"):
+        if key in block.opts:
+            try:
+                float(block.opts[key])
+            except ValueError:
+                raise Problem("%s=%s is not a number" % (key, block.opts[key]))
+    for key in ("expect", "allow"):
+        if key in block.opts:
+            try:
+                re.compile(block.opts[key])
+            except re.error as e:
+                raise Problem("%s=%r is not a regular expression: %s" % (key, block.opts[key], e))
+
+
+def indent_of(line):
+    return len(line) - len(line.lstrip(" "))
+
+
+def selected(block, lines):
+    """Whether a command line's doc:LINE names this block (its marker, fence or body)."""
+    return None in lines or any(block.line - 1 <= n <= block.end for n in lines)
+
+
+def split_list(value):
+    return [v for v in value.split(",") if v]
+
+
+def scan(doc, text):
+    """(blocks, problems) of one Markdown text: fenced blocks with their markers, and every
+    indented code block, unmarked runnable block, block without a language or bad marker."""
+    lines = text.split("\n")
+    blocks, problems = [], []
+    i, prev_blank, list_indent = 0, True, None
+    while i < len(lines):
+        line = lines[i]
+        fence = FENCE.match(line)
+        if fence and len(fence.group(1)) < 4 + (list_indent or 0):
+            indent, ticks, lang = len(fence.group(1)), fence.group(2), fence.group(3).lower()
+            j = i + 1
+            while j < len(lines) and not lines[j].strip().startswith(ticks[0] * len(ticks)):
+                j += 1
+            body = [x[indent:] if x[:indent].strip() == "" else x.lstrip() for x in lines[i + 1:j]]
+            prev = MARKER.match(lines[i - 1]) if i > 0 else None
+            block = Block(doc, i + 1, lang, "\n".join(body) + "\n", prev.group(1) if prev else None, indent)
+            block.end = j + 1
+            blocks.append(block)
+            i, prev_blank = j + 1, False
+            continue
+        if not line.strip():
+            prev_blank = True
+            i += 1
+            continue
+        indent = indent_of(line)
+        base = list_indent or 0
+        if prev_blank and indent >= base + 4:
+            problems.append((doc, i + 1, "an indented code block: make it a fenced block with a language "
+                             "(```bash, ```python, ```text ...) and a docs-test marker if it runs"))
+            while i < len(lines) and (not lines[i].strip() or indent_of(lines[i]) >= base + 4):
+                i += 1
+            prev_blank = True
+            continue
+        item = LIST_ITEM.match(line)
+        if item:
+            list_indent = len(item.group(1)) + len(item.group(2)) + min(len(item.group(3)), 4)
+        elif prev_blank and indent < base:
+            list_indent = None
+        prev_blank = False
+        i += 1
+    for block in blocks:
+        where = (block.doc, block.line)
+        if not block.lang:
+            problems.append(where + ("a fenced block without a language: say what it is (```bash, ```python, "
+                                     "```text for output, ```xml ...)",))
+            continue
+        if block.marker is not None:
+            try:
+                parse_marker(block)
+            except Problem as e:
+                problems.append(where + (str(e),))
+                continue
+        if block.kind is None:
+            first = block.text.strip().split("\n")[0].split()
+            if block.action == "run":
+                problems.append(where + ("a run marker on a ```%s block: only bash and python blocks run"
+                                         % block.lang,))
+            elif first and first[0].lstrip("$") in COMMANDS and block.marker is None:
+                problems.append(where + ("a ```%s block that starts with the command '%s': make it ```bash "
+                                         "(and mark it run or skip)" % (block.lang, first[0]),))
+            continue
+        if block.action is None:
+            problems.append(where + ("a ```%s block neither run nor marked: put <!-- docs-test: run ... --> "
+                                     "or <!-- docs-test: skip (reason) --> on the line before it "
+                                     "(docs/development.md)"
+                                     % block.lang,))
+    return blocks, problems
+
+
+def documents():
+    docs = glob.glob(os.path.join(ROOT, "docs", "*.md"))
+    return ["README.md"] + sorted(os.path.relpath(p, ROOT) for p in docs)
+
+
+def sessions(blocks):
+    """Run-marked blocks grouped into sessions, in document order: blocks of one document with the
+    same session=NAME share one master and run one after the other; every other block is alone."""
+    out, named = [], {}
+    for block in blocks:
+        if block.action != "run":
+            continue
+        name = block.opts.get("session")
+        if name is None:
+            out.append([block])
+        elif (block.doc, name) in named:
+            named[(block.doc, name)].append(block)
+        else:
+            named[(block.doc, name)] = [block]
+            out.append(named[(block.doc, name)])
+    return out
+
+
+# ---------------------------------------------------------------- running
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def tracked_state():
+    """{path: digest} of the tracked files that differ from git's index, to see what a block rewrote."""
+    out = subprocess.run(["git", "diff", "--name-only"], cwd=ROOT, capture_output=True,
+                         text=True).stdout.split()
+    state = {}
+    for path in out:
+        full = os.path.join(ROOT, path)
+        state[path] = hashlib.sha1(open(full, "rb").read()).hexdigest() if os.path.exists(full) else None
+    return state
+
+
+class Session(object):
+    """One terminal per block (as a reader pastes them), one master for all, stopped at the end."""
+
+    def __init__(self, blocks, workdir):
+        self.blocks = blocks
+        self.dir = tempfile.mkdtemp(prefix="session-", dir=workdir)
+        self.env = dict(os.environ)
+        for var in ("DISPLAY", "ROS_MASTER_URI", "ROS_NAMESPACE", "WAYLAND_DISPLAY"):
+            self.env.pop(var, None)
+        self.env["ROS_MASTER_URI"] = "http://localhost:%d" % free_port()
+        self.env["ROS_HOME"] = os.path.join(self.dir, "ros_home")
+        self.groups = []  # process group ids still to stop
+        self.xvfb = None
+        self.group_of = {}
+        self.procs = []  # reaped while stopping: a zombie leader would keep its group "alive"
+        self.logs = {}
+        self.results = {}  # block -> (ok, message, seconds)
+
+    def start(self, block, n):
+        path = os.path.join(self.dir, "block%d.%s" % (n, "py" if block.kind == "python" else "sh"))
+        with open(path, "w") as f:
+            f.write(block.text)
+        run = 'exec python3 "$0"' if block.kind == "python" else 'exec bash -e "$0"'
+        log = os.path.join(self.dir, "block%d.log" % n)
+        self.logs[block] = log
+        env = dict(self.env, DISPLAY=self.display()) if "display" in block.opts else self.env
+        with open(log, "w") as out:
+            proc = subprocess.Popen(["bash", "-c", "source scripts/env.sh && " + run, path],
+                                    cwd=ROOT, env=env,
+                                    stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT,
+                                    start_new_session=True)
+        self.groups.append(proc.pid)
+        self.group_of[proc.pid] = block
+        self.procs.append(proc)
+        return proc
+
+    def display(self):
+        """A private Xvfb for the blocks marked display=xvfb (started once per session)."""
+        if self.xvfb is None:
+            number = next(n for n in range(90, 300) if not os.path.exists("/tmp/.X11-unix/X%d" % n)
+                          and not os.path.exists("/tmp/.X%d-lock" % n))
+            self.xvfb = (":%d" % number, subprocess.Popen(
+                ["Xvfb", ":%d" % number, "-screen", "0", "1280x1024x24", "-nolisten", "tcp"],
+                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True))
+            end = time.monotonic() + 10
+            while not os.path.exists("/tmp/.X11-unix/X%d" % number) and time.monotonic() < end:
+                time.sleep(0.05)
+        return self.xvfb[0]
+
+    def run_block(self, block, n):
+        start = time.monotonic()
+        timeout = float(block.opts.get("timeout", DEFAULT_TIMEOUT))
+        before = tracked_state()
+        proc = self.start(block, n)
+        checks = split_list(block.opts.get("until", ""))
+        if checks:
+            problem = self.wait_checks(proc, checks, start + timeout)
+        else:
+            try:
+                status = proc.wait(timeout=timeout)
+                want = int(float(block.opts.get("status", 0)))
+                problem = None if status == want else "exit status %d (expected %d)" % (status, want)
+            except subprocess.TimeoutExpired:
+                problem = ("did not finish within %.0f s: a launch in the foreground? Give the marker "
+                           "until=..., "
+                           "end the line with & and wait for it, or mark the block skip" % timeout)
+        if problem is None:
+            problem = self.check_files(block)
+        rewritten = sorted(p for p, d in tracked_state().items() if before.get(p) != d)
+        if problem is None and rewritten:
+            problem = ("rewrote tracked files: %s (write under out/ or a path the reader gives)"
+                       % ", ".join(rewritten))
+        self.results[block] = [problem is None, problem, time.monotonic() - start]
+        return problem is None
+
+    def wait_checks(self, proc, checks, end):
+        names = [c.partition(":")[2] for c in checks if not c.startswith("file:")]
+        files = [c.partition(":")[2] for c in checks if c.startswith("file:")]
+        waiter = None
+        if names:
+            script = ('source scripts/env.sh && exec rosrun modrob_sim wait_for --timeout %.0f "$@"'
+                      % max(1.0, end - time.monotonic()))
+            waiter = subprocess.Popen(["bash", "-c", script, "wait_for"] + names, cwd=ROOT, env=self.env,
+                                      stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                      start_new_session=True)
+        while True:
+            status = proc.poll()
+            if status is not None:
+                if waiter:
+                    os.killpg(waiter.pid, signal.SIGKILL)
+                    waiter.wait()
+                return "ended (exit status %d) before %s" % (status, ", ".join(checks))
+            names_ok = waiter is None or waiter.poll() == 0
+            if waiter is not None and waiter.poll() not in (None, 0):
+                return "%s (%s)" % (", ".join(checks), waiter.stdout.read().strip())
+            missing = [f for f in files if not os.path.exists(os.path.join(ROOT, f))]
+            if names_ok and not missing:
+                return None
+            if time.monotonic() > end:
+                if waiter:
+                    os.killpg(waiter.pid, signal.SIGKILL)
+                    waiter.wait()
+                return "not within %.0f s: %s" % (float(end - time.monotonic()), ", ".join(missing or names))
+            time.sleep(0.1)
+
+    def check_files(self, block):
+        missing = [f for f in split_list(block.opts.get("creates", ""))
+                   if not os.path.exists(os.path.join(ROOT, f))]
+        return "did not create %s" % ", ".join(missing) if missing else None
+
+    def stop(self):
+        """Ctrl-C every block's process group (launches end as a reader's would), then insist.
+        Returns the groups that needed more than Ctrl-C."""
+        stubborn = []
+        for sig, grace in ((signal.SIGINT, STOP_GRACE), (signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
+            alive = self.alive()
+            if not alive:
+                break
+            if sig != signal.SIGINT:
+                stubborn += [g for g in alive if g not in stubborn]
+            for g in alive:
+                try:
+                    os.killpg(g, sig)
+                except ProcessLookupError:
+                    pass
+            end = time.monotonic() + grace
+            while time.monotonic() < end and self.alive():
+                time.sleep(0.1)
+        if self.xvfb is not None:
+            self.xvfb[1].terminate()
+            self.xvfb[1].wait()
+        return stubborn
+
+    def alive(self):
+        for proc in self.procs:
+            proc.poll()
+        return [g for g in self.groups if group_alive(g)]
+
+    def red_lines(self):
+        for block, log in self.logs.items():
+            allow = re.compile(block.opts["allow"]) if "allow" in block.opts else None
+            with open(log, errors="replace") as f:
+                text = f.read()
+            bad = [x for x in strip_ansi(text).split("\n")
+                   if any(p.search(x) for p in RED_LINES) and not (allow and allow.search(x))]
+            result = self.results.get(block)
+            if result is None:
+                continue
+            if result[0] and bad:
+                result[0], result[1] = False, "a successful run printed %d red line(s):\n  %s" % (
+                    len(bad), "\n  ".join(bad[:8]))
+            expect = block.opts.get("expect")
+            if result[0] and expect is not None and not re.search(expect, strip_ansi(text), re.M):
+                result[0], result[1] = False, "the output has no match for expect=%r" % block.opts["expect"]
+
+
+def group_alive(pgid):
+    try:
+        os.killpg(pgid, 0)
+        return True
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+
+
+def strip_ansi(text):
+    return re.sub(r"\x1b\[[0-9;]*[A-Za-z]|\x1b\][^\x07]*\x07", "", text)
+
+
+def run_session(blocks, workdir):
+    session = Session(blocks, workdir)
+    try:
+        for n, block in enumerate(blocks, 1):
+            if not session.run_block(block, n):
+                break
+    finally:
+        t = time.monotonic()
+        stubborn = session.stop()
+        session.stop_seconds = time.monotonic() - t
+    for pgid in stubborn:
+        result = session.results.get(session.group_of[pgid])
+        if result and result[0]:
+            result[0] = False
+            result[1] = "its processes did not end within %.0f s of Ctrl-C (SIGINT)" % STOP_GRACE
+    session.red_lines()
+    for block in blocks:
+        if block.action == "run" and block not in session.results:
+            session.results[block] = [False, "not run: an earlier block of its session failed", 0.0]
+    return session
+
+
+def write_junit(path, cases):
+    """cases: (classname, name, seconds, failure message or None)."""
+    suite = ET.Element("testsuite", name="docs", tests=str(len(cases)),
+                       failures=str(sum(1 for c in cases if c[3])), errors="0", skipped="0")
+    for classname, name, seconds, failure in cases:
+        case = ET.SubElement(suite, "testcase", classname=classname, name=name, time="%.1f" % seconds)
+        if failure:
+            ET.SubElement(case, "failure", message=failure.split("\n")[0]).text = failure
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    ET.ElementTree(suite).write(path, encoding="unicode")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("targets", nargs="*", help="README.md, docs/x.md or docs/x.md:LINE (default: all)")
+    ap.add_argument("--check", action="store_true", help="only check that every block is run or marked")
+    ap.add_argument("--list", action="store_true", help="print the sessions and exit")
+    ap.add_argument("--junit", help="write JUnit XML here")
+    ap.add_argument("--keep", action="store_true", help="keep the blocks' scripts and logs (printed)")
+    args = ap.parse_args()
+
+    wanted = {}
+    for t in args.targets:
+        doc, _, line = t.partition(":")
+        wanted.setdefault(os.path.relpath(os.path.abspath(doc), ROOT), set()).add(int(line) if line else None)
+    cases, blocks = [], []
+    n_problems = 0
+    for doc in documents():
+        if wanted and doc not in wanted:
+            continue
+        found, problems = scan(doc, open(os.path.join(ROOT, doc)).read())
+        blocks += found
+        for d, line, message in problems:
+            print("[docs] %s:%d: %s" % (d, line, message))
+            cases.append(("docs." + d, "L%d markers" % line, 0.0, message))
+        n_problems += len(problems)
+    runnable = [b for b in blocks if b.kind]
+    skipped = [b for b in runnable if b.action == "skip"]
+    groups = sessions(blocks)
+    if wanted:
+        groups = [g for g in groups if any(selected(b, wanted[b.doc]) for b in g)]
+    print("[docs] %d shell/python blocks in %d documents: %d to run in %d sessions, %d marked not run, "
+          "%d problems" % (len(runnable), len({b.doc for b in blocks}), sum(len(g) for g in groups),
+                           len(groups), len(skipped), n_problems), flush=True)
+    if args.list:
+        for g in groups:
+            print("  " + " + ".join(b.where for b in g))
+        return 1 if n_problems else 0
+    if args.check:
+        if args.junit:
+            write_junit(args.junit, cases or [("docs", "markers", 0.0, None)])
+        return 1 if n_problems else 0
+
+    workdir = tempfile.mkdtemp(prefix="modrob-docs-test-")
+    failed = 0
+    for i, group in enumerate(groups, 1):
+        start = time.monotonic()
+        session = run_session(group, workdir)
+        for block in group:
+            ok, message, seconds = session.results[block]
+            cases.append(("docs." + block.doc, "L%d" % block.line, seconds, None if ok else message))
+            if not ok:
+                failed += 1
+                print("[docs] %s FAILED: %s\n       log: %s"
+                      % (block.where, message, session.logs.get(block, "-")))
+                if block in session.logs:
+                    with open(session.logs[block], errors="replace") as f:
+                        tail = strip_ansi(f.read()).rstrip().split("\n")[-25:]
+                    print("       | " + "\n       | ".join(tail))
+        print("[docs] [%d/%d] %s: %s in %.0f s (%s; stop %.1f s)" % (
+            i, len(groups), " + ".join(b.where for b in group),
+            "ok" if all(session.results[b][0] for b in group) else "FAILED", time.monotonic() - start,
+            " + ".join("%.1f" % session.results[b][2] for b in group), session.stop_seconds), flush=True)
+    if args.junit:
+        write_junit(args.junit, cases)
+    if args.keep or failed:
+        print("[docs] scripts and logs: %s" % workdir)
+    else:
+        subprocess.call(["rm", "-rf", workdir])
+    print("[docs] %d blocks run, %d failed, %d marked not run; %d marker problems"
+          % (sum(len(g) for g in groups), failed, len(skipped), n_problems))
+    return 1 if failed or n_problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
