@@ -41,7 +41,7 @@ OPTIONS = {"session", "until", "expect", "creates", "status", "timeout", "allow"
 MARKER = re.compile(r"^\s*<!--\s*docs-test:\s*(.*?)\s*-->\s*$")
 FENCE = re.compile(r"^(\s*)(```+|~~~+)\s*([^`\s]*)[^`]*$")
 LIST_ITEM = re.compile(r"^(\s*)([-*+]|\d+[.)])(\s+)\S")
-DEFAULT_TIMEOUT = 60.0
+DEFAULT_TIMEOUT = 120.0  # wall seconds: generous, a shared 2-core machine can be slow
 STOP_GRACE = 20.0  # wall seconds for a Ctrl-C'd launch to end before SIGTERM
 
 

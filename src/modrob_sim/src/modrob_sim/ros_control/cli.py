@@ -177,18 +177,28 @@ def spawner_main(argv=None):
                           "controllers (%s) after %.1f s" % (exc, time.monotonic() - t0))
 
     rospy.on_shutdown(shutdown)
-    for name in controllers:
-        rospy.loginfo("Loading controller: %s" % name)
-        if client.load_controller(name).ok:
-            loaded.append(name)
-        else:
-            rospy.logerr("Failed to load %s (the simulator's log says why)" % name)
-    rospy.loginfo("Controller Spawner: Loaded controllers: %s" % ", ".join(loaded))
-    if loaded and not args.stopped and not rospy.is_shutdown():
-        if client.switch_controller(loaded, [], STRICT, False, 0.0).ok:
-            rospy.loginfo("Started controllers: %s" % ", ".join(loaded))
-        else:
-            rospy.logerr("Failed to start controllers: %s" % ", ".join(loaded))
+    try:
+        for name in controllers:
+            rospy.loginfo("Loading controller: %s" % name)
+            if client.load_controller(name).ok:
+                loaded.append(name)
+            else:
+                rospy.logerr("Failed to load %s (the simulator's log says why)" % name)
+        rospy.loginfo("Controller Spawner: Loaded controllers: %s" % ", ".join(loaded))
+        if loaded and not args.stopped and not rospy.is_shutdown():
+            if client.switch_controller(loaded, [], STRICT, False, 0.0).ok:
+                rospy.loginfo("Started controllers: %s" % ", ".join(loaded))
+            else:
+                rospy.logerr("Failed to start controllers: %s" % ", ".join(loaded))
+    except (rospy.ServiceException, rospy.ROSException) as exc:
+        load = rospy.resolve_name(client.names["load_controller"])
+        if rospy.is_shutdown() or not _service_registered(load):
+            # stopped (Ctrl-C, the launch ending) while it was still loading: nothing went wrong
+            rospy.loginfo("Controller Spawner: stopped while loading controllers (the simulator is gone)")
+            return 0
+        rospy.logerr("Controller Spawner: the controller_manager stopped answering (%s); the simulator's log "
+                     "says why" % exc)
+        return 1
     # from here on it only waits to take the controllers down (wall-clock timeouts): /clock would
     # cost it CPU at every message, beside the simulator
     stop_following_clock()
