@@ -19,6 +19,7 @@ from robot_localization.measurements import (IDENTITY, Frame, PoseInput, cov6, i
                                              matrix_of_quaternion, quaternion_of_rpy, twist_measurement)
 from robot_localization.srv import SetPose, SetPoseResponse
 
+MIN_QUEUE = 10
 MESSAGE_TYPES = {"odom": Odometry, "twist": TwistWithCovarianceStamped, "imu": Imu,
                  "pose": PoseWithCovarianceStamped}
 
@@ -31,8 +32,11 @@ class InputHandler(object):
         self.pose = PoseInput(cfg.config, cfg.differential, cfg.relative)
         self.last_stamp = None
         self.count = 0
+        # at least MIN_QUEUE: rospy hands each message to a Python thread, and a busy filter tick
+        # holds the interpreter long enough to drop messages from a queue of 1 (a dropped stop
+        # message lets the estimate run on at the last speed)
         self.sub = rospy.Subscriber(cfg.topic, MESSAGE_TYPES[cfg.kind], self.callback,
-                                    queue_size=cfg.queue_size)
+                                    queue_size=max(cfg.queue_size, MIN_QUEUE))
 
     def callback(self, msg):
         t = msg.header.stamp.to_sec()
@@ -108,6 +112,7 @@ class EkfNode(object):
         self.lock = threading.Lock()
         self.queue = collections.deque()
         self.last_measurement = None
+        self.last_stamp = None          # of the last estimate published
         self._warned = {}
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
@@ -183,6 +188,9 @@ class EkfNode(object):
                 stamp = now
             else:
                 state, cov, stamp = f.state.copy(), f.covariance.copy(), f.time
+        if self.last_stamp is not None and stamp <= self.last_stamp and now >= self.last_stamp:
+            return          # nothing newer (simulated time stood still): tf2 would refuse a repeated stamp
+        self.last_stamp = stamp     # (a clock sent back, as by reset_simulation, starts afresh)
         if not np.all(np.isfinite(state)):
             rospy.logerr_throttle(5.0, "%s: the filter's state is not finite: check the inputs' covariances "
                                   "and process_noise_covariance" % rospy.get_name())
