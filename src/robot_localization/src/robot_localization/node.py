@@ -20,6 +20,7 @@ from robot_localization.measurements import (IDENTITY, Frame, PoseInput, cov6, i
 from robot_localization.srv import SetPose, SetPoseResponse
 
 MIN_QUEUE = 10
+HOLD = 0.5          # s: the longest a measurement waits for the other inputs (see EkfNode._horizon)
 MESSAGE_TYPES = {"odom": Odometry, "twist": TwistWithCovarianceStamped, "imu": Imu,
                  "pose": PoseWithCovarianceStamped}
 
@@ -52,7 +53,7 @@ class InputHandler(object):
             self.node.warn(self.cfg.name + "bad", "%s: %s: message ignored" % (self.cfg.topic, err))
             return
         self.count += 1
-        self.node.enqueue(found)
+        self.node.enqueue(self.cfg.name, t, found)
 
     def _m(self, got, t, threshold):
         if got is None:
@@ -113,6 +114,7 @@ class EkfNode(object):
         self.queue = collections.deque()
         self.last_measurement = None
         self.last_stamp = None          # of the last estimate published
+        self.latest = {}                # input name -> stamp of its newest message
         self._warned = {}
         self.tf_buffer = tf2_ros.Buffer()
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
@@ -146,9 +148,19 @@ class EkfNode(object):
         q, t = tf.transform.rotation, tf.transform.translation
         return Frame.from_quaternion((q.x, q.y, q.z, q.w), (t.x, t.y, t.z))
 
-    def enqueue(self, measurements):
+    def enqueue(self, source, t, measurements):
         with self.lock:
+            self.latest[source] = t
             self.queue.extend(measurements)
+
+    def _horizon(self):
+        """The time up to which every input that speaks has reported: measurements up to it are
+        fused, later ones wait, so that one topic's message arriving after another's later one
+        still meets the filter in time order. An input silent for HOLD seconds holds no one up."""
+        if not self.latest:
+            return None
+        newest = max(self.latest.values())
+        return max(min(self.latest.values()), newest - HOLD)
 
     def _on_set_pose(self, msg):
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
@@ -172,8 +184,11 @@ class EkfNode(object):
     def _tick(self, event):
         now = rospy.get_time()
         with self.lock:
-            items = sorted(self.queue, key=lambda m: m.time)
-            self.queue.clear()
+            horizon = self._horizon()
+            if horizon is None:
+                return
+            items = sorted((m for m in self.queue if m.time <= horizon), key=lambda m: m.time)
+            self.queue = collections.deque(m for m in self.queue if m.time > horizon)
             f = self.filter
             for m in items:
                 if not f.process(m):

@@ -101,6 +101,7 @@ class EkfDrive(unittest.TestCase):
             x, y = a.x + f * (b.x - a.x), a.y + f * (b.y - a.y)
             p = msg.pose.pose.position
             errors.append(math.hypot(p.x - x, p.y - y))
+        rospy.loginfo("ekf_drive: largest error %.4f m over %d estimates" % (max(errors), len(errors)))
         self.assertLess(max(errors), 0.05, "largest error %.3f m" % max(errors))
         tf = self.tf.lookup_transform("odom", "base_link", rospy.Time(0), rospy.Duration(2.0))
         self.assertAlmostEqual(tf.transform.translation.x, path[-1].x, delta=0.05)
