@@ -1,12 +1,14 @@
 """Tier 1: contacts of the physics core: friction on a ramp, meshes, SDF worlds, collision
 filtering inside a model."""
 import importlib.util
+import logging
 import math
 import os
 import random
 
 import pytest
 
+from modrob_sim.errors import ModelError
 from modrob_sim.physics import World
 
 _FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "physics")
@@ -388,3 +390,28 @@ def test_min_depth_of_two_bodies_is_the_smaller(native):
     world.step(1000)
     sunk = (lower.pose[0][2] + 0.05) - (upper.pose[0][2] - 0.05)
     assert 0.0005 < sunk < 0.0015
+
+
+def test_a_missing_collision_mesh_collides_as_the_links_visual_mesh_with_one_warning(caplog):
+    """katana_description's collision meshes are convex decompositions its build makes (with
+    convex_decomposition, which Debian lacks): from a source checkout they do not exist."""
+    cube = "file://" + os.path.join(_FIX, "cube_binary.stl")
+    unbuilt = "file://" + os.path.join(_FIX, "convex", "cube_binary_convex.stl")
+    xml = H.robot("m", '<link name="m">%s<visual><geometry><mesh filename="%s"/></geometry></visual>'
+                  '<collision><geometry><mesh filename="%s"/></geometry></collision></link>'
+                  % (H.inertial(0.5, 8e-4, 8e-4, 8e-4), cube, unbuilt))
+    world = World()
+    world.add_sdf(H.fixture("table_world.sdf").split("<model name=\"table\">")[0] + "</world></sdf>")
+    with caplog.at_level(logging.WARNING):
+        m = world.add_urdf("cube", xml, pose=((0.0, 0.0, 0.3), (0.0, 0.0, 0.0, 1.0)))
+    world.step(1500)
+    assert m.pose[0][2] == pytest.approx(0.05, abs=0.002)     # rests on the visual cube
+    warnings = [r.getMessage() for r in caplog.records if "collision mesh" in r.getMessage()]
+    assert len(warnings) == 1
+    assert "model 'cube': 1 collision mesh file does not exist" in warnings[0]
+    assert "m ('%s' -> '%s')" % (unbuilt, cube) in warnings[0]
+    # without a visual mesh to stand in, the model is refused as before, naming the file
+    with pytest.raises(ModelError, match="cube_binary_convex.stl"):
+        world.add_urdf("bare", H.robot("bare", '<link name="m">%s<collision><geometry><mesh filename="%s"/>'
+                                       '</geometry></collision></link>'
+                                       % (H.inertial(0.5, 8e-4, 8e-4, 8e-4), unbuilt)))

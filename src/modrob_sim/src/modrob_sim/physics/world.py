@@ -18,6 +18,7 @@ from . import native as native_mod
 from . import odelib
 from .backends import NativeBackend, NativeMesh, PureBackend  # noqa: F401 (NativeMesh: public name)
 from .builder import build_model
+from .description import GeometryDesc
 from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN  # noqa: F401 (public names)
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, dot, normalized, pose_mul,
                          quat_rotate, to_ode_quat)
@@ -594,9 +595,44 @@ class World(object):
                     if kind == "visual" and path:
                         gd.uri = "file://" + os.path.abspath(path)
 
+    def _mesh_file(self, uri):
+        """The existing file a mesh URI names, or None."""
+        try:
+            path = self._resolve(uri)
+        except Exception:   # noqa: B902 - any resolver failure means: not here
+            return None
+        return path if path and os.path.isfile(path) else None
+
+    def _unbuilt_collision_meshes(self, desc):
+        """A collision mesh whose file is missing while the same link's visual mesh exists (a mesh
+        its package makes at build time: katana_description's convex decompositions come from
+        convex_decomposition and ivcon, which Debian lacks) collides as that visual mesh; one
+        warning per model lists them. Gazebo would refuse the model; this keeps a robot checked out
+        from source usable."""
+        swapped = []
+        for ld in desc.links.values():
+            visual = next((v for v in ld.visuals if v.kind == "mesh" and v.uri
+                           and self._mesh_file(v.uri)), None)
+            if visual is None:
+                continue
+            for i, gd in enumerate(ld.collisions):
+                if (gd.kind != "mesh" or not gd.uri or gd.uri.startswith("model://")
+                        or self._mesh_file(gd.uri)):
+                    continue
+                ld.collisions[i] = GeometryDesc("mesh", visual.size, visual.origin, visual.uri, gd.name,
+                                                gd.surface)
+                swapped.append("%s ('%s' -> '%s')" % (ld.name, gd.uri, visual.uri))
+        if swapped:
+            self._warn_once("mesh-unbuilt:%s" % desc.name,
+                            "model '%s': %d collision mesh file%s do%s not exist (files a package makes "
+                            "when it is built?); those links collide as their visual meshes instead: %s"
+                            % (desc.name, len(swapped), "s" if len(swapped) > 1 else "",
+                               "" if len(swapped) > 1 else "es", "; ".join(swapped)))
+
     def _prepare_meshes(self, desc):
         """Resolve and load every collision mesh of ``desc`` before any ODE object is made."""
         self._offline_meshes(desc)
+        self._unbuilt_collision_meshes(desc)
         out = {}
         for ld in desc.links.values():
             for gd in ld.collisions:
