@@ -6,6 +6,7 @@ import os
 import pytest
 import yaml
 
+from modrob_sim.ros_control import gain_check
 from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
 from modrob_sim.ros_control.hardware import RobotHWSim
 from modrob_sim.ros_control.manager import STRICT, ControllerManager
@@ -131,7 +132,8 @@ def test_gains_that_cannot_run_at_the_step_are_named_once_at_load_time():
     logs = []
     mgr.log = lambda level, msg: logs.append((level, msg))
     mgr.time_step = world.time_step
-    inertia = model.joints["shoulder"]._child_inertia
+    inertia = gain_check.effective_inertia(model.joints["shoulder"])
+    assert inertia == pytest.approx(model.joints["shoulder"].child_inertia)   # one link beyond it
     d_max = 2.0 * inertia / world.time_step
     ok = {"type": "effort_controllers/JointPositionController", "joint": "shoulder",
           "pid": {"p": 100.0, "d": 0.4 * d_max}}
@@ -143,6 +145,26 @@ def test_gains_that_cannot_run_at_the_step_are_named_once_at_load_time():
     assert len(warns) == 1
     assert "controller 'shaky' joint 'shoulder'" in warns[0]
     assert "largest stable d is %.3g" % d_max in warns[0]
+
+
+def test_the_inertia_a_joint_moves_is_everything_beyond_it():
+    """ur_gazebo's gains on a UR-like arm: d = 200 on the shoulder moves the whole arm (no warning);
+    the same d on the last joint, whose link weighs 0.19 kg, is named."""
+    with open(os.path.join(FIX, "arm6_controllers.yaml")) as f:
+        cfg = yaml.safe_load(f)
+    world, model, mgr = sim("arm6_three_interfaces.urdf", ns="/arm6")
+    logs = []
+    mgr.log = lambda level, msg: logs.append((level, msg))
+    mgr.time_step = world.time_step
+    pan, wrist3 = model.joints["shoulder_pan_joint"], model.joints["wrist_3_joint"]
+    assert gain_check.effective_inertia(pan) > 20 * pan.child_inertia
+    assert gain_check.effective_inertia(wrist3) == pytest.approx(wrist3.child_inertia)
+    mgr.load("ur_style", cfg["eff_joint_traj_controller"])
+    assert logs == []
+    params = dict(cfg["eff_joint_traj_controller"])
+    params["gains"] = dict(params["gains"], wrist_3_joint={"p": 10, "d": 200})
+    mgr.load("shaky_wrist", params)
+    assert len(logs) == 1 and "controller 'shaky_wrist' joint 'wrist_3_joint': d = 200" in logs[0][1]
 
 
 ARM6 = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
