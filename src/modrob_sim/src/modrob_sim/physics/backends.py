@@ -231,8 +231,10 @@ class PureBackend(object):
     def _pair(self, w, s1, s2, static1, static2):
         """Contact parameters of a surface pair, as Gazebo: kp in series, kd summed, the smaller
         mu; maxVel and minDepth are per BODY in Gazebo (the smaller of the two bodies'), so a
-        static side does not count; with <fdir1> on both sides, that of the smaller mu1; the
-        world's cap of contacts lowered by either side's own."""
+        static side does not count, and minDepth replaces the world's contact_surface_layer (a
+        surface without minDepth takes the layer);
+        with <fdir1> on both sides, that of the smaller mu1; the world's cap of contacts lowered
+        by either side's own."""
         key = (s1, s2, static1, static2)
         pp = w._pair_cache.get(key)
         if pp is not None:
@@ -251,12 +253,11 @@ class PureBackend(object):
         pp.fdir_side = 2 if use2 else (1 if any(s1.fdir1) else 0)
         pp.fdir = s2.fdir1 if use2 else s1.fdir1
         pp.max_contacts = min([w._max_contacts] + [s.max_contacts for s in (s1, s2) if s.max_contacts > 0])
-        layer = w._params["contact_surface_layer"]
         sides = [s for s, st in ((s1, static1), (s2, static2)) if not st] or [s1, s2]
-        min_depth = min(s.min_depth for s in sides)
-        pp.shift = max(0.0, min_depth - layer)
+        layer = w._params["contact_surface_layer"]
+        pp.shift = min(layer if s.min_depth is None else s.min_depth for s in sides)
         max_vel = min(s.max_vel for s in sides)
-        pp.cap = layer + max_vel * dt / pp.erp if pp.erp > 0 else float("inf")
+        pp.cap = max_vel * dt / pp.erp if pp.erp > 0 else float("inf")
         w._pair_cache[key] = pp
         return pp
 

@@ -16,7 +16,8 @@ DEFAULT_MU = 1.0
 DEFAULT_KP = 1e12
 DEFAULT_KD = 1.0
 DEFAULT_MAX_VEL = 0.01
-DEFAULT_MIN_DEPTH = 0.0
+#: minDepth not given: the world's contact_surface_layer (SDF's default is 0; see docs/physics.md)
+DEFAULT_MIN_DEPTH = None
 
 
 class Surface(object):
@@ -38,9 +39,9 @@ class Surface(object):
                        self.max_contacts)
 
     def key(self):
-        """The surface as the C loop's mr_set_surface takes it."""
-        return (self.mu1, self.mu2, self.kp, self.kd, self.max_vel, self.min_depth) + \
-            tuple(self.fdir1) + (self.max_contacts,)
+        """The surface as the C loop's mr_set_surface takes it (minDepth not given: -1)."""
+        return (self.mu1, self.mu2, self.kp, self.kd, self.max_vel,
+                -1.0 if self.min_depth is None else self.min_depth) + tuple(self.fdir1) + (self.max_contacts,)
 
 
 class GeometryDesc(object):

@@ -132,7 +132,7 @@ def validate_model(desc):
                 _check_geometry(m, "%s <%s%s>" % (where, kind, " name='%s'" % g.name if g.name else ""), g)
         s = ld.surface
         for name, v in (("mu1", s.mu1), ("mu2", s.mu2), ("kp", s.kp), ("kd", s.kd),
-                        ("maxVel", s.max_vel), ("minDepth", s.min_depth)):
+                        ("maxVel", s.max_vel), ("minDepth", s.min_depth or 0.0)):
             _check_range(m, where, "<%s>" % name, v, 0.0, SURFACE_LIMIT, "")
     for jd in desc.joints.values():
         where = "joint '%s'" % jd.name

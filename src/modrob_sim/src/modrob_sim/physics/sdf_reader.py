@@ -125,8 +125,9 @@ def _surface(rd, ce, where):
         s.kp = rd.float(_text(co, "kp"), where, "<kp>", s.kp)
         s.kd = rd.float(_text(co, "kd"), where, "<kd>", s.kd)
         s.max_vel = rd.float(_text(co, "max_vel"), where, "<max_vel>", s.max_vel)
-        s.min_depth = rd.float(_text(co, "min_depth"), where, "<min_depth>", s.min_depth)
-    if min(s.mu1, s.mu2, s.kd, s.max_vel, s.min_depth) < 0 or s.kp <= 0:
+        if _text(co, "min_depth") is not None:
+            s.min_depth = rd.float(_text(co, "min_depth"), where, "<min_depth>")
+    if min(s.mu1, s.mu2, s.kd, s.max_vel, s.min_depth or 0.0) < 0 or s.kp <= 0:
         rd.fail(where, "surface parameters must not be negative (kp positive)")
     return s
 

@@ -328,7 +328,7 @@ def _gazebo_link(rd, ge, link, desc, name, warn):
         else:
             warn("urdf-link-tag:" + tag, "model '%s' link '%s': <gazebo><%s> is not supported; "
                  "ignored" % (name, link.name, tag))
-    for v, what in ((s.mu1, "mu1"), (s.mu2, "mu2"), (s.max_vel, "maxVel"), (s.min_depth, "minDepth"),
+    for v, what in ((s.mu1, "mu1"), (s.mu2, "mu2"), (s.max_vel, "maxVel"), (s.min_depth or 0.0, "minDepth"),
                     (s.max_contacts, "maxContacts")):
         if v < 0:
             rd.fail(where, "<%s> must not be negative" % what)

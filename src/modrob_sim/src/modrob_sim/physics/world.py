@@ -237,7 +237,10 @@ class World(object):
         w.setERP(p["erp"])
         w.setCFM(p["cfm"])
         w.setContactMaxCorrectingVel(p["contact_max_correcting_vel"])
-        w.setContactSurfaceLayer(p["contact_surface_layer"])
+        # Gazebo's ODE fork takes a contact's allowed penetration from its bodies' minDepth, not
+        # from the world's surface layer (every moving link has one, 0 by default): the contact
+        # callbacks subtract minDepth themselves, and ODE's own layer stays 0
+        w.setContactSurfaceLayer(0.0)
         if odelib.AVAILABLE:
             odelib.LIB.dWorldSetQuickStepW(odelib.raw_pointer(w), p["sor"])
         self._world_step = 1 if p["solver_type"] == "world" else 0

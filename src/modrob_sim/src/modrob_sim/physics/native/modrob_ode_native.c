@@ -384,7 +384,7 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     dBodyID b1, b2;
     const MrSurface *s1, *s2;
     int n, k, i, sel[MR_MAX_GEN], isotropic, has_fdir = 0, mode;
-    double kp, kd, erp, cfm, mu, mu2, shift, cap, max_vel;
+    double kp, kd, erp, cfm, mu, mu2, shift, cap, max_vel, d1, d2;
     dVector3 fdir = {0, 0, 0, 0};
 
     if (dGeomIsSpace(o1) || dGeomIsSpace(o2)) {
@@ -421,18 +421,19 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     mu2 = s1->mu2 < s2->mu2 ? s1->mu2 : s2->mu2;
     isotropic = (mu == mu2);
     /* maxVel and minDepth are per body in Gazebo (the smaller of the two bodies'): a static side
-     * does not count */
+     * does not count; minDepth replaces the world's contact_surface_layer (ODE's is kept at 0),
+     * which stays the minDepth of a surface that gives none (min_depth < 0) */
+    d1 = s1->min_depth < 0 ? c->layer : s1->min_depth;
+    d2 = s2->min_depth < 0 ? c->layer : s2->min_depth;
     if (!b1) {
-        shift = s2->min_depth; max_vel = s2->max_vel;
+        shift = d2; max_vel = s2->max_vel;
     } else if (!b2) {
-        shift = s1->min_depth; max_vel = s1->max_vel;
+        shift = d1; max_vel = s1->max_vel;
     } else {
-        shift = s1->min_depth < s2->min_depth ? s1->min_depth : s2->min_depth;
+        shift = d1 < d2 ? d1 : d2;
         max_vel = s1->max_vel < s2->max_vel ? s1->max_vel : s2->max_vel;
     }
-    shift -= c->layer;
-    if (shift < 0) shift = 0;
-    cap = erp > 0 ? c->layer + max_vel * c->dt / erp : INFINITY;
+    cap = erp > 0 ? max_vel * c->dt / erp : INFINITY;
     mode = dContactApprox1_1 | dContactApprox1_2 | dContactSoftERP | dContactSoftCFM;
     if (!isotropic) mode |= dContactMu2;
     if (s1->has_fdir || s2->has_fdir) {
@@ -576,7 +577,8 @@ static void mr_sweep(MrCtx *c, dSpaceID dyn, dSpaceID fixed)
     }
 }
 
-/* collide everything; returns the number of contact joints made */
+/* collide everything; returns the number of contact joints made. ``layer``: the world's
+ * contact_surface_layer, the minDepth of the surfaces that give none */
 int mr_collide(MrCtx *c, double dt, double gx, double gy, double gz, double layer, int max_contacts)
 {
     c->dt = dt;
