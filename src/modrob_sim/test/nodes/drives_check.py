@@ -79,7 +79,8 @@ class DrivesCheck(unittest.TestCase):
         distance = math.hypot(end.position.x - start.position.x, end.position.y - start.position.y)
         self.assertAlmostEqual(distance, 0.5 + 0.1 * 0.05, delta=0.03 * 0.5)   # plus the stopping
         odom = self.odom.get()
-        err = math.hypot(odom.pose.pose.position.x - end.position.x, odom.pose.pose.position.y - end.position.y)
+        err = math.hypot(odom.pose.pose.position.x - end.position.x,
+                         odom.pose.pose.position.y - end.position.y)
         self.assertLess(err, 0.02 * distance)
         self.assertEqual(odom.header.frame_id, "odom")
         self.assertEqual(odom.child_frame_id, SPEC[ROBOT][1])

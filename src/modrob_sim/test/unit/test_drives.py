@@ -32,7 +32,7 @@ class Bot(object):
     """A world with the ground (and props), one robot whose drive plugin is the core under test
     driven by ``command``, and the plugin host stepping it as the /gazebo node does."""
 
-    def __init__(self, urdf, filename, core_class, props="", native=None, edit=None):
+    def __init__(self, urdf, filename, core_class, props="", native=None, edit=None, command=(0.0, 0.0)):
         bot = self
 
         class CorePlugin(ModelPlugin):
@@ -40,9 +40,10 @@ class Bot(object):
                 bot.core = core_class(self)
 
             def before_step(self, t, dt):
-                bot.core.update(t, dt, bot.command)
+                bot.core.update(t, dt, bot.command, *bot.extra)
 
-        self.command = (0.0, 0.0)
+        self.command = command
+        self.extra = ()
         self.filename = filename
         register_plugin(filename, CorePlugin)
         self.world = World(native=native)
@@ -119,6 +120,23 @@ def test_diff_bot_rests_level_and_still_on_its_wheels(diff_bot):
     b.world.step(2000)
     assert math.dist(p0, b.model.pose[0]) < 1e-3
     assert abs(rpy_from_quat(b.model.pose[1])[2] - rpy_from_quat(q0)[2]) < 2e-3
+
+
+TB3_PHYSICS = ('<physics type="ode"><max_step_size>0.001</max_step_size><ode><solver><type>quick</type>'
+               '<iters>150</iters><sor>1.4</sor></solver><constraints><cfm>0.00001</cfm><erp>0.2</erp>'
+               '<contact_max_correcting_vel>2000</contact_max_correcting_vel>'
+               '<contact_surface_layer>0.01</contact_surface_layer></constraints></ode></physics>')
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_a_1_cm_surface_layer_does_not_sink_wheels_with_their_own_min_depth(diff_bot, native):
+    """turtlebot3_gazebo's worlds set contact_surface_layer 1 cm; its links give minDepth 1 mm. As
+    in Gazebo the links' minDepth replaces the layer: the robot stays level on its wheels (the
+    layer let the wheels and caster creep 6 mm in, the robot pitched 0.07 rad)."""
+    b = diff_bot(native=native, props=TB3_PHYSICS)
+    b.drive((0.2, 0.0), 2.0)
+    b.drive((0.0, 0.0), 3.0)
+    assert_at_rest(b.model, -0.0005)
 
 
 @pytest.mark.parametrize("native", [None, False])
@@ -286,9 +304,49 @@ def test_joint_state_publisher_names_a_missing_joint():
     register_plugin("libgazebo_ros_joint_state_publisher.so", Probe)
     try:
         w = World()
-        m = w.add_urdf("bot", fixture("skid_bot.urdf").replace("rear_right_wheel</jointName>",
-                                                                 "rear_right_whel</jointName>"))
+        urdf = fixture("skid_bot.urdf").replace("rear_right_wheel</jointName>", "rear_right_whel</jointName>")
+        m = w.add_urdf("bot", urdf)
         PluginHost(w, "/gazebo", lambda u: u).load(m)
     finally:
         unregister_plugin("libgazebo_ros_joint_state_publisher.so")
     assert len(errors) == 1 and "rear_right_whel" in errors[0], errors
+
+
+def test_planar_move_moves_the_base_holonomically_and_times_out():
+    """linear.x, linear.y and angular.z move the base in its heading; 0.5 s after the last
+    command (cmdTimeout) it stops."""
+    from modrob_sim.drives.planar_move import PlanarMove
+    b = Bot("planar_bot.urdf", "libgazebo_ros_planar_move.so", PlanarMove, command=(0.0, 0.0, 0.0))
+    try:
+        b.world.step(200)
+        b.extra = (b.world.time,)          # when the command came
+        b.command = (0.2, 0.1, 0.3)
+        b.world.step(400)                  # within the timeout
+        yaw = rpy_from_quat(b.model.pose[1])[2]
+        odom = b.core.odometry()
+        assert yaw == pytest.approx(0.3 * 0.4, abs=0.01)
+        assert odom.linear[0] == pytest.approx(0.2, abs=0.01)
+        assert odom.linear[1] == pytest.approx(0.1, abs=0.01)
+        assert odom.angular[2] == pytest.approx(0.3, abs=0.02)
+        b.world.step(300)                  # past it: stopped
+        assert math.hypot(*b.model.twist[0][:2]) < 0.01
+    finally:
+        b.close()
+
+
+def test_tricycle_drives_straight_and_turns_on_its_steering_angle():
+    from modrob_sim.drives.tricycle import Tricycle
+    b = Bot("trike_bot.urdf", "libgazebo_ros_tricycle_drive.so", Tricycle)
+    try:
+        b.world.step(500)
+        distance, turned = b.drive((0.2, 0.0), 3.0)
+        assert distance == pytest.approx(0.6, rel=0.05) and abs(turned) < 0.02
+        odom = b.core.odometry()           # encoders on the free rear wheels
+        assert math.hypot(*odom.position[:2]) == pytest.approx(distance, rel=0.02)
+        b.drive((0.2, 0.3), 0.3)
+        assert b.core.steering.position == pytest.approx(0.3, abs=0.02)
+        _d, turned = b.drive((0.2, 0.3), 3.0)
+        # the rear axle turns at v sin(angle) / wheelbase about the turn's centre
+        assert turned == pytest.approx(3.0 * 0.2 * math.sin(0.3) / 0.5, rel=0.1)
+    finally:
+        b.close()

@@ -4,7 +4,7 @@ import collections
 import math
 
 from modrob_sim.errors import PluginError
-from modrob_sim.physics.transforms import quat_from_rpy, quat_rotate, quat_conj, rpy_from_quat
+from modrob_sim.physics.transforms import pose_inv, pose_mul, quat_from_rpy, rpy_from_quat
 
 #: One odometry reading: pose (position, quaternion x y z w) in the odometry frame, twist in the
 #: robot's base frame (linear x y z, angular x y z), as nav_msgs/Odometry carries them.
@@ -23,6 +23,17 @@ def diagonal(values):
     for i, v in enumerate(values):
         c[7 * i] = float(v)
     return c
+
+
+def check_values(plugin, positive=(), nonnegative=()):
+    """PluginError naming the tag of the first value of ``positive`` ((value, tag) pairs) that is
+    not above 0, or of ``nonnegative`` that is below 0."""
+    for value, tag in positive:
+        if not value > 0:
+            raise PluginError("%s: <%s> must be positive, got %r" % (plugin.name, tag, value))
+    for value, tag in nonnegative:
+        if value < 0:
+            raise PluginError("%s: <%s> must not be negative, got %r" % (plugin.name, tag, value))
 
 
 def wheel_joint(plugin, tag, default):
@@ -59,12 +70,14 @@ def world_odometry(model):
     return Odom(p, q, (c * v[0] + s * v[1], c * v[1] - s * v[0], 0.0), (0.0, 0.0, w[2]))
 
 
-def body_twist(model):
-    """The model's twist in its own frame (planar move's odometry and others)."""
-    (_p, q) = model.pose
-    (v, w) = model.twist
-    inv = quat_conj(q)
-    return quat_rotate(inv, v), quat_rotate(inv, w)
+def joint_transforms(model, joints):
+    """[(parent link, child link, pose of the child link in the parent link)] of ``joints``
+    (the drives' publishWheelTF)."""
+    out = []
+    for j in joints:
+        parent, child = model.links[j.parent], model.links[j.child]
+        out.append((j.parent, j.child, pose_mul(pose_inv(parent.pose), child.pose)))
+    return out
 
 
 class EncoderOdometry(object):

@@ -12,11 +12,9 @@ Parameters (the ``<plugin>`` children; defaults as gazebo_plugins'):
     message), publishOdomTF true, publishWheelTF false, publishWheelJointState false;
     legacyMode and rosDebugLevel are accepted (Noetic's plugin reads neither).
 """
-from modrob_sim.errors import PluginError
 from modrob_sim.gazebo_ros.plugin_base import RateGate
-from modrob_sim.physics.transforms import pose_inv, pose_mul
 
-from .common import EncoderOdometry, odometry_source, wheel_joint, world_odometry
+from .common import EncoderOdometry, check_values, odometry_source, wheel_joint, world_odometry
 
 LEFT, RIGHT = 0, 1
 
@@ -41,13 +39,11 @@ class DiffDriveConfig(object):
         self.wheel_torque = p("wheelTorque", 5.0, float)
         self.update_rate = p("updateRate", 100.0, float)
         self.odometry_source = odometry_source(plugin)
-        for value, tag in ((self.wheel_separation, "wheelSeparation"), (self.wheel_diameter, "wheelDiameter")):
-            if not value > 0:
-                raise PluginError("%s: <%s> must be positive, got %r" % (plugin.name, tag, value))
-        for value, tag in ((self.wheel_acceleration, "wheelAcceleration"), (self.wheel_torque, "wheelTorque"),
-                           (self.update_rate, "updateRate")):
-            if value < 0:
-                raise PluginError("%s: <%s> must not be negative, got %r" % (plugin.name, tag, value))
+        check_values(plugin,
+                     positive=((self.wheel_separation, "wheelSeparation"),
+                               (self.wheel_diameter, "wheelDiameter")),
+                     nonnegative=((self.wheel_acceleration, "wheelAcceleration"),
+                                  (self.wheel_torque, "wheelTorque"), (self.update_rate, "updateRate")))
 
 
 class DiffDrive(object):
@@ -107,11 +103,3 @@ class DiffDrive(object):
     def wheel_positions(self):
         """[(joint name, position)] of the two wheels (publishWheelJointState)."""
         return [(j.name, j.position) for j in self.joints]
-
-    def wheel_transforms(self):
-        """[(parent link, wheel link, pose of the wheel link in the parent link)] (publishWheelTF)."""
-        out = []
-        for j in self.joints:
-            parent, child = self.model.links[j.parent], self.model.links[j.child]
-            out.append((j.parent, j.child, pose_mul(pose_inv(parent.pose), child.pose)))
-        return out

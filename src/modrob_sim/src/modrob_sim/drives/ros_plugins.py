@@ -20,10 +20,12 @@ from modrob_sim.gazebo_ros.plugins import register_plugin
 from modrob_sim.sensors.ros_plugins import plugin_namespace, stamp, tf_prefix
 from modrob_sim.sensors.sdf import join_ns, tf_resolve
 
-from .common import POSE_COVARIANCE, diagonal
+from .common import POSE_COVARIANCE, diagonal, joint_transforms
 from .diff_drive import DiffDrive
 from .joint_states import JointStates
+from .planar_move import PlanarMove
 from .skid_steer import SkidSteer
+from .tricycle import Tricycle
 
 _WARNED = set()
 
@@ -83,7 +85,8 @@ class DrivePlugin(ModelPlugin):
         self.odom_pub = context.advertise(join_ns(self.ns, cfg.odometry_topic), Odometry, queue_size=1) \
             if self.publishes_odometry() else None
         self.tf_pub = context.advertise("/tf", TFMessage, queue_size=100)
-        self.sub = rospy.Subscriber(join_ns(self.ns, cfg.command_topic), Twist, self._on_command, queue_size=1)
+        self.sub = rospy.Subscriber(join_ns(self.ns, cfg.command_topic), Twist, self._on_command,
+                                    queue_size=1)
         rospy.loginfo("%s: %s -> wheels %s, odometry (%s) on %s, tf %s -> %s"
                       % (self.name, self.sub.name, ", ".join(j.name for j in self.core.joints),
                          cfg.odometry_source, self.odom_pub.name if self.odom_pub else "(none)",
@@ -112,6 +115,12 @@ class DrivePlugin(ModelPlugin):
         if with_tf:
             self.tf_pub.publish(TFMessage([transform(self.odom_frame, self.base_frame,
                                                      (reading.position, reading.orientation), t)]))
+
+    def publish_joint_transforms(self, t, joints):
+        """/tf of each joint's child link in its parent link (publishWheelTF)."""
+        pre = self.prefix
+        self.tf_pub.publish(TFMessage([transform(tf_resolve(pre, parent), tf_resolve(pre, child), pose, t)
+                                       for parent, child, pose in joint_transforms(self.core.model, joints)]))
 
     def reset(self):
         with self._lock:
@@ -154,9 +163,7 @@ class DiffDrivePlugin(DrivePlugin):
         if cfg.publish_odom:
             self.publish_odometry(t, core.odometry(), self.pose_covariance, with_tf=cfg.publish_odom_tf)
         if cfg.publish_wheel_tf:
-            self.tf_pub.publish(TFMessage([transform(tf_resolve(self.prefix, parent), tf_resolve(self.prefix, child),
-                                                     pose, t)
-                                           for parent, child, pose in core.wheel_transforms()]))
+            self.publish_joint_transforms(t, core.joints)
         if self.joint_pub is not None:
             msg = JointState()
             msg.header.stamp = stamp(t)
@@ -189,6 +196,68 @@ class SkidSteerPlugin(DrivePlugin):
                                   with_tf=self.core.cfg.broadcast_tf)
 
 
+class PlanarMovePlugin(DrivePlugin):
+    """libgazebo_ros_planar_move.so: linear.x, linear.y and angular.z of cmd_vel move the model;
+    odometry and its transform at odometryRate."""
+
+    def make_core(self):
+        return PlanarMove(self)
+
+    def load(self, model, spec, context):
+        DrivePlugin.load(self, model, spec, context)
+        self._command = ((0.0, 0.0, 0.0), None)
+        self.pose_covariance = diagonal(POSE_COVARIANCE)
+
+    def command(self, msg):
+        return ((msg.linear.x, msg.linear.y, msg.angular.z), rospy.Time.now().to_sec())
+
+    def before_step(self, t, dt):
+        command, received = self.latest_command()
+        if self.core.update(t, dt, command, received):
+            self.publish_odometry(t, self.core.odometry(), self.pose_covariance)
+
+    def reset(self):
+        DrivePlugin.reset(self)
+        with self._lock:
+            self._command = ((0.0, 0.0, 0.0), None)
+
+
+class TricyclePlugin(DrivePlugin):
+    """libgazebo_ros_tricycle_drive.so: linear.x is the driven wheel's speed, angular.z the
+    steering angle."""
+
+    def make_core(self):
+        return Tricycle(self)
+
+    def load(self, model, spec, context):
+        DrivePlugin.load(self, model, spec, context)
+        cfg = self.core.cfg
+        self.joint_pub = context.advertise(join_ns(self.ns, "joint_states"), JointState, queue_size=1000) \
+            if cfg.publish_wheel_joint_state else None
+        self.pose_covariance = diagonal(POSE_COVARIANCE)
+
+    def before_step(self, t, dt):
+        core = self.core
+        if not core.update(t, dt, self.latest_command()):
+            return
+        self.publish_odometry(t, core.odometry(), self.pose_covariance)
+        if core.cfg.publish_wheel_tf:
+            self.publish_joint_transforms(t, core.joints)
+        if self.joint_pub is not None:
+            msg = JointState()
+            msg.header.stamp = stamp(t)
+            for name, position, velocity in core.wheel_states():
+                msg.name.append(name)
+                msg.position.append(position)
+                msg.velocity.append(velocity)
+            self.joint_pub.publish(msg)
+
+    def shutdown(self):
+        DrivePlugin.shutdown(self)
+        if self.joint_pub is not None:
+            self.joint_pub.unregister()
+
+
 class JointStatePublisherPlugin(ModelPlugin):
     """libgazebo_ros_joint_state_publisher.so -> sensor_msgs/JointState (name, position, velocity)
     on joint_states in its <robotNamespace>; without one, in the model's name (as the original),
@@ -200,7 +269,8 @@ class JointStatePublisherPlugin(ModelPlugin):
             (spec.element.find("robotNamespace").text or "").strip()
         ns = spec.robot_namespace if given or context.robot_namespace else model.name
         self.pub = context.advertise(join_ns(ns, "joint_states"), JointState, queue_size=1000)
-        rospy.loginfo("%s: %s on %s" % (self.name, ", ".join(j.name for j in self.core.joints), self.pub.name))
+        rospy.loginfo("%s: %s on %s"
+                      % (self.name, ", ".join(j.name for j in self.core.joints), self.pub.name))
 
     def before_step(self, t, dt):
         states = self.core.update(t)
@@ -225,6 +295,8 @@ PLUGINS = {
     "libgazebo_ros_diff_drive.so": DiffDrivePlugin,
     "libgazebo_ros_skid_steer_drive.so": SkidSteerPlugin,
     "libgazebo_ros_joint_state_publisher.so": JointStatePublisherPlugin,
+    "libgazebo_ros_planar_move.so": PlanarMovePlugin,
+    "libgazebo_ros_tricycle_drive.so": TricyclePlugin,
 }
 
 for _name, _cls in PLUGINS.items():

@@ -11,10 +11,9 @@ broadcastTF false, covariance_x 0.0001, covariance_y 0.0001, covariance_yaw 0.01
 Gazebo's plugin also sets the wheels' velocities directly (Joint::SetVelocity) at each update;
 here the motors alone turn them, so that a blocked robot's wheels are held by their torque.
 """
-from modrob_sim.errors import PluginError
 from modrob_sim.gazebo_ros.plugin_base import RateGate
 
-from .common import Odom, world_odometry, wheel_joint
+from .common import Odom, check_values, wheel_joint, world_odometry
 
 WHEELS = (("leftFrontJoint", "left_front_joint", -1), ("rightFrontJoint", "right_front_joint", 1),
           ("leftRearJoint", "left_rear_joint", -1), ("rightRearJoint", "right_rear_joint", 1))
@@ -35,12 +34,10 @@ class SkidSteerConfig(object):
         self.covariance = (p("covariance_x", 0.0001, float), p("covariance_y", 0.0001, float),
                            p("covariance_yaw", 0.01, float))
         self.odometry_source = "world"
-        for value, tag in ((self.wheel_separation, "wheelSeparation"), (self.wheel_diameter, "wheelDiameter")):
-            if not value > 0:
-                raise PluginError("%s: <%s> must be positive, got %r" % (plugin.name, tag, value))
-        for value, tag in ((self.torque, "torque"), (self.update_rate, "updateRate")):
-            if value < 0:
-                raise PluginError("%s: <%s> must not be negative, got %r" % (plugin.name, tag, value))
+        check_values(plugin,
+                     positive=((self.wheel_separation, "wheelSeparation"),
+                               (self.wheel_diameter, "wheelDiameter")),
+                     nonnegative=((self.torque, "torque"), (self.update_rate, "updateRate")))
 
 
 class SkidSteer(object):
