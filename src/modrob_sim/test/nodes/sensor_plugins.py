@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """rostest node: the simulated sensors through /gazebo, each spawned with Gazebo's unchanged
 plugin XML. ``sensor_plugins.py CASE`` runs one case (laser, gpu_laser, imu_sensor, imu_model,
-velodyne, gps, p3d, bumper); every .test file starts its own /gazebo."""
+velodyne, gps, p3d, bumper, range, hector); every .test file starts its own /gazebo."""
 import importlib.util
 import math
 import os
@@ -15,7 +15,7 @@ import rostest
 from gazebo_msgs.msg import ContactsState, ModelStates
 from geometry_msgs.msg import Pose, Vector3Stamped
 from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Imu, LaserScan, NavSatFix, PointCloud2
+from sensor_msgs.msg import Imu, LaserScan, NavSatFix, PointCloud, PointCloud2, Range
 from std_srvs.srv import Empty
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -197,6 +197,60 @@ class SensorPlugins(unittest.TestCase):
         self.assertEqual(m.status.status, 0)
         self.assertLess(abs(m.latitude - 49.9), 1e-3)        # within ~100 m of the reference
         self.assertLess(abs(m.longitude - 8.9), 2e-3)
+
+    # ---- range finders (gazebo_ros_range, hector sonar, block laser) -------------------------
+    def test_range(self):
+        self.spawn_sdf("wall", F.static_shape("wall", F.box((0.2, 2.0, 1.0)), (0, 0, 0)), x=1.6, z=0.5)
+        cone = F.ray_block(samples=5, min_angle=-0.1, max_angle=0.1, rmin=0.05, rmax=3.0, v_samples=3,
+                           v_min=-0.05, v_max=0.05)
+        sensors = ("<sensor type='ray' name='ir'><update_rate>20</update_rate>%s"
+                   "<plugin name='ir' filename='libgazebo_ros_range.so'><topicName>range_ir</topicName>"
+                   "<frameName>sensor_link</frameName><radiation>infrared</radiation><fov>0.2</fov></plugin>"
+                   "</sensor>" % cone)
+        sonar = ("<gazebo reference='base_link'><sensor type='ray' name='us'><update_rate>20</update_rate>%s"
+                 "<plugin name='us' filename='libhector_gazebo_ros_sonar.so'><topicName>sonar</topicName>"
+                 "<frameId>base_link</frameId></plugin></sensor>"
+                 "<sensor type='ray' name='block'><update_rate>10</update_rate>%s"
+                 "<plugin name='bl' filename='libgazebo_ros_block_laser.so'><topicName>block</topicName>"
+                 "<frameName>base_link</frameName></plugin></sensor></gazebo>" % (cone, cone))
+        ir, us, block = Latest("/range_ir", Range), Latest("/sonar", Range), Latest("/block", PointCloud)
+        self.spawn_urdf("range_bot", F.sensor_robot(sensors, static=True, extra=sonar), z=0.1)
+        self.assertTrue(wait_for(lambda: ir.count > 1 and us.count > 1 and block.count > 1, 60.0))
+        m = ir.get()
+        self.assertEqual((m.header.frame_id, m.radiation_type), ("sensor_link", Range.INFRARED))
+        self.assertAlmostEqual(m.field_of_view, 0.2)
+        self.assertAlmostEqual(m.range, 1.5, delta=0.01)       # the wall's face, from x = 0
+        m = us.get()
+        self.assertEqual((m.header.frame_id, m.radiation_type), ("base_link", Range.ULTRASOUND))
+        self.assertAlmostEqual(m.field_of_view, 0.1)
+        self.assertAlmostEqual(m.range, 1.5, delta=0.01)
+        c = block.get()
+        self.assertEqual(len(c.points), 15)
+        self.assertEqual(len(c.channels[0].values), 15)
+        self.assertTrue(all(abs(p.x - 1.5) < 0.01 for p in c.points))
+
+    # ---- hector IMU and magnetometer ----------------------------------------------------------
+    def test_hector(self):
+        extra = ("<gazebo><plugin name='imu' filename='libhector_gazebo_ros_imu.so'>"
+                 "<updateRate>50</updateRate>"
+                 "<bodyName>base_link</bodyName><topicName>imu/data</topicName>"
+                 "<accelGaussianNoise>0.01 0.01 0.01</accelGaussianNoise></plugin>"
+                 "<plugin name='mag' filename='libhector_gazebo_ros_magnetic.so'><updateRate>20</updateRate>"
+                 "<bodyName>base_link</bodyName><topicName>magnetic</topicName><magnitude>1.0</magnitude>"
+                 "</plugin></gazebo>")
+        imu, bias = Latest("/imu/data", Imu), Latest("/imu/data/bias", Imu)
+        mag = Latest("/magnetic", Vector3Stamped)
+        self.spawn_urdf("hector_bot", F.sensor_robot("", static=True, extra=extra), z=0.1)
+        self.assertTrue(wait_for(lambda: imu.count > 5 and bias.count > 0 and mag.count > 1, 60.0))
+        m = imu.get()
+        self.assertEqual(m.header.frame_id, "base_link")
+        self.assertAlmostEqual(m.linear_acceleration.z, 9.81, delta=0.1)
+        self.assertAlmostEqual(m.linear_acceleration_covariance[0], 1e-4)
+        rospy.wait_for_service("/imu/data/calibrate", 10.0)
+        rospy.ServiceProxy("/imu/data/calibrate", Empty)()
+        f = mag.get().vector
+        self.assertAlmostEqual(f.x, 0.5, delta=1e-6)
+        self.assertAlmostEqual(f.z, -math.sqrt(3) / 2, delta=1e-6)
 
     # ---- p3d ---------------------------------------------------------------------------------
     def test_p3d(self):

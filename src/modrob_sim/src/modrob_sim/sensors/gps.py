@@ -8,9 +8,8 @@ f = 1/298.257223563, e^2 = 2f - f^2, lat0 the reference latitude:
     lon = lon0 - (-sin(h) x + cos(h) y) / radius_east
     alt = alt0 + z
 (x north, y west at heading h = 0). Velocity: (cos h vx + sin h vy, -sin h vx + cos h vy, vz).
-Error per axis (hector's SensorModel): drift_k = exp(-dt f) drift_{k-1} + dt N(0, sqrt(2 f) drift),
-error = offset + drift_k + N(0, gaussianNoise); at reset drift_0 = N(0, drift). Defaults: offset 0,
-drift 0, driftFrequency 1/3600 Hz, gaussianNoise 0. position_covariance = drift^2 + noise^2
+Error per axis: hector's SensorModel (sensor_model.py), added to position and velocity.
+position_covariance = drift^2 + noise^2
 (diagonal, type DIAGONAL_KNOWN).
 """
 import math
@@ -18,41 +17,11 @@ import math
 from .core import Rate, noise_rng
 from .errors import SensorConfigError
 from .sdf import Params
+from .sensor_model import SensorModel
 
 EQUATORIAL_RADIUS = 6378137.0
 FLATTENING = 1.0 / 298.257223563
 EXCENTRICITY2 = 2 * FLATTENING - FLATTENING * FLATTENING
-
-
-class SensorModel3(object):
-    """hector_gazebo_plugins' SensorModel on three axes."""
-
-    def __init__(self, p, prefix, rng):
-        def name(base):
-            return prefix + base[0].upper() + base[1:] if prefix else base
-        self.offset = p.floats(name("offset"), 3, (0.0, 0.0, 0.0))
-        self.drift = p.floats(name("drift"), 3, (0.0, 0.0, 0.0))
-        self.drift_frequency = p.floats(name("driftFrequency"), 3, (1.0 / 3600.0,) * 3)
-        self.gaussian_noise = p.floats(name("gaussianNoise"), 3, (0.0, 0.0, 0.0))
-        for what, v in (("drift", self.drift), ("driftFrequency", self.drift_frequency),
-                        ("gaussianNoise", self.gaussian_noise)):
-            if any(x < 0 for x in v):
-                p.fail(name(what), v, "must not be negative")
-        self.rng = rng
-        self.reset()
-
-    def reset(self):
-        self.current_drift = [self.rng.normal(0.0, d) if d > 0 else 0.0 for d in self.drift]
-        self.current_error = [0.0, 0.0, 0.0]
-
-    def update(self, dt):
-        for i in range(3):
-            f, d = self.drift_frequency[i], self.drift[i]
-            kick = self.rng.normal(0.0, math.sqrt(2 * f) * d) if f > 0 and d > 0 else 0.0
-            self.current_drift[i] = math.exp(-dt * f) * self.current_drift[i] + dt * kick
-            noise = self.rng.normal(0.0, self.gaussian_noise[i]) if self.gaussian_noise[i] > 0 else 0.0
-            self.current_error[i] = self.offset[i] + self.current_drift[i] + noise
-        return tuple(self.current_error)
 
 
 class GpsFix(object):
@@ -89,8 +58,8 @@ class HectorGps(object):
         self.rate = Rate(p.float("updateRate", 4.0, nonneg=True))
         self.world, self.seed = world, seed
         rng = noise_rng(world, seed)
-        self.position_error = SensorModel3(p, "", rng)
-        self.velocity_error = SensorModel3(p, "velocity", rng)
+        self.position_error = SensorModel(p, "", rng)
+        self.velocity_error = SensorModel(p, "velocity", rng)
         s = math.sin(math.radians(self.reference_latitude))
         temp = 1.0 / (1.0 - EXCENTRICITY2 * s * s)
         prime_vertical = EQUATORIAL_RADIUS * math.sqrt(temp)

@@ -7,11 +7,14 @@ time and measures only when its topic has subscribers (a sensor nobody listens t
 bookkeeping only); big messages (LaserScan, PointCloud2) are built and serialised on the node's
 publishing thread (publish_later) from arrays copied in the hook.
 """
+import threading
+
 import rospy
-from geometry_msgs.msg import Vector3, Vector3Stamped, Wrench
+from geometry_msgs.msg import Point32, Vector3, Vector3Stamped, Wrench
 from gazebo_msgs.msg import ContactsState, ContactState
 from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Imu, LaserScan, NavSatFix, PointCloud2, PointField
+from sensor_msgs.msg import (ChannelFloat32, Imu, LaserScan, MagneticField, NavSatFix, PointCloud,
+                             PointCloud2, PointField, Range)
 from std_srvs.srv import Empty, EmptyResponse
 
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin, SensorPlugin
@@ -22,8 +25,10 @@ from .contact import ContactSensor
 from .core import where
 from .errors import SensorConfigError
 from .gps import HectorGps
+from .hector import HectorImu, HectorMagnetic
 from .imu import ImuModelPlugin, ImuSensor, covariance
 from .p3d import P3d
+from .range_sensor import BlockLaser, GazeboRange, HectorSonar
 from .ray_sensor import RaySensor
 from .sdf import Params, join_ns, tf_resolve
 
@@ -162,14 +167,18 @@ class VelodynePlugin(_Publishing, SensorPlugin):
         return msg
 
 
+def _fill_imu(msg, orientation, angular_velocity, linear_acceleration):
+    o, w, a = msg.orientation, msg.angular_velocity, msg.linear_acceleration
+    o.x, o.y, o.z, o.w = orientation
+    w.x, w.y, w.z = angular_velocity
+    a.x, a.y, a.z = linear_acceleration
+
+
 def _imu_msg(r, frame, t, sigma):
     msg = Imu()
     msg.header.stamp = stamp(t)
     msg.header.frame_id = frame
-    q = r.orientation
-    msg.orientation.x, msg.orientation.y, msg.orientation.z, msg.orientation.w = q
-    msg.angular_velocity.x, msg.angular_velocity.y, msg.angular_velocity.z = r.angular_velocity
-    msg.linear_acceleration.x, msg.linear_acceleration.y, msg.linear_acceleration.z = r.linear_acceleration
+    _fill_imu(msg, r.orientation, r.angular_velocity, r.linear_acceleration)
     c = covariance(sigma)
     msg.orientation_covariance = c
     msg.angular_velocity_covariance = c
@@ -351,6 +360,205 @@ class BumperPlugin(_Publishing, SensorPlugin):
         self.pub.publish(msg)
 
 
+class RangePlugin(_Publishing, SensorPlugin):
+    """libgazebo_ros_range.so on a ray sensor -> sensor_msgs/Range (the nearest ray)."""
+
+    def load(self, model, spec, context):
+        _check_type(self, ("ray", "gpu_ray"))
+        w = where(model, spec.link, spec.filename, spec.sensor)
+        self.ray = RaySensor(context.world, model, spec.link, spec.sensor, spec.filename, seed=context.seed)
+        self.core = GazeboRange(self.ray, spec.element, w)
+        ns = plugin_namespace(spec, context)
+        self.frame = tf_resolve(tf_prefix(ns), self.core.frame)
+        self.pub = context.advertise(join_ns(ns, self.core.topic), Range, queue_size=1)
+        self.pubs = (self.pub,)
+        rospy.loginfo("%s: Range (%s) on %s" % (w, self.core.radiation, self.pub.name))
+
+    def reset(self):
+        SensorPlugin.reset(self)
+        self.core.rate.reset()
+        if _reseed(self.context):
+            self.ray.reseed()
+
+    def sense(self, t):
+        if not self.active() or not self.core.rate.due(t):
+            return
+        s = self.ray.spec
+        msg = Range()
+        msg.header.stamp = stamp(t)
+        msg.header.frame_id = self.frame
+        msg.radiation_type = Range.ULTRASOUND if self.core.radiation == "ultrasound" else Range.INFRARED
+        msg.field_of_view = self.core.fov
+        msg.min_range, msg.max_range = s.range_min, s.range_max
+        msg.range = self.core.read()
+        self.pub.publish(msg)
+
+
+class HectorSonarPlugin(_Publishing, SensorPlugin):
+    """libhector_gazebo_ros_sonar.so on a ray sensor -> sensor_msgs/Range (ULTRASOUND)."""
+
+    def load(self, model, spec, context):
+        _check_type(self, ("ray", "gpu_ray"))
+        w = where(model, spec.link, spec.filename, spec.sensor)
+        self.ray = RaySensor(context.world, model, spec.link, spec.sensor, spec.filename, seed=context.seed)
+        self.core = HectorSonar(self.ray, spec.element, w)
+        ns = plugin_namespace(spec, context)
+        self.pub = context.advertise(join_ns(ns, self.core.topic), Range, queue_size=1)
+        self.pubs = (self.pub,)
+        period = self.core.rate.period
+        rospy.loginfo("%s: Range (sonar) on %s at %g Hz"
+                      % (w, self.pub.name, 1.0 / period if period else 0.0))
+
+    def reset(self):
+        SensorPlugin.reset(self)
+        if _reseed(self.context):
+            self.ray.reseed()
+        self.core.reset()
+
+    def after_step(self, t, dt):
+        if not self.core.rate.due(t):
+            return
+        r = self.core.read(t)      # the drift runs whether or not anyone listens
+        if not self.active():
+            return
+        s = self.ray.spec
+        msg = Range()
+        msg.header.stamp = stamp(t)
+        msg.header.frame_id = self.core.frame_id
+        msg.radiation_type = Range.ULTRASOUND
+        msg.field_of_view = self.core.fov
+        msg.min_range, msg.max_range = s.range_min, s.range_max
+        msg.range = r
+        self.pub.publish(msg)
+
+
+class BlockLaserPlugin(_Publishing, SensorPlugin):
+    """libgazebo_ros_block_laser.so on a ray sensor -> sensor_msgs/PointCloud."""
+
+    def load(self, model, spec, context):
+        _check_type(self, ("ray", "gpu_ray"))
+        w = where(model, spec.link, spec.filename, spec.sensor)
+        self.ray = RaySensor(context.world, model, spec.link, spec.sensor, spec.filename, seed=context.seed)
+        self.core = BlockLaser(self.ray, spec.element, w)
+        ns = plugin_namespace(spec, context)
+        self.frame = tf_resolve(tf_prefix(ns), self.core.frame)
+        self.pub = context.advertise(join_ns(ns, self.core.topic), PointCloud, queue_size=1)
+        self.pubs = (self.pub,)
+        rospy.loginfo("%s: PointCloud on %s (%d rays)" % (w, self.pub.name, len(self.core._dirs)))
+
+    def reset(self):
+        SensorPlugin.reset(self)
+        self.core.rate.reset()
+        if _reseed(self.context):
+            self.ray.reseed()
+
+    def sense(self, t):
+        if not self.active() or not self.core.rate.due(t):
+            return
+        points, intensities = self.core.read()
+        self.pub.publish_later(lambda: self._message(t, points, intensities))
+
+    def _message(self, t, points, intensities):
+        msg = PointCloud()
+        msg.header.stamp = stamp(t)
+        msg.header.frame_id = self.frame
+        msg.points = [Point32(float(x), float(y), float(z)) for x, y, z in points]
+        msg.channels = [ChannelFloat32(name="", values=intensities.tolist())]
+        return msg
+
+
+def _imu_covariances(msg, covariances):
+    msg.orientation_covariance, msg.angular_velocity_covariance, msg.linear_acceleration_covariance = \
+        covariances
+
+
+class HectorImuPlugin(_Publishing, ModelPlugin):
+    """libhector_gazebo_ros_imu.so -> sensor_msgs/Imu on topicName, the biases on biasTopicName,
+    std_srvs/Empty serviceName (calibrate: the rate drift back to zero)."""
+
+    def load(self, model, spec, context):
+        w = where(model, None, spec.filename)
+        self.imu = HectorImu(context.world, model, spec.element, w, seed=context.seed)
+        self._lock = threading.Lock()
+        self._calibrate = False
+        ns = plugin_namespace(spec, context)
+        self.pub = context.advertise(join_ns(ns, self.imu.topic), Imu, queue_size=10) \
+            if self.imu.topic else None
+        self.bias_pub = context.advertise(join_ns(ns, self.imu.bias_topic), Imu, queue_size=10) \
+            if self.imu.bias_topic else None
+        self.pubs = tuple(p for p in (self.pub, self.bias_pub) if p is not None)
+        self.srv = rospy.Service(join_ns(ns, self.imu.service), Empty, self._on_calibrate) \
+            if self.imu.service else None
+        rospy.loginfo("%s: Imu on %s (link %s)"
+                      % (w, self.pub.name if self.pub else "(none)", self.imu.link.name))
+
+    def _on_calibrate(self, req):
+        with self._lock:
+            self._calibrate = True
+        return EmptyResponse()
+
+    def reset(self):
+        self.imu.reset(_reseed(self.context))
+
+    def after_step(self, t, dt):
+        with self._lock:
+            calibrate, self._calibrate = self._calibrate, False
+        if calibrate:
+            self.imu.calibrate()
+        r = self.imu.step(t)       # the drifts run whether or not anyone listens
+        if r is None or not self.active():
+            return
+        msg = Imu()
+        msg.header.stamp = stamp(t)
+        msg.header.frame_id = self.imu.frame_id
+        _fill_imu(msg, r.orientation, r.angular_velocity, r.linear_acceleration)
+        _imu_covariances(msg, self.imu.covariances())
+        if self.pub is not None:
+            self.pub.publish(msg)
+        if self.bias_pub is not None:
+            bias = Imu()
+            bias.header = msg.header
+            _fill_imu(bias, r.bias_orientation, r.rate_bias, r.accel_bias)
+            self.bias_pub.publish(bias)
+
+    def shutdown(self):
+        _Publishing.shutdown(self)
+        if self.srv is not None:
+            self.srv.shutdown()
+
+
+class HectorMagneticPlugin(_Publishing, ModelPlugin):
+    """libhector_gazebo_ros_magnetic.so -> geometry_msgs/Vector3Stamped (or
+    sensor_msgs/MagneticField with useMagneticFieldMsgs) on topicName."""
+
+    def load(self, model, spec, context):
+        w = where(model, None, spec.filename)
+        self.mag = HectorMagnetic(context.world, model, spec.element, w, seed=context.seed)
+        ns = plugin_namespace(spec, context)
+        kind = MagneticField if self.mag.use_magnetic_field_msgs else Vector3Stamped
+        self.pub = context.advertise(join_ns(ns, self.mag.topic), kind, queue_size=1)
+        self.pubs = (self.pub,)
+        rospy.loginfo("%s: %s on %s" % (w, kind.__name__, self.pub.name))
+
+    def reset(self):
+        self.mag.reset(_reseed(self.context))
+
+    def after_step(self, t, dt):
+        field = self.mag.step(t)
+        if field is None or not self.active():
+            return
+        if self.mag.use_magnetic_field_msgs:
+            msg = MagneticField()
+            vec = msg.magnetic_field
+        else:
+            msg = Vector3Stamped()
+            vec = msg.vector
+        msg.header.stamp = stamp(t)
+        msg.header.frame_id = self.mag.frame_id
+        vec.x, vec.y, vec.z = field
+        self.pub.publish(msg)
+
+
 PLUGINS = {
     "libgazebo_ros_laser.so": LaserPlugin,
     "libgazebo_ros_gpu_laser.so": LaserPlugin,
@@ -361,6 +569,11 @@ PLUGINS = {
     "libhector_gazebo_ros_gps.so": GpsPlugin,
     "libgazebo_ros_p3d.so": P3dPlugin,
     "libgazebo_ros_bumper.so": BumperPlugin,
+    "libgazebo_ros_range.so": RangePlugin,
+    "libgazebo_ros_block_laser.so": BlockLaserPlugin,
+    "libhector_gazebo_ros_sonar.so": HectorSonarPlugin,
+    "libhector_gazebo_ros_imu.so": HectorImuPlugin,
+    "libhector_gazebo_ros_magnetic.so": HectorMagneticPlugin,
 }
 
 for _name, _cls in PLUGINS.items():
