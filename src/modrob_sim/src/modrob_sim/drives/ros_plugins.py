@@ -95,6 +95,12 @@ class DrivePlugin(ModelPlugin):
     def publishes_odometry(self):
         return True
 
+    def before_due(self):
+        """The drive's update times; at every step while it integrates wheel encoders."""
+        if getattr(self.core.cfg, "odometry_source", "world") == "encoder":
+            return None
+        return self.core.gate.next_time
+
     def _on_command(self, msg):
         value = self.command(msg)
         with self._lock:
@@ -211,6 +217,9 @@ class PlanarMovePlugin(DrivePlugin):
     def command(self, msg):
         return ((msg.linear.x, msg.linear.y, msg.angular.z), rospy.Time.now().to_sec())
 
+    def before_due(self):
+        return None        # it sets the base's velocity before every step
+
     def before_step(self, t, dt):
         command, received = self.latest_command()
         if self.core.update(t, dt, command, received):
@@ -271,6 +280,9 @@ class JointStatePublisherPlugin(ModelPlugin):
         self.pub = context.advertise(join_ns(ns, "joint_states"), JointState, queue_size=1000)
         rospy.loginfo("%s: %s on %s"
                       % (self.name, ", ".join(j.name for j in self.core.joints), self.pub.name))
+
+    def before_due(self):
+        return self.core.gate.next_time
 
     def before_step(self, t, dt):
         states = self.core.update(t)

@@ -415,6 +415,9 @@ class HectorSonarPlugin(_Publishing, SensorPlugin):
             self.ray.reseed()
         self.core.reset()
 
+    def after_due(self):
+        return self.core.rate.next_time
+
     def after_step(self, t, dt):
         if not self.core.rate.due(t):
             return
@@ -500,6 +503,9 @@ class HectorImuPlugin(_Publishing, ModelPlugin):
     def reset(self):
         self.imu.reset(_reseed(self.context))
 
+    def after_due(self):
+        return self.imu.timer.next_time
+
     def after_step(self, t, dt):
         with self._lock:
             calibrate, self._calibrate = self._calibrate, False
@@ -542,6 +548,9 @@ class HectorMagneticPlugin(_Publishing, ModelPlugin):
 
     def reset(self):
         self.mag.reset(_reseed(self.context))
+
+    def after_due(self):
+        return self.mag.timer.next_time
 
     def after_step(self, t, dt):
         field = self.mag.step(t)
