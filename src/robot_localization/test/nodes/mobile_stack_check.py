@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""rostest node for mobile_stack.test."""
+import math
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+import tf2_ros
+from controller_manager_msgs.srv import ListControllers
+from gazebo_msgs.msg import ModelStates
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from std_msgs.msg import Bool
+from visualization_msgs.msg import InteractiveMarkerFeedback
+
+
+def wait_until(pred, timeout, what):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if pred():
+            return
+        time.sleep(0.02)
+    raise AssertionError("timed out after %g s waiting for %s" % (timeout, what))
+
+
+def yaw_of(q):
+    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+
+
+class MobileStack(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("mobile_stack_check")
+        cls.lock = threading.Lock()
+        cls.truth = cls.ekf = None
+        rospy.Subscriber("/gazebo/model_states", ModelStates, cls._on_states, queue_size=1)
+        rospy.Subscriber("/odometry/filtered", Odometry, cls._on_ekf, queue_size=1)
+        cls.tf = tf2_ros.Buffer()
+        cls.tf_listener = tf2_ros.TransformListener(cls.tf)
+        cls.cmd = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
+        cls.estop = rospy.Publisher("/e_stop", Bool, queue_size=1, latch=True)
+        cls.feedback = rospy.Publisher("/twist_marker_server/feedback", InteractiveMarkerFeedback, queue_size=1)
+        rospy.wait_for_service("/controller_manager/list_controllers", timeout=60)
+        listing = rospy.ServiceProxy("/controller_manager/list_controllers", ListControllers)
+        wait_until(lambda: {c.state for c in listing().controller} == {"running"}
+                   and len(listing().controller) == 2, 60, "the controllers running")
+        wait_until(lambda: cls.truth is not None and cls.ekf is not None, 60, "the truth and odometry/filtered")
+        for p in (cls.cmd, cls.estop, cls.feedback):
+            wait_until(lambda: p.get_num_connections() > 0, 30, "a subscriber of %s" % p.resolved_name)
+
+    @classmethod
+    def _on_states(cls, msg):
+        if "diffbot" in msg.name:
+            p = msg.pose[msg.name.index("diffbot")]
+            cls.truth = (p.position.x, p.position.y, yaw_of(p.orientation))
+
+    @classmethod
+    def _on_ekf(cls, msg):
+        p = msg.pose.pose
+        cls.ekf = (p.position.x, p.position.y, yaw_of(p.orientation))
+
+    def drive(self, publish, seconds):
+        """``publish()`` at 20 Hz of simulated time for ``seconds``, then 1 s to stop."""
+        publish()
+        timer = rospy.Timer(rospy.Duration(0.05), lambda event: publish())
+        end = rospy.get_time() + seconds
+        wait_until(lambda: rospy.get_time() >= end, 120, "%g s of simulated time" % seconds)
+        timer.shutdown()
+        end = rospy.get_time() + 1.0
+        wait_until(lambda: rospy.get_time() >= end, 60, "1 s of simulated time")
+
+    def twist(self, linear, angular):
+        t = Twist()
+        t.linear.x, t.angular.z = linear, angular
+        return lambda: self.cmd.publish(t)
+
+    def test_1_cmd_vel_drives_and_the_estimate_follows(self):
+        t0, e0 = self.truth, self.ekf
+        self.drive(self.twist(0.4, 0.3), 4.0)
+        t1, e1 = self.truth, self.ekf
+        moved = math.hypot(t1[0] - t0[0], t1[1] - t0[1])
+        # 0.4 m/s and 0.3 rad/s for 4 s, and up to 0.25 s more until the controller's
+        # cmd_vel_timeout (less when the loaded machine leaves gaps in the test's 20 Hz)
+        self.assertGreater(moved, 1.2)
+        self.assertGreater(t1[2] - t0[2], 1.0)
+        self.assertLess(t1[2] - t0[2], 0.3 * 4.25 + 0.06)
+        # the EKF's displacement and heading change agree with the truth's
+        d_truth = (t1[0] - t0[0], t1[1] - t0[1])
+        d_ekf = (e1[0] - e0[0], e1[1] - e0[1])
+        report = ("truth moved (%.3f, %.3f) and turned %.3f; the estimate (%.3f, %.3f) and %.3f"
+                  % (d_truth + (t1[2] - t0[2],) + d_ekf + (e1[2] - e0[2],)))
+        rospy.loginfo("mobile_stack: " + report)
+        # within 5 cm (the EKF's bound over 20 m in test_ekf.py; here 1.6 m with a turn, on a machine
+        # whose load delays and drops messages: 1.8 to 4.3 cm seen with the load at 16-21)
+        self.assertLess(math.hypot(d_truth[0] - d_ekf[0], d_truth[1] - d_ekf[1]), 0.05, report)
+        self.assertAlmostEqual(e1[2] - e0[2], t1[2] - t0[2], delta=0.05)
+        tf = self.tf.lookup_transform("odom", "base_link", rospy.Time(0), rospy.Duration(5.0))
+        self.assertAlmostEqual(tf.transform.translation.x, e1[0], delta=0.02)
+        self.assertAlmostEqual(tf.transform.translation.y, e1[1], delta=0.02)
+
+    def test_2_the_marker_outranks_cmd_vel(self):
+        fb = InteractiveMarkerFeedback(client_id="mobile_stack_check", marker_name="robot_twist_marker",
+                                       control_name="move_x", event_type=InteractiveMarkerFeedback.POSE_UPDATE)
+        fb.header.frame_id = "base_link"
+        fb.pose.position.x = -0.3            # backwards at 0.3 m/s, while /cmd_vel says forwards
+        fb.pose.orientation.w = 1.0
+        forward = self.twist(0.3, 0.0)
+        y0 = self.truth[2]
+        start = self.truth
+
+        def both():
+            forward()
+            self.feedback.publish(fb)
+        self.drive(both, 2.0)
+        heading = (math.cos(y0), math.sin(y0))
+        along = (self.truth[0] - start[0]) * heading[0] + (self.truth[1] - start[1]) * heading[1]
+        self.assertLess(along, -0.3)
+
+    def test_3_e_stop_stops_everything(self):
+        self.estop.publish(Bool(True))
+        end = rospy.get_time() + 0.5
+        wait_until(lambda: rospy.get_time() >= end, 60, "0.5 s of simulated time")
+        start = self.truth
+        self.drive(self.twist(0.4, 0.0), 2.0)
+        self.assertLess(math.hypot(self.truth[0] - start[0], self.truth[1] - start[1]), 0.005)
+        self.estop.publish(Bool(False))
+
+
+if __name__ == "__main__":
+    rostest.rosrun("robot_localization", "mobile_stack_check", MobileStack)
