@@ -41,12 +41,14 @@ class MobileStack(unittest.TestCase):
         cls.tf_listener = tf2_ros.TransformListener(cls.tf)
         cls.cmd = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
         cls.estop = rospy.Publisher("/e_stop", Bool, queue_size=1, latch=True)
-        cls.feedback = rospy.Publisher("/twist_marker_server/feedback", InteractiveMarkerFeedback, queue_size=1)
+        cls.feedback = rospy.Publisher("/twist_marker_server/feedback", InteractiveMarkerFeedback,
+                                       queue_size=1)
         rospy.wait_for_service("/controller_manager/list_controllers", timeout=60)
         listing = rospy.ServiceProxy("/controller_manager/list_controllers", ListControllers)
         wait_until(lambda: {c.state for c in listing().controller} == {"running"}
                    and len(listing().controller) == 2, 60, "the controllers running")
-        wait_until(lambda: cls.truth is not None and cls.ekf is not None, 60, "the truth and odometry/filtered")
+        wait_until(lambda: cls.truth is not None and cls.ekf is not None, 60,
+                   "the truth and odometry/filtered")
         for p in (cls.cmd, cls.estop, cls.feedback):
             wait_until(lambda: p.get_num_connections() > 0, 30, "a subscriber of %s" % p.resolved_name)
 
@@ -102,7 +104,8 @@ class MobileStack(unittest.TestCase):
 
     def test_2_the_marker_outranks_cmd_vel(self):
         fb = InteractiveMarkerFeedback(client_id="mobile_stack_check", marker_name="robot_twist_marker",
-                                       control_name="move_x", event_type=InteractiveMarkerFeedback.POSE_UPDATE)
+                                       control_name="move_x",
+                                       event_type=InteractiveMarkerFeedback.POSE_UPDATE)
         fb.header.frame_id = "base_link"
         fb.pose.position.x = -0.3            # backwards at 0.3 m/s, while /cmd_vel says forwards
         fb.pose.orientation.w = 1.0
