@@ -70,6 +70,12 @@ def _numeric(series):
     return pd.to_numeric(series, errors="coerce")
 
 
+def _median(series):
+    """Median of the values present; nan (no warning) when there is none."""
+    v = series.dropna()
+    return float(v.median()) if len(v) else math.nan
+
+
 def levels(df, name):
     """The groups of a parameter for the summary and plots: its values, or quantile bins when a
     numeric parameter has more than MAX_LEVELS distinct values. Returns [(label, mask)]."""
@@ -109,7 +115,7 @@ def summary(df, name, varying, metrics, meta=None):
     wall = _numeric(df["wall_s"])
     sim = _numeric(df["sim_s"])
     lines.append("Wall time per trial: median %s s (min %s, max %s); simulated time per trial: median %s s."
-                 % (_fmt(wall.median()), _fmt(wall.min()), _fmt(wall.max()), _fmt(sim.median())))
+                 % (_fmt(_median(wall)), _fmt(wall.min()), _fmt(wall.max()), _fmt(_median(sim))))
     lines.append("")
     cols = ["wall_s", "sim_s"] + [m for m in metrics if m not in ("wall_s", "sim_s")]
     lines += ["| metric | trials with a value | median | min | max |", "|---|---|---|---|---|"]
@@ -125,7 +131,7 @@ def summary(df, name, varying, metrics, meta=None):
         for label, mask in levels(df, p):
             sub = df[mask]
             k = int((sub["outcome"] == "success").sum())
-            meds = [_fmt(_numeric(sub[m]).median()) for m in cols]
+            meds = [_fmt(_median(_numeric(sub[m]))) for m in cols]
             lines.append("| %s | %d | %s | %s |" % (label, len(sub), rate_text(k, len(sub)),
                                                     " | ".join(meds)))
     bad = df[df["outcome"] != "success"]
