@@ -23,6 +23,12 @@ from modrob_sweep import InfraError, SweepError
 from modrob_sweep.trial import run_trial
 
 SWEEP_VAR = "MODROB_SWEEP_ID"
+# Ray kills a dead worker's child processes with SIGKILL by default: that would be each trial's
+# reaper, before it could stop its trial (roscore, simulator ... orphaned). Off, the reaper sees its
+# parent die (PR_SET_PDEATHSIG) and stops the trial itself. Nodes of a cluster want the same
+# (docs/sweeps.md).
+RAY_CHILD_KILL = "RAY_kill_child_processes_on_worker_exit"
+CANCEL_GRACE_S = 30.0
 
 
 class Progress(object):
@@ -86,6 +92,7 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
                          "pins ray[tune]) and `source scripts/env.sh`" % exc)
     if token:
         os.environ[SWEEP_VAR] = token       # the local Ray's processes inherit it: the Ctrl-C test finds them
+    os.environ.setdefault(RAY_CHILD_KILL, "0")
     kw = {"include_dashboard": False, "log_to_driver": not quiet, "logging_level": "warning"}
     if address:
         try:
@@ -96,7 +103,12 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
                              % (address, exc))
     else:
         n = workers or os.cpu_count() or 1
-        ray.init(address="local", num_cpus=max(1, int(round(n * cpus_per_trial))), **kw)
+        try:
+            ray.init(address="local", num_cpus=max(1, int(round(n * cpus_per_trial))), **kw)
+        except Exception as exc:     # noqa: B902 Ray raises a bare Exception when its node does not start
+            raise SweepError("Ray did not start on this machine: %s. On an overloaded machine its start-up "
+                             "times out: run the sweep again (or with fewer --workers)"
+                             % str(exc).strip().splitlines()[-1])
     return ray.cluster_resources().get("CPU", 0)
 
 
@@ -127,6 +139,9 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
     rows = []
     interrupted = False
     old_term = signal.signal(signal.SIGTERM, _raise_interrupt)
+    # Ctrl-C stops the sweep even when it was started with SIGINT ignored (a background job of a
+    # script inherits that): the trials must never be left to run on
+    old_int = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1, timeout=5.0)
@@ -145,13 +160,10 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
                 progress.finished(row, len(pending))
     except KeyboardInterrupt:
         interrupted = True
+        signal.signal(signal.SIGINT, signal.SIG_IGN)    # a second Ctrl-C must not cut the clean-up short
         print("\n[sweep] interrupted: stopping %d running trial(s)" % len(pending), file=progress.stream,
               flush=True)
-        for ref in pending:
-            try:
-                ray.cancel(ref, force=True)
-            except (ValueError, TypeError, ray.exceptions.RayError) as exc:   # the reaper stops it anyway
-                print("[sweep] could not cancel a trial: %s" % exc, file=progress.stream)
+        _cancel(list(pending), progress.stream)
     finally:
         signal.signal(signal.SIGTERM, old_term)
         signal.signal(signal.SIGINT, signal.SIG_IGN)    # a second Ctrl-C must not cut the clean-up short
@@ -160,8 +172,25 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
             ray.shutdown()
             _wait_local_trials(token, kill=True)
         finally:
-            signal.signal(signal.SIGINT, signal.default_int_handler)
+            signal.signal(signal.SIGINT, old_int)
     return rows, interrupted
+
+
+def _cancel(refs, stream):
+    """Cancel the trials: first as a KeyboardInterrupt in each task (run_trial then has its reaper
+    stop the trial, SIGINT before SIGKILL), after CANCEL_GRACE_S by killing the workers left."""
+    import ray
+    for force in (False, True):
+        for ref in refs:
+            try:
+                ray.cancel(ref, force=force)
+            except (ValueError, TypeError, ray.exceptions.RayError) as exc:   # the reaper stops it anyway
+                print("[sweep] could not cancel a trial: %s" % exc, file=stream)
+        if force:
+            return
+        done, refs = ray.wait(refs, num_returns=len(refs), timeout=CANCEL_GRACE_S)
+        if not refs:
+            return
 
 
 def _raise_interrupt(signum, frame):
@@ -203,7 +232,15 @@ def _wait_local_trials(token, kill=False, timeout=20.0):
             break
         time.sleep(0.1)
     if left:
-        print("[sweep] stopping %d process(es) the sweep left on this machine" % len(left), file=sys.stderr)
+        names = []
+        for pid in left[:4]:
+            try:
+                with open("/proc/%d/cmdline" % pid, "rb") as fh:
+                    names.append(b" ".join(fh.read().split(b"\0")).decode(errors="replace")[:60].strip())
+            except OSError:
+                pass
+        print("[sweep] stopping %d process(es) the sweep left on this machine after %g s (%s)"
+              % (len(left), timeout, ", ".join(names)), file=sys.stderr)
         for pid in left:
             try:
                 os.kill(pid, signal.SIGKILL)

@@ -52,7 +52,8 @@ def two_nodes(tmp_path):
              ["ip", "netns", "exec", ns, "ip", "addr", "add", node_ip + "/24", "dev", veth_b],
              ["ip", "netns", "exec", ns, "ip", "link", "set", veth_b, "up"],
              ["ip", "netns", "exec", ns, "ip", "link", "set", "lo", "up"]]
-    env = dict(os.environ, RAY_AUTH_MODE="token", MODROB_SWEEP_TEST_CLUSTER=tag)
+    env = dict(os.environ, RAY_AUTH_MODE="token", RAY_kill_child_processes_on_worker_exit="0",
+               MODROB_SWEEP_TEST_CLUSTER=tag)
     procs = []
     try:
         for cmd in setup:

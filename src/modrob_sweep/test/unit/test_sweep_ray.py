@@ -134,4 +134,6 @@ def test_ctrl_c_leaves_no_process_of_the_sweep(tmp_path):
             proc.kill()
     assert proc.returncode == 130, out[-3000:]
     assert "[sweep] interrupted: stopping 3 running trial(s)" in out
+    # the trials' reapers stopped them, not the driver's last-resort sweep of the machine
+    assert "left on this machine" not in out, out[-2000:]
     assert processes_of(name) == [], cmdlines(processes_of(name))
