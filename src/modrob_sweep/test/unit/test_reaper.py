@@ -80,6 +80,9 @@ def test_sigterm_stops_the_whole_trial(tmp_path):
     token = uuid.uuid4().hex
     proc, status, pidfile = reaper(tmp_path, HANG, token)
     grandchild = int(wait_file(pidfile))
+    deadline = time.monotonic() + 20    # the grandchild may still be between fork and exec
+    while len(with_token(token)) < 2 and time.monotonic() < deadline:
+        time.sleep(0.05)
     assert alive(grandchild) and len(with_token(token)) == 2
     proc.send_signal(signal.SIGTERM)
     assert proc.wait(timeout=30) == 128 + signal.SIGTERM
