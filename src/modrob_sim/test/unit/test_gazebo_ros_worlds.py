@@ -238,3 +238,22 @@ def test_pre_1_4_physics_elements_move_to_their_1_4_places():
     world.add_sdf(text)
     assert world.time_step == 0.004
     world.close()
+
+
+def test_one_reader_of_a_worlds_physics_for_the_node_and_the_core():
+    """world_physics (the node's pacing and step) and add_sdf (the core) read <physics> the same
+    way: the same values, and the same refusal naming the element."""
+    text = ('<sdf version="1.6"><world name="w"><gravity>0 0 -3</gravity><physics type="ode">'
+            '<max_step_size>0.0025</max_step_size><real_time_factor>2</real_time_factor>'
+            '<real_time_update_rate>800</real_time_update_rate></physics></world></sdf>')
+    assert world_physics(text) == {"time_step": 0.0025, "real_time_factor": 2.0,
+                                   "real_time_update_rate": 800.0, "gravity": (0.0, 0.0, -3.0)}
+    world = World()
+    world.add_sdf(text)
+    assert world.time_step == 0.0025 and world.gravity == (0.0, 0.0, -3.0)
+    world.close()
+    bad = text.replace("0.0025", "fast")
+    with pytest.raises(ModelError, match="max_step_size"):
+        world_physics(bad)
+    with pytest.raises(ModelError, match="max_step_size"):
+        World().add_sdf(bad)

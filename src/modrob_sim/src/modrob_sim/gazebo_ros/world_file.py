@@ -7,10 +7,9 @@ resources.ResourceResolver), ``package://pkg/path`` and ``file://``. ``world_phy
 reads the ``<physics>`` and ``<gravity>`` of a ``<world>``.
 """
 import os
-import xml.etree.ElementTree as ET
 
 from modrob_sim.errors import ModelError
-from modrob_sim.physics.sdf_versions import upgrade
+from modrob_sim.physics.sdf_reader import read_world_settings
 
 
 def find_world(name, resolver):
@@ -31,30 +30,8 @@ def find_world(name, resolver):
 
 def world_physics(text):
     """dict with the keys present among time_step, real_time_factor, real_time_update_rate and
-    gravity, from the first ``<physics>`` (and ``<gravity>``) of a world; ModelError if not XML."""
-    try:
-        root = upgrade(ET.fromstring(text), "world", lambda key, message: None)   # the reader says it
-    except ET.ParseError as exc:
-        raise ModelError("the world file is not valid XML: %s" % exc)
-    world = root if root.tag == "world" else root.find("world")
-    out = {}
-    if world is None:
-        return out
-    physics = world.find("physics")
-    grav = world.findtext("gravity")
-    if physics is not None:
-        for tag, key in (("max_step_size", "time_step"), ("real_time_factor", "real_time_factor"),
-                         ("real_time_update_rate", "real_time_update_rate")):
-            v = physics.findtext(tag)
-            if v is not None and v.strip():
-                try:
-                    out[key] = float(v)
-                except ValueError:
-                    raise ModelError("<physics><%s> of the world is not a number: %r" % (tag, v))
-        grav = grav or physics.findtext("gravity")
-    if grav:
-        vals = grav.split()
-        if len(vals) != 3:
-            raise ModelError("<gravity> of the world needs three numbers, got %r" % grav)
-        out["gravity"] = tuple(float(v) for v in vals)
-    return out
+    gravity of a world file (read by the physics core's one reader of a world's <physics>);
+    ModelError if it is not XML or a value is bad."""
+    settings = read_world_settings(text, "world file")
+    return {k: v for k, v in settings.items()
+            if k in ("time_step", "real_time_factor", "real_time_update_rate", "gravity")}

@@ -413,23 +413,26 @@ def read_sdf(xml_text, name, warn, resolver=None):
     return [d], None
 
 
-def _world(rd, we, warn, resolver, xml_text):
+def _world_settings(rd, we):
+    """The settings of a <world>, checked: ``time_step``, ``gravity`` (the world's, else its
+    <physics>'s), ``params`` (ODE solver settings for World.set_physics_params),
+    ``real_time_factor`` and ``real_time_update_rate`` (for the node's pacing). The one reader of
+    a world's <physics> (world files and spawned worlds)."""
     settings = {}
-    g = _text(we, "gravity")
-    if g:
-        settings["gravity"] = _checked(rd, limits.check_gravity,
-                                       rd.floats(g, 3, "<world><gravity>", "gravity"), "<world><gravity>")
     ph = _child(we, "physics")
+    g = _text(we, "gravity") or (_text(ph, "gravity") if ph is not None else None)
+    if g:
+        settings["gravity"] = _checked(rd, limits.check_gravity, rd.floats(g, 3, "<world>", "<gravity>"),
+                                       "<world><gravity>")
     if ph is not None:
         if _text(ph, "max_step_size"):
             settings["time_step"] = _checked(
                 rd, limits.check_time_step,
                 rd.float(_text(ph, "max_step_size"), "<physics>", "<max_step_size>"),
                 "<physics><max_step_size>")
-        if _text(ph, "gravity"):
-            settings["gravity"] = _checked(rd, limits.check_gravity,
-                                           rd.floats(_text(ph, "gravity"), 3, "<physics>", "gravity"),
-                                           "<physics><gravity>")
+        for tag in ("real_time_factor", "real_time_update_rate"):
+            if _text(ph, tag):
+                settings[tag] = rd.float(_text(ph, tag), "<physics>", "<%s>" % tag)
         params = {}
         if _text(ph, "max_contacts") is not None:
             # Gazebo's per-pair cap (its default 20; ours 4 when the world does not say)
@@ -451,6 +454,20 @@ def _world(rd, we, warn, resolver, xml_text):
                     params[key] = rd.float(_text(parent, tag), "<physics><ode>", "<%s>" % tag)
         if params:
             settings["params"] = params
+    return settings
+
+
+def read_world_settings(xml_text, label="world"):
+    """The settings (see _world_settings) of the <world> of an SDF text (any SDF version); {}
+    when it has no world. ModelError naming the element when a value is bad."""
+    rd = Reader(label, "SDF")
+    root = upgrade(parse_xml(xml_text, label, "SDF"), label, lambda key, message: None)  # read_sdf says it
+    we = root if local(root.tag) == "world" else _child(root, "world")
+    return _world_settings(rd, we) if we is not None else {}
+
+
+def _world(rd, we, warn, resolver, xml_text):
+    settings = _world_settings(rd, we)
     descs = []
     for c in we:
         t = local(c.tag)
