@@ -257,3 +257,15 @@ def test_one_reader_of_a_worlds_physics_for_the_node_and_the_core():
         world_physics(bad)
     with pytest.raises(ModelError, match="max_step_size"):
         World().add_sdf(bad)
+
+
+def test_a_world_plugin_is_warned_about_once_and_the_world_loads(caplog):
+    text = ('<sdf version="1.6"><world name="w"><include><uri>model://ground_plane</uri></include>'
+            '<plugin name="state" filename="libgazebo_ros_state.so"><update_rate>10</update_rate></plugin>'
+            '<plugin name="state2" filename="libgazebo_ros_state.so"/></world></sdf>')
+    world = World()
+    with caplog.at_level(logging.WARNING):
+        assert [m.name for m in world.add_sdf(text)] == ["ground_plane"]
+    warned = [r.getMessage() for r in caplog.records if "libgazebo_ros_state.so" in r.getMessage()]
+    assert len(warned) == 1 and "world plugins are not loaded" in warned[0]
+    world.close()

@@ -504,7 +504,14 @@ def _world(rd, we, warn, resolver, xml_text):
             d = _model(Reader(mname, "SDF"), c, mname, warn, resolver)
             d.source_xml = xml_text
             descs.append(d)
-        elif t not in ("physics", "gravity", "light", "scene", "gui", "plugin", "magnetic_field",
+        elif t == "plugin":
+            # Gazebo's world plugins extend the server itself; the node provides gazebo_ros's API
+            # on its own and loads model and sensor plugins only
+            fname = c.get("filename", "")
+            warn("sdf-world-plugin:" + fname,
+                 "SDF world <plugin name='%s' filename='%s'>: world plugins are not loaded by this "
+                 "simulator (model and sensor plugins are); ignored" % (c.get("name", ""), fname))
+        elif t not in ("physics", "gravity", "light", "scene", "gui", "magnetic_field",
                        "atmosphere", "spherical_coordinates", "state", "wind"):
             warn("sdf-world-tag:" + t, "SDF world <%s> is not supported; ignored" % t)
     return descs, settings
