@@ -23,6 +23,7 @@ from katana_sim.errors import KatanaError
 from katana_sim.planner import Can, StackPlanner
 from katana_sim.tf_util import apply_transform
 from katana_sim.stacker import ArmInterface, Stacker, StackError
+from modrob_sim.end_launch import finish_scenario
 
 BASE_FRAME = "katana_base_link"
 CAN_HEIGHT = 0.122
@@ -221,5 +222,6 @@ def main():
     except KatanaError as exc:
         print("RESULT: failure: %s" % exc, flush=True)
         rospy.logerr("can_stacker: %s" % exc)
-        return 2
-    return 0 if ok else 1
+        ok = None
+    finish_scenario(progress, rospy.get_param("~exit_when_done", False), rospy.is_shutdown)
+    return 2 if ok is None else 0 if ok else 1

@@ -1,6 +1,7 @@
 """Runs the seed's experiment for every configuration of table 2 on the in-process simulator and
 writes the figure 7 / figure 8 analogues plus a summary table (markdown) -- the script behind
-docs/polaris.md's PID section: ``rosrun polaris_description pid_table_figures --out docs/images/polaris``."""
+docs/polaris.md's PID section: ``rosrun polaris_description pid_table_figures --out out/polaris`` (the
+doc's figures in docs/images/polaris were made this way)."""
 import argparse
 import os
 import sys

@@ -66,7 +66,7 @@ class LapNode(object):
                 d = math.inf
             was = self.guard.stopped
             if self.guard.update(d) and not was:
-                rospy.loginfo("lap: obstacle %.2f m ahead of the bumper at (%.2f, %.2f): stopping"
+                rospy.loginfo("lap: obstacle %.2f m ahead of the bumper (the car at (%.2f, %.2f)): stopping"
                               % (d, pose[0], pose[1]))
         if self.guard.stopped:
             v, w = 0.0, 0.0

@@ -218,9 +218,11 @@ def make_streams(args, stem):
 def node_main():
     """The ``bulbs_and_slides`` node (bulbs_and_slides.launch run:=true): runs the scenario on the
     simulation the launch file started. ~scenario, ~layout_file, ~result_file, ~jitter, ~seed,
-    ~motion (trajectory | stream, see Scenario)."""
+    ~motion (trajectory | stream, see Scenario), ~exit_when_done (end the launch after the RESULT
+    line, modrob_sim.end_launch)."""
     import rospy
     from modrob_motion.bulbs_and_slides.scenario import Scenario
+    from modrob_sim.end_launch import finish_scenario
     rospy.init_node("bulbs_and_slides")
     scenario = rospy.get_param("~scenario", "one_robot")
     try:
@@ -238,4 +240,5 @@ def node_main():
     if path:
         with open(path, "w") as fh:
             yaml.safe_dump(dict(result.as_dict(), scenario=scenario), fh)
+    finish_scenario(rospy.loginfo, rospy.get_param("~exit_when_done", False), rospy.is_shutdown)
     return 0 if result.success else 1

@@ -264,7 +264,11 @@ class RosArm(object):
                     TRAJECTORY_CONTROLLER).ok:
                 raise ScenarioError("modrob%d: could not load %s (see the simulator's log)"
                                     % (self.info.robot_id, base))
-        client = actionlib.SimpleActionClient(base + "/follow_joint_trajectory", FollowJointTrajectoryAction)
+        # actionlib's ActionClient with a transition callback per goal (execute), not SimpleActionClient:
+        # SimpleActionClient learns which goal it tracks only when send_goal returns, and the
+        # simulator accepts a goal sooner than that, so its first transition was refused with
+        # "[ERROR] Got a transition callback on a goal handle that we're not tracking"
+        client = actionlib.ActionClient(base + "/follow_joint_trajectory", FollowJointTrajectoryAction)
         switch = self._controller_service("switch_controller", SwitchController, wall_timeout)
         if not switch(start_controllers=[TRAJECTORY_CONTROLLER], stop_controllers=self._position_controllers,
                       strictness=2, start_asap=False, timeout=0.0).ok:
@@ -301,6 +305,7 @@ class RosArm(object):
         ``margin`` only bounds a goal that was lost: a goal that reached the simulator late (this
         process starved while the simulation ran on, at up to 40x in bursts on a loaded machine)
         also ends late in simulated time, so a tight margin would fail a motion that went well."""
+        import actionlib
         from control_msgs.msg import FollowJointTrajectoryGoal
         from trajectory_msgs.msg import JointTrajectoryPoint
         goal = FollowJointTrajectoryGoal()
@@ -316,9 +321,16 @@ class RosArm(object):
         # goal (its ACTIVE status; the controller starts the motion on arrival)
         self._commanded = (traj, start)
 
-        def active():
-            self._commanded = (traj, rospy.get_time())
-        self.trajectory_client.send_goal(goal, done_cb=lambda *_: done.set(), active_cb=active)
+        active = []
+
+        def transition(gh):
+            state = gh.get_comm_state()
+            if state == actionlib.CommState.ACTIVE and not active:
+                active.append(True)
+                self._commanded = (traj, rospy.get_time())
+            elif state == actionlib.CommState.DONE:
+                done.set()
+        handle = self.trajectory_client.send_goal(goal, transition)   # kept: actionlib holds it weakly
         self.trajectories += 1
         end_q = traj.q[-1]
         what = "modrob%d's trajectory" % self.info.robot_id
@@ -328,13 +340,13 @@ class RosArm(object):
                 if self.recorder:
                     self.recorder.sample(self)
                 if rospy.get_time() - start > limit:
-                    self.trajectory_client.cancel_goal()
+                    handle.cancel()
                     raise ScenarioError("modrob%d: the trajectory controller gave no result %.1f s "
                                         "after the motion's end" % (self.info.robot_id, margin))
         finally:
             self._commanded = None
             self.cmd.update(zip(traj.joint_names, end_q))
-        res = self.trajectory_client.get_result()
+        res = handle.get_result()
         if res is not None and res.error_code != 0:
             raise ScenarioError("modrob%d: the trajectory controller aborted the motion: %s (error %d)"
                                 % (self.info.robot_id, res.error_string, res.error_code))
