@@ -11,7 +11,6 @@ for the next moves while the can is held.
 import math
 import threading
 
-import actionlib
 import rospy
 from actionlib_msgs.msg import GoalStatus
 from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryGoal,
@@ -25,6 +24,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from katana_sim import kinematics as kin
 from modrob_sim import waits
+from modrob_sim.action_client import SimpleActionClient
 from katana_sim.errors import KatanaError
 from katana_sim.planner import Grip, Move, judge_stack
 
@@ -44,9 +44,9 @@ class ArmInterface(object):
         self.desired = None
         rospy.Subscriber("/joint_states", JointState, self._joint_states, queue_size=5)
         rospy.Subscriber("/gazebo/model_states", ModelStates, self._model_states, queue_size=1)
-        self.arm = actionlib.SimpleActionClient("/katana_arm_controller/follow_joint_trajectory",
-                                                FollowJointTrajectoryAction)
-        self.gripper = actionlib.SimpleActionClient("/gripper_grasp_posture_controller", GripperCommandAction)
+        self.arm = SimpleActionClient("/katana_arm_controller/follow_joint_trajectory",
+                                      FollowJointTrajectoryAction)
+        self.gripper = SimpleActionClient("/gripper_grasp_posture_controller", GripperCommandAction)
         missing = waits.wait_for_action_servers(
             ((self.arm, "/katana_arm_controller/follow_joint_trajectory"),
              (self.gripper, "/gripper_grasp_posture_controller")), wait)

@@ -12,7 +12,6 @@ import termios
 import threading
 import tty
 
-import actionlib
 import rospy
 from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryGoal, GripperCommandAction, \
     GripperCommandGoal
@@ -21,6 +20,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 from katana_sim import kinematics as kin
 from modrob_sim import waits
+from modrob_sim.action_client import SimpleActionClient
 from katana_sim.teleop import TeleopState, help_text
 
 
@@ -33,9 +33,9 @@ class TeleopNode(object):
         self.q = {}
         self.target = None
         rospy.Subscriber("joint_states", JointState, self._joint_states, queue_size=5)
-        self.arm = actionlib.SimpleActionClient("katana_arm_controller/follow_joint_trajectory",
-                                                FollowJointTrajectoryAction)
-        self.gripper = actionlib.SimpleActionClient("gripper_grasp_posture_controller", GripperCommandAction)
+        self.arm = SimpleActionClient("katana_arm_controller/follow_joint_trajectory",
+                                      FollowJointTrajectoryAction)
+        self.gripper = SimpleActionClient("gripper_grasp_posture_controller", GripperCommandAction)
 
     def _joint_states(self, msg):
         with self.lock:
