@@ -71,9 +71,13 @@ class Xvfb(object):
                 self.proc.wait()
 
 
-def ensure_display(width=4096, height=2304):
-    """Return an Xvfb (caller stops it) when $DISPLAY is unset, else None (use the user's)."""
-    if os.environ.get("DISPLAY"):
+def ensure_display(width=4096, height=2304, display=""):
+    """Point $DISPLAY where the renderer draws. ``display`` empty (the default): a private Xvfb of
+    that size, returned for the caller to stop, whatever $DISPLAY the user has: the renderer's
+    panels are its image buffers, never windows on the user's desktop (they covered RViz there).
+    ``display`` an X display (":0"): draw there and return None (to watch the renderer work)."""
+    if display:
+        os.environ["DISPLAY"] = display
         return None
     x = Xvfb(width, height)
     os.environ["DISPLAY"] = x.display
