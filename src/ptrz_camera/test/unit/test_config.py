@@ -104,3 +104,19 @@ def test_description_cli_errors(capsys):
     assert main(["--list", "2", "--poses", description.CAMERAS_FILE]) == 0
     assert capsys.readouterr().out == "ptrz1 ptrz2"
     assert main(["width=3"]) == 2
+
+
+def test_network_rviz_configs_are_current_and_show_each_camera_once():
+    from ptrz_camera import rviz_config
+    for n in range(2, rviz_config.MAX_CAMERAS + 1):
+        path = rviz_config.config_path(os.path.join(PKG, "config"), n)
+        with open(path) as f:
+            text = f.read()
+        assert text == rviz_config.network_config(n), "%s is stale: python3 -m ptrz_camera.rviz_config" % path
+        displays = yaml.safe_load(text)["Visualization Manager"]["Displays"]
+        images = [d["Image Topic"] for d in displays if d["Class"] == "rviz/Image"]
+        models = [d["Robot Description"] for d in displays if d["Class"] == "rviz/RobotModel"]
+        assert images == ["/ptrz%d/camera1/image_raw" % i for i in range(1, n + 1)]
+        assert models == ["ptrz%d/robot_description" % i for i in range(1, n + 1)]
+    with pytest.raises(ValueError, match="2 to 4 cameras"):
+        rviz_config.network_config(5)
