@@ -6,6 +6,7 @@ import os
 import sys
 import unittest
 
+import dynamic_reconfigure.client
 import rospy
 import rostest
 import tf2_ros
@@ -106,6 +107,17 @@ class DiffDrive(unittest.TestCase):
         tf = self.tf.lookup_transform("odom", "base_link", rospy.Time(0), rospy.Duration(5.0))
         self.assertAlmostEqual(tf.transform.translation.x, o.pose.pose.position.x, delta=0.01)
         self.assertAlmostEqual(tf.transform.rotation.z, o.pose.pose.orientation.z, delta=0.01)
+
+    def test_5_dynamic_reconfigure_changes_the_publish_rate(self):
+        client = dynamic_reconfigure.client.Client(NS, timeout=30)
+        self.assertEqual(client.get_configuration(timeout=30)["publish_rate"], 50.0)
+        client.update_configuration({"publish_rate": 10.0})
+        n = len(self.odom.history)
+        wait_until(lambda: len(self.odom.history) >= n + 8, 60, "odometry after the change")
+        msgs = self.odom.history[-5:]
+        gaps = [(b.header.stamp - a.header.stamp).to_sec() for a, b in zip(msgs, msgs[1:])]
+        self.assertTrue(all(abs(g - 0.1) < 1.5e-3 for g in gaps), gaps)
+        client.update_configuration({"publish_rate": 50.0})
 
     def test_4_nan_is_ignored_with_a_warning(self):
         bad = Twist()

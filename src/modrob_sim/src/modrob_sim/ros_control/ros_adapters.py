@@ -21,7 +21,10 @@ from tf2_msgs.msg import TFMessage
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from modrob_sim.errors import ModrobError
+from dynamic_reconfigure.server import Server as ReconfigureServer
+
 from modrob_sim.gazebo_ros.native_pub import publisher
+from modrob_sim.reconfigure_config import ConfigType, Param, shutdown_server
 from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
 from modrob_sim.ros_control.params import join
 from modrob_sim.ros_control.ros_pid_reconfigure import PidReconfigure
@@ -416,6 +419,25 @@ class TrajectoryAdapter(Adapter):
         super(TrajectoryAdapter, self).shutdown()
 
 
+def diff_drive_config(c):
+    """DiffDriveController.cfg's parameters (ranges as there, widened to hold the YAML's values:
+    the server clamps what it reads from the parameter server, and Husky's separation multiplier
+    is 1.875)."""
+    def multiplier(name, value, text):
+        return Param(name, "double", value, min(0.5, value), max(1.5, value), text)
+    return ConfigType([
+        multiplier("left_wheel_radius_multiplier", c.left_radius_multiplier,
+                   "Left wheel radius multiplier."),
+        multiplier("right_wheel_radius_multiplier", c.right_radius_multiplier,
+                   "Right wheel radius multiplier."),
+        multiplier("wheel_separation_multiplier", c.wheel_separation_multiplier,
+                   "Wheel separation multiplier."),
+        Param("publish_rate", "double", c.publish_rate, 0.0, max(2000.0, c.publish_rate),
+              "Publish rate of odom."),
+        Param("enable_odom_tf", "bool", c.enable_odom_tf, False, True, "Publish odom frame to tf."),
+    ])
+
+
 def _yaw_quaternion(yaw):
     return Quaternion(0.0, 0.0, math.sin(0.5 * yaw), math.cos(0.5 * yaw))
 
@@ -444,6 +466,26 @@ class MobileBaseAdapter(Adapter):
             self.handles.append(self.wheel_pub)
         self.sub = rospy.Subscriber(self.ns + "/cmd_vel", Twist, self._on_cmd_vel, queue_size=1)
         self.handles.append(self.sub)
+        self.reconfigure = None
+        if hasattr(controller, "left_radius_multiplier"):
+            self.reconfigure = ReconfigureServer(diff_drive_config(controller), self._on_reconfigure,
+                                                 namespace=self.ns)
+
+    def _on_reconfigure(self, config, level):
+        """DiffDriveController's dynamic_reconfigure: each value a single reference the loop reads."""
+        c = self.c
+        c.left_radius_multiplier = config["left_wheel_radius_multiplier"]
+        c.right_radius_multiplier = config["right_wheel_radius_multiplier"]
+        c.wheel_separation_multiplier = config["wheel_separation_multiplier"]
+        c.publish_rate = config["publish_rate"]
+        c.enable_odom_tf = config["enable_odom_tf"]
+        return config
+
+    def shutdown(self):
+        if self.reconfigure is not None:
+            shutdown_server(self.reconfigure)
+            self.reconfigure = None
+        super(MobileBaseAdapter, self).shutdown()
 
     def _on_cmd_vel(self, msg):
         if self.c.state != "running":

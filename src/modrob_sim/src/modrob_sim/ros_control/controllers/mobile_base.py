@@ -248,8 +248,9 @@ class MobileBaseController(Controller):
             if travel is None:
                 return
             odo.update(travel[0], travel[1], t)
-        period = 1.0 / self.publish_rate
-        if self._last_publish is None or self._last_publish + period < t:
+        rate = self.publish_rate          # changed live by dynamic_reconfigure; 0: no odometry
+        period = 1.0 / rate if rate > 0.0 else math.inf
+        if rate > 0.0 and (self._last_publish is None or self._last_publish + period < t):
             # whole periods, so that the average rate is exact; a long gap starts afresh
             if self._last_publish is None or t - self._last_publish > 2.0 * period:
                 self._last_publish = t
