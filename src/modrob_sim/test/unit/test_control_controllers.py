@@ -209,3 +209,22 @@ def test_transmission_on_a_fixed_joint_is_skipped_with_a_warning():
                     simple_transmissions({"weld": "EffortJointInterface", "j1": "EffortJointInterface"}),
                     warn=notes.append)
     assert hw.order == ["j1"] and "weld is fixed" in notes[0]
+
+
+def test_velocity_position_controller_writes_the_pids_velocity():
+    """velocity_controllers/JointPositionController: PID(position error) is a velocity command,
+    which the hardware's joint motor follows."""
+    joint, hw, mgr, model = rig("VelocityJointInterface", damping=0.5)
+    c = start(mgr, "vp", {"type": "velocity_controllers/JointPositionController", "joint": "j1",
+                          "pid": {"p": 8.0}})
+    assert c.claimed_resources == [("hardware_interface::VelocityJointInterface", ["j1"])]
+    res = c.set_command(0.6)
+    assert res.accepted and res.value == 0.6
+    model.run(mgr, 0.001)
+    assert hw.joints["j1"].command == pytest.approx(8.0 * 0.6)       # rad/s, not N m
+    model.run(mgr, 2.0)
+    assert joint.position == pytest.approx(0.6, abs=0.005)
+    assert c.set_command(3.0).value == 2.0                              # clamped to the joint limits
+    with pytest.raises(ControllerError, match="not hardware_interface/VelocityJointInterface"):
+        rig()[2].load("vp", {"type": "velocity_controllers/JointPositionController", "joint": "j1",
+                             "pid": {"p": 8.0}})

@@ -4,7 +4,8 @@ from modrob_sim.ros_control.controllers.ackermann_steering import AckermannSteer
 from modrob_sim.ros_control.controllers.diff_drive import DiffDriveController
 from modrob_sim.ros_control.controllers.forward_command import (
     EffortJointEffortController, PositionJointPositionController, VelocityJointVelocityController)
-from modrob_sim.ros_control.controllers.effort_joint_position import EffortJointPositionController
+from modrob_sim.ros_control.controllers.effort_joint_position import (EffortJointPositionController,
+                                                                      VelocityJointPositionController)
 from modrob_sim.ros_control.controllers.effort_joint_velocity import EffortJointVelocityController
 from modrob_sim.ros_control.controllers.gripper_action import (EffortGripperActionController,
                                                                PositionGripperActionController)
@@ -22,6 +23,7 @@ CONTROLLER_TYPES = {cls.TYPE: cls for cls in (
     EffortJointEffortController,
     PositionJointPositionController,
     VelocityJointVelocityController,
+    VelocityJointPositionController,
     PositionJointGroupPositionController,
     VelocityJointGroupVelocityController,
     EffortJointGroupEffortController,

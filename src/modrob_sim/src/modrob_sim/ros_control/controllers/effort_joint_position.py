@@ -2,10 +2,13 @@
 error writes an effort. Parameters: ``joint``, ``pid`` {p, i, d, i_clamp, i_clamp_min,
 i_clamp_max, antiwindup}. The command is clamped to the joint limits (revolute, prismatic);
 continuous joints take the shortest angular way. ``state`` (JointControllerState) is due every
-10th update, as ros_controllers publishes it."""
+10th update, as ros_controllers publishes it.
+
+velocity_controllers/JointPositionController is the same loop writing the PID's output to the
+velocity interface (a velocity command)."""
 from modrob_sim.ros_control.controllers.base import CommandBuffer, CommandResult, Controller, check_finite
 from modrob_sim.ros_control.pid import Pid, PidGains
-from modrob_sim.ros_control.transmissions import EFFORT
+from modrob_sim.ros_control.transmissions import EFFORT, VELOCITY
 
 STATE_DECIMATION = 10
 
@@ -17,7 +20,7 @@ class EffortJointPositionController(Controller):
     def __init__(self, name, hw, params):
         super(EffortJointPositionController, self).__init__(name, hw, params)
         joint = params.get("joint", kind=str)
-        self.joint = hw.joint(joint, EFFORT, controller=name)
+        self.joint = hw.joint(joint, self.INTERFACE, controller=name)
         self.joint_names = [joint]
         self.pid = Pid(PidGains.from_params(params.child("pid", required=True)))
         self.pid_namespace = params.path("pid")
@@ -57,3 +60,8 @@ class EffortJointPositionController(Controller):
                                 command=effort, p=g.p, i=g.i, d=g.d, i_clamp=g.i_max,
                                 antiwindup=g.antiwindup)
         self._count += 1
+
+
+class VelocityJointPositionController(EffortJointPositionController):
+    TYPE = "velocity_controllers/JointPositionController"
+    INTERFACE = VELOCITY
