@@ -121,3 +121,16 @@ class TwistMux(object):
 
     def on_lock(self, name, value, now):
         self.locks[name].receive(bool(value), now)
+
+    def status(self, now):
+        """twist_mux's diagnostic values: [(key, value)] per input and lock, and the lock priority."""
+        lock = self.lock_priority(now)
+        out = []
+        for v in self.velocities.values():
+            out.append(("velocity " + v.name, "%s (listening to %s @ %gs with priority #%d)"
+                        % ("masked" if v.masked(now, lock) else "unmasked", v.topic, v.timeout, v.priority)))
+        for lk in self.locks.values():
+            out.append(("lock " + lk.name, "%s (listening to %s @ %gs with priority #%d)"
+                        % ("locked" if lk.locked(now) else "free", lk.topic, lk.timeout, lk.priority)))
+        out.append(("current priority", str(lock)))
+        return out

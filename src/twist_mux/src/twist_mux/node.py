@@ -1,13 +1,17 @@
 """The twist_mux node's ROS side: ``~topics`` and ``~locks`` read, one subscriber per entry in the
-node's namespace, ``cmd_vel_out`` published. Callbacks hand messages to the pure TwistMux under a
-lock (rospy runs each subscription in its own thread)."""
+node's namespace, ``cmd_vel_out`` published, the state on ``/diagnostics`` every second.
+Callbacks hand messages to the pure TwistMux under a lock (rospy runs each subscription in its
+own thread)."""
 import threading
 
 import rospy
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Bool
 
 from twist_mux.mux import ConfigError, TwistMux, parse_entries
+
+DIAGNOSTICS_PERIOD = 1.0        # s, as twist_mux
 
 
 class TwistMuxNode(object):
@@ -24,6 +28,8 @@ class TwistMuxNode(object):
         for lk in self.mux.locks.values():
             self.subs.append(rospy.Subscriber(lk.topic, Bool, self._on_lock, lk.name, queue_size=1))
             rospy.loginfo("twist_mux: lock %s" % lk.describe())
+        self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
+        self.diag_timer = rospy.Timer(rospy.Duration(DIAGNOSTICS_PERIOD), self._diagnostics)
         if not self.mux.velocities:
             rospy.logerr("twist_mux: no velocity topics: set ~topics (a list of {name, topic, timeout, "
                          "priority}, e.g. rosparam load config/twist_mux_topics.yaml into this node)")
@@ -33,6 +39,18 @@ class TwistMuxNode(object):
             out = self.mux.on_twist(name, msg, rospy.get_time())
         if out is not None:
             self.pub.publish(out)
+
+    def _diagnostics(self, event):
+        """Every DIAGNOSTICS_PERIOD: which inputs are masked, which locks locked (as twist_mux's
+        diagnostic_updater task 'Twist mux status')."""
+        with self._lock:
+            values = self.mux.status(rospy.get_time())
+        status = DiagnosticStatus(level=DiagnosticStatus.OK,
+                                  name="%s: Twist mux status" % rospy.get_name().lstrip("/"), message="ok",
+                                  hardware_id="none", values=[KeyValue(k, v) for k, v in values])
+        msg = DiagnosticArray(status=[status])
+        msg.header.stamp = rospy.Time.now()
+        self.diag_pub.publish(msg)
 
     def _on_lock(self, msg, name):
         with self._lock:

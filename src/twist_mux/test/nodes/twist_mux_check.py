@@ -7,6 +7,7 @@ import unittest
 
 import rospy
 import rostest
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Bool
 
@@ -75,6 +76,15 @@ class TwistMuxCheck(unittest.TestCase):
         first_ext = min(s for s, v in self.out if s >= t_stop and v == 1.0)
         self.assertGreater(first_ext - t_stop, 0.35)      # not before the 0.5 s timeout (less a period)
         self.estop.publish(Bool(True))
+        diag = []
+        sub = rospy.Subscriber("/diagnostics", DiagnosticArray, diag.append, queue_size=10)
+
+        def locked_in_diagnostics():
+            values = {kv.key: kv.value for m in diag for s in m.status for kv in s.values}
+            return (values.get("lock e_stop", "").startswith("locked")
+                    and values.get("current priority") == "255")
+        wait_until(locked_in_diagnostics, 10, "/diagnostics reporting e_stop locked")
+        sub.unregister()
         time.sleep(0.3)
         t_lock = time.monotonic()
         time.sleep(0.8)

@@ -92,3 +92,14 @@ def test_bad_entries_name_the_parameter_and_entry(entries, words):
         parse_entries(entries, "~topics")
     for w in words:
         assert w in str(err.value)
+
+
+def test_status_says_what_is_masked_and_locked():
+    m = mux()
+    m.on_twist("joy", "joy", 0.0)
+    m.on_lock("pause", True, 0.0)
+    status = dict(m.status(0.1))
+    assert status["velocity joy"] == "unmasked (listening to joy_teleop/cmd_vel @ 0.5s with priority #10)"
+    assert status["velocity external"].startswith("masked")
+    assert status["lock pause"].startswith("locked") and status["lock e_stop"].startswith("free")
+    assert status["current priority"] == "9"
