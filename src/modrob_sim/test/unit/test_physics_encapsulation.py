@@ -31,7 +31,8 @@ def private_reads(path):
     return found
 
 
-@pytest.mark.parametrize("module", ["world.py", "backends.py", "gripper.py", "native_batch.py"])
+@pytest.mark.parametrize("module", ["world.py", "backends.py", "gripper.py", "native_batch.py",
+                                    "actuators.py"])
 def test_no_private_attribute_of_another_object(module):
     assert private_reads(os.path.join(PHYSICS, module)) == []
 

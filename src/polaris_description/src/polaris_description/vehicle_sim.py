@@ -77,7 +77,7 @@ class VehicleSim(object):
         self.model = self.world.add_urdf("polaris", urdf, pose=((x, y, SPAWN_Z), quat_from_yaw(yaw)))
         gains = load_pid_gains(pid_config)
         self.hw = RobotHWSim(self.model.joints, parse_transmissions(urdf),
-                             Params(gains, "/gazebo_ros_control/pid_gains"))
+                             Params(gains, "/gazebo_ros_control/pid_gains"), world=self.world)
         self.four_wd = four_wd
         self.world.add_step_hook(before=self._before)
 

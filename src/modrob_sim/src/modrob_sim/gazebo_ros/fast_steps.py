@@ -3,13 +3,14 @@ of its step hooks has anything to do.
 
 Per step the node's hooks set rospy's time, run force jobs, the plugins (ros_control's read ->
 controllers -> write) and the publishers' schedules; each costs little, together they cost more
-than the physics. Most steps need none of it in Python: the controllers' effort PIDs run in C
-(ros_control.native_control), /clock on every step goes out from C through roscpp, and everything
-else is due only at known times (states and markers at simulated times, the joint_state_controller
-at its rate, a subscribed controller state every 10th update, the guard's snapshots). A step at
-which anything is due runs in Python as before (World.step), so what is published, when and
-with which contents does not change. Between two batches the loop runs its jobs (services) as
-between any two steps. Wall-clock schedules (a throttled /clock, the scene) are looked at after
+than the physics. Most steps need none of it in Python: the World's actuators carry the
+controllers' set-points (PIDs, trajectory segments, held efforts) at every step in C, /clock on
+every step goes out from C through roscpp, and everything else is due only at known times (the
+plugins' due times: docs/plugins.md; states and markers at simulated times; the guard's
+snapshots). A step at which a before-hook is due runs in Python (World.step); one at which only
+after-hooks are due is made in C and its after-hooks run in Python, so what is published, when
+and with which contents does not change. Between two batches the loop runs its jobs (services)
+as between any two steps. Wall-clock schedules (a throttled /clock, the scene) are looked at after
 each batch (a batch is at most the loop's batch of steps, 10 by default).
 """
 import os
@@ -35,11 +36,6 @@ class FastSteps(object):
         self.outputs = outputs
         self.set_time = set_time
         self.batcher = native_batch.Batcher(world) if enabled() and native_batch.available(world) else None
-        self._key = None
-        self._controls = ()
-        self._arr = None
-        self._n = 0
-        self._sim_joints = []
         self.steps = 0          # steps run in batches (statistics, tests)
         self.batches = 0        # and the batches that ran them
 
@@ -76,31 +72,10 @@ class FastSteps(object):
         clock = self.outputs.batch_clock()
         if clock is False:
             return 0
-        controls = self.plugins.native_controls()
-        key = tuple(c.key() for c in controls)
-        if key != self._key:
-            if not self._layout(controls, key):
-                return 0
-        elif self._arr is None:
-            return 0
-        stop_due = INF
-        t = self.world.time
-        dt = self.world.time_step
-        for c in controls:
-            p = c.plan(t, dt)
-            if p is None:
-                return 0
-            before_due = min(before_due, p[0])
-            n = min(n, p[1])
-            stop_due = min(stop_due, p[2])
-        k = b.run(n, self._arr, self._n, self._sim_joints, before_due, after_due, clock, stop_due)
+        k = b.run(n, before_due, after_due, clock)
         if k > 0:
-            t = b.last_start
-            dt = self.world.time_step
-            for c in controls:
-                c.finish(k, t, dt)
             if self.set_time is not None:
-                self.set_time(t)
+                self.set_time(self.world.time)
             self.steps += k
             self.batches += 1
             self.outputs.after_batch(wall_schedules=not b.after_due)
@@ -108,27 +83,5 @@ class FastSteps(object):
                 b.run_after_hooks()
         return k
 
-    def _layout(self, controls, key):
-        for c in self._controls:
-            c.detach()
-        self._key, self._controls, self._arr = key, tuple(controls), None
-        if None in key:
-            return False
-        layouts = [c.layout() for c in controls]
-        if any(lay is None for lay in layouts):
-            return False
-        n = sum(lay[0] for lay in layouts)
-        arr = native_batch.new_joints(n)
-        off = 0
-        sim = []
-        for c, lay in zip(controls, layouts):
-            c.attach(arr, off)
-            off += lay[0]
-            sim.extend(lay[1])
-        self._arr, self._n, self._sim_joints = arr, n, sim
-        return True
-
     def shutdown(self):
-        for c in self._controls:
-            c.detach()
-        self._controls, self._key, self._arr = (), None, None
+        pass

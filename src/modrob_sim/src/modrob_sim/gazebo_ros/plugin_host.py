@@ -60,7 +60,6 @@ class PluginHost(object):
         self._after = ()
         self._before_due = ()
         self._after_due = ()
-        self._native = ()
 
     # ---- loading -----------------------------------------------------------------------------
     def load(self, model, spawn_namespace=""):
@@ -155,29 +154,17 @@ class PluginHost(object):
     def _rebuild(self):
         before, after = [], []
         before_due, after_due = [], []
-        controls = []
         for items in self._loaded.values():
             for item in items:
                 p = item.plugin
-                nc = getattr(p, "native_control", None)
-                if nc is not None and nc not in controls:
-                    controls.append(nc)
                 for hook, hooks, dues in (("before_step", before, before_due),
                                           ("after_step", after, after_due)):
-                    if not _overrides(p, hook):
-                        continue
-                    hooks.append((item, getattr(p, hook)))
-                    # a hook with a due time (docs/plugins.md, "Due times"), or one whose update the
-                    # C loop does (native_control); else it needs Python at every step
-                    if nc is None:
+                    if _overrides(p, hook):
+                        hooks.append((item, getattr(p, hook)))
+                        # its due time (docs/plugins.md, "Due times"); None: every step
                         dues.append(getattr(p, hook.replace("_step", "_due")))
         self._before, self._after = tuple(before), tuple(after)
         self._before_due, self._after_due = tuple(before_due), tuple(after_due)
-        self._native = tuple(controls)
-
-    def native_controls(self):
-        """The ``native_control`` of every plugin that has one (gazebo_ros.fast_steps)."""
-        return self._native
 
     def before_due(self):
         """The earliest simulated time from which a plugin's before_step has work (-inf: now;

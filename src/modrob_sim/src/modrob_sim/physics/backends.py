@@ -24,15 +24,23 @@ only the physics-side interface of Model, Link and Joint (model.py):
     contacts(world) -> [ContactPoint]                 the last step's contact points
     overlaps(world, model) -> {(m1, l1, m2, l2): depth}   spawn-overlap check
     close()                         free the backend's own objects
+    new_actuator(joint, kind) -> record       an actuator's data (actuators.py)
+    actuators_changed(actuators)    the World's list of actuators changed
+    apply_actuators(actuators, t, dt)   every actuator's effort for the step starting at t
+    track_turns(joints)             after a step: the turn counts of these joints
+    actuator_gains(r), set_actuator_gains(r, g), reset_actuator_pid(r), actuator_pid_state(r),
+    actuator_terms(r), set_actuator_coeffs(r, coeffs)   an actuator's PID and segment
 """
 import ctypes
 import math
 
 import ode
 
+from . import actuators as act
 from . import meshes as meshlib
 from . import native as native_mod
 from . import odelib
+from .model import FORCE_CAP
 from .transforms import IDENTITY_POSE, dot
 
 _APPROX1 = ode.ContactApprox1_1 | ode.ContactApprox1_2
@@ -62,6 +70,28 @@ def contact_explosion(model, n, cmax):
             "contact explosion: %d contacts in one step (limit %d)" % (n, cmax))
 
 
+class MrTurn(ctypes.Structure):
+    """native/modrob_ode_native.c's MrTurn: a joint's whole turns (Joint.turn_record)."""
+    _fields_ = [("joint", ctypes.c_void_p), ("last_raw", ctypes.c_double), ("turns", ctypes.c_longlong)]
+
+
+class MrActuator(ctypes.Structure):
+    """native/modrob_ode_native.c's MrActuator: one actuator's data (actuators.PyRecord's fields
+    and its PID's, flat)."""
+    _fields_ = [("joint", ctypes.c_void_p), ("turn", ctypes.POINTER(MrTurn))] + \
+        [(n, ctypes.c_int)
+         for n in ("slider", "kind", "err_kind", "has_hw_limit", "antiwindup", "has_extra")] + \
+        [(n, ctypes.c_double) for n in (
+            "lower", "upper", "hw_limit", "joint_limit", "force_cap", "command", "extra",
+            "p", "i", "d", "i_max", "i_min",
+            "p_error_last", "p_error", "i_error", "d_error", "cmd", "p_term", "i_term", "d_term",
+            "t", "position", "velocity", "set_point", "desired_velocity", "out", "applied")] + \
+        [("traj_kind", ctypes.c_int), ("ncoef", ctypes.c_int), ("has_offset", ctypes.c_int),
+         ("coef", ctypes.c_double * act.MAX_COEFFS)] + \
+        [(n, ctypes.c_double) for n in ("seg_t0", "seg_t1", "rel_base", "offset", "ff", "abs_until",
+                                        "rel_until", "max_force", "accel", "motor_vel")]
+
+
 class PureBackend(object):
     native = False
 
@@ -71,6 +101,50 @@ class PureBackend(object):
         self.contact_log = []
         self.made = []        # (contact, body1, body2, whole depth) of this step's contact joints
         self.capped = False   # a contact of this step had its correction capped at maxVel
+
+    # ---- actuators (actuators.step_python) ----------------------------------------------------
+    @staticmethod
+    def new_actuator(joint, kind):
+        return act.PyRecord(kind)
+
+    def actuators_changed(self, actuators):
+        pass
+
+    @staticmethod
+    def apply_actuators(actuators, t, dt):
+        for a in actuators:
+            j = a.joint
+            act.step_python(a.record, j, t, dt, j.limit_effort)
+
+    @staticmethod
+    def track_turns(joints):
+        for j in joints:
+            j.track_turns()
+
+    @staticmethod
+    def actuator_gains(r):
+        return r.pid.gains
+
+    @staticmethod
+    def set_actuator_gains(r, gains):
+        r.pid.set_gains(gains)
+
+    @staticmethod
+    def reset_actuator_pid(r):
+        r.pid.reset()
+
+    @staticmethod
+    def actuator_pid_state(r):
+        return r.pid.state()
+
+    @staticmethod
+    def actuator_terms(r):
+        p = r.pid
+        return (p.p_error, p.d_error) + tuple(p.terms)
+
+    @staticmethod
+    def set_actuator_coeffs(r, coeffs):
+        r.coef = [float(c) for c in coeffs]
 
     def set_seed(self, seed):
         self.seed = seed
@@ -410,9 +484,85 @@ class NativeBackend(object):
         self.ncontacts = 0
         self._first_bad = ctypes.c_int(-1)   # the guard scan of the last step (mr_step_checked)
         self._first_bad_ref = ctypes.byref(self._first_bad)
+        self._turns = {}                     # Joint -> its MrTurn (kept while the joint counts turns)
+        self._turn_array = (ctypes.POINTER(MrTurn) * 1)()
+        self._nturns = 0
+        self._acts = ()
+        self._act_array = (ctypes.POINTER(MrActuator) * 1)()
 
     def set_seed(self, seed):
         self.nat.mr_set_seed(self.ctx, seed)
+
+    # ---- actuators (mr_apply_actuators) -------------------------------------------------------
+    def new_actuator(self, joint, kind):
+        r = MrActuator()
+        r.joint = odelib.raw_pointer(joint.ode_joint)
+        r.slider = 0 if joint.is_angular else 1
+        r.kind = kind
+        lim = joint.effort_limit
+        r.joint_limit = float(lim) if lim is not None and lim > 0.0 else 0.0
+        r.force_cap = FORCE_CAP
+        r.traj_kind = act.HOLD
+        r.ncoef = 1
+        r.abs_until = r.rel_until = act.INF
+        self._bind_turn(r, joint)
+        return r
+
+    def _bind_turn(self, r, joint):
+        rec = self._turns.get(joint)
+        r.turn = ctypes.pointer(rec) if rec is not None else ctypes.POINTER(MrTurn)()
+
+    def actuators_changed(self, actuators):
+        self._acts = tuple(actuators)
+        arr = (ctypes.POINTER(MrActuator) * max(1, len(self._acts)))()
+        for k, a in enumerate(self._acts):
+            arr[k] = ctypes.pointer(a.record)
+        self._act_array = arr
+
+    def apply_actuators(self, actuators, t, dt):
+        if actuators:
+            self.nat.mr_apply_actuators(self._act_array, len(self._acts), t, dt, odelib.PARAM_VEL,
+                                        odelib.PARAM_FMAX)
+
+    def track_turns(self, joints):
+        if self._nturns:
+            self.nat.mr_track_turns(self._turn_array, self._nturns)
+
+    def turn_arrays(self):
+        """(MrTurn pointer array, count) for the C loop's batches (native_batch)."""
+        return self._turn_array, self._nturns
+
+    def actuator_arrays(self):
+        """(MrActuator pointer array, count) for the C loop's batches (native_batch)."""
+        return self._act_array, len(self._acts)
+
+    @staticmethod
+    def actuator_gains(r):
+        return act.PidGains(r.p, r.i, r.d, r.i_max, r.i_min, bool(r.antiwindup))
+
+    @staticmethod
+    def set_actuator_gains(r, g):
+        r.p, r.i, r.d, r.i_max, r.i_min = g.p, g.i, g.d, g.i_max, g.i_min
+        r.antiwindup = 1 if g.antiwindup else 0
+
+    @staticmethod
+    def reset_actuator_pid(r):
+        r.p_error_last = r.p_error = r.i_error = r.d_error = r.cmd = 0.0
+        r.p_term = r.i_term = r.d_term = 0.0
+
+    @staticmethod
+    def actuator_pid_state(r):
+        return (r.p_error_last, r.p_error, r.i_error, r.d_error, r.cmd)
+
+    @staticmethod
+    def actuator_terms(r):
+        return (r.p_error, r.d_error, r.p_term, r.i_term, r.d_term)
+
+    @staticmethod
+    def set_actuator_coeffs(r, coeffs):
+        r.ncoef = len(coeffs)
+        for k, c in enumerate(coeffs):
+            r.coef[k] = c
 
     def register_geom(self, world, info):
         e = info.entry
@@ -469,6 +619,22 @@ class NativeBackend(object):
             for a, b in e.adjacent:
                 nat.mr_add_adjacent(ctx, e.uid or 0, a, b)
         nat.mr_set_model_count(ctx, len(self._model_slots))
+        # the turn counts of the joints that count turns live here, in C memory, from now on
+        unwrap = world._unwrap
+        turns = {}
+        for j in unwrap:
+            rec = self._turns.get(j)
+            if rec is None:
+                rec = MrTurn()
+                rec.joint = odelib.raw_pointer(j.ode_joint)
+                j.bind_turn_record(rec)
+            turns[j] = rec
+        self._turns = turns
+        self._nturns = len(unwrap)
+        self._turn_array = (ctypes.POINTER(MrTurn) * max(1, len(unwrap)))(
+            *[ctypes.pointer(turns[j]) for j in unwrap])
+        for a in self._acts:
+            self._bind_turn(a.record, a.joint)
         owners = [(m, g) for m in world._dynamic_models for g in m.dynamic_groups]
         self._body_owner = owners
         self._body_array = (ctypes.c_void_p * max(1, len(owners)))(

@@ -270,12 +270,12 @@ class Joint(object):
         self.friction = desc.friction
         self.mimic = desc.mimic
         self.model = model
-        self.effort = 0.0
+        self._effort = 0.0
+        self._actuator = None      # the World's actuator of this joint (world.add_actuator), or None
         self._ode = None
         self._angular = desc.type in ("revolute", "continuous")
         self._linear = desc.type == "prismatic"
-        self._turns = 0
-        self._last_raw = 0.0
+        self._tr = TurnRecord()    # whole turns counted; the native backend puts its own record here
         self._unwrap = False       # revolute without stops inside (-pi, pi]: track turns
         self._soft_limits = False  # revolute limits beyond +-pi: stops moved each step
         self._cmd = 0.0
@@ -286,6 +286,40 @@ class Joint(object):
 
     def __repr__(self):
         return "<Joint %s::%s (%s)>" % (self.model.name, self.name, self.type)
+
+    @property
+    def effort(self):
+        """The effort applied in the last step (after clamping; an actuator's included)."""
+        a = self._actuator
+        return a.applied if a is not None else self._effort
+
+    @effort.setter
+    def effort(self, f):
+        a = self._actuator
+        if a is not None:
+            a.record.applied = f
+        self._effort = f
+
+    @property
+    def actuator(self):
+        """The World's actuator driving this joint, or None."""
+        return self._actuator
+
+    @property
+    def _turns(self):
+        return self._tr.turns
+
+    @_turns.setter
+    def _turns(self, n):
+        self._tr.turns = n
+
+    @property
+    def _last_raw(self):
+        return self._tr.last_raw
+
+    @_last_raw.setter
+    def _last_raw(self, raw):
+        self._tr.last_raw = raw
 
     @property
     def position(self):
@@ -305,7 +339,8 @@ class Joint(object):
             return j.getAngleRate()
         return j.getPositionRate()
 
-    def _limit(self, f):
+    def limit_effort(self, f):
+        """``f`` clamped to +-effort_limit (when positive) and +-FORCE_CAP: what the joint takes."""
         lim = self.effort_limit
         if lim is not None and lim > 0.0:
             if f > lim:
@@ -366,7 +401,7 @@ class Joint(object):
         else:
             f = self._check_effort(f)
             self._raw_cmd = f
-            self._cmd = self._limit(f)
+            self._cmd = self.limit_effort(f)
         if not self._has_cmd:
             self._has_cmd = True
             self.model._world.queue_effort(self)
@@ -376,7 +411,7 @@ class Joint(object):
         up (the sum is clamped to +-effort_limit) and last for that step only."""
         f = self._check_effort(f)
         self._raw_cmd = (self._raw_cmd if self._has_cmd else 0.0) + f
-        self._cmd = self._limit(self._raw_cmd)
+        self._cmd = self.limit_effort(self._raw_cmd)
         self._queue()
 
     def set_position(self, q):
@@ -428,13 +463,46 @@ class Joint(object):
 
     @property
     def turn_state(self):
-        """(whole turns counted, last raw ODE angle) of a turn-tracking joint; settable (the C
-        loop's batches count turns too: native_batch)."""
+        """(whole turns counted, last raw ODE angle) of a turn-tracking joint."""
         return self._turns, self._last_raw
 
-    @turn_state.setter
-    def turn_state(self, state):
-        self._turns, self._last_raw = state
+    @property
+    def turn_record(self):
+        """The record that holds the turn count (``turns``, ``last_raw``)."""
+        return self._tr
+
+    def bind_turn_record(self, record):
+        """Keep the turn count in ``record`` from now on (the native backend's C memory, which its
+        steps update); the count so far is copied into it."""
+        record.turns, record.last_raw = self._tr.turns, self._tr.last_raw
+        self._tr = record
+
+    def bind_actuator(self, actuator):
+        """The World's actuator of this joint (None: none)."""
+        self._actuator = actuator
+
+    def take_command(self):
+        """The raw sum of the efforts given for this step (None when none) and forget them: the
+        World hands them to the joint's actuator, which adds them before the joint's clamp."""
+        if not self._has_cmd:
+            return None
+        raw = self._raw_cmd
+        self._cmd = 0.0
+        self._has_cmd = False
+        return raw
+
+    def add_raw_effort(self, f):
+        """Apply ``f`` (already clamped) to the ODE joint for this step (the actuators)."""
+        if self._angular:
+            self._ode.addTorque(f)
+        else:
+            self._ode.addForce(f)
+
+    def drive_motor(self, v, max_force):
+        """The ODE joint motor towards velocity ``v`` with at most ``max_force`` this step (MOTOR
+        actuators)."""
+        self._ode.setParam(odelib.PARAM_VEL, v)
+        self._ode.setParam(odelib.PARAM_FMAX, max_force)
 
     @property
     def has_soft_limits(self):
@@ -448,7 +516,7 @@ class Joint(object):
             self._ode.addTorque(f)
         else:
             self._ode.addForce(f)
-        self.effort = f
+        self._effort = f
         self._cmd = 0.0
         self._has_cmd = False
 
@@ -860,6 +928,16 @@ class Model(object):
         for j in self._joint_order:
             j._cmd = 0.0
             j.effort = 0.0
+
+
+class TurnRecord(object):
+    """Whole turns counted by a joint and its last raw ODE angle (the pure-Python path's; the
+    native backend binds a C record with the same fields)."""
+    __slots__ = ("turns", "last_raw")
+
+    def __init__(self):
+        self.turns = 0
+        self.last_raw = 0.0
 
 
 __all__ = ["Model", "Link", "Joint", "Group", "from_ode_quat", "FORCE_CAP"]

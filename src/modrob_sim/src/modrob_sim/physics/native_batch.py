@@ -4,8 +4,7 @@ for the stretches in which no Python step hook is due.
 A World step in Python costs more than the physics itself once a node hangs its hooks on it
 (ros_control's read -> controllers -> write, the publishers' schedules). The /gazebo node knows
 when its hooks have something to do: for the steps in between, :meth:`Batcher.run` steps in C,
-with the ros_control effort joints (:class:`BatchJoint`, filled by
-``modrob_sim.ros_control.native_control``) updated natively at every step. The semantics are the
+with the World's actuators (physics.actuators) run natively at every step. The semantics are the
 Python step's (World._step_once), which stays the reference and runs every step that needs
 anything else; the C loop ends a batch where the World's guard has to look (a flagged step, a
 snapshot step) and this module runs the guard for that step.
@@ -20,52 +19,29 @@ import ctypes
 
 from . import native as native_mod
 from . import odelib
-from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN
+from .backends import MrTurn
+from .model import MIMIC_COUPLING_FORCE, MIMIC_GAIN
 
 INF = float("inf")
 
 
-class BatchJoint(ctypes.Structure):
-    """One effort joint of the batch (MrBatchJoint). mode 0: constant effort ``command``; mode 1:
-    PID on the position error towards ``command`` (err_kind 0 plain, 1 target clamped to
-    [lower, upper], 2 shortest angle); mode 2: an effort JointTrajectoryController's joint, the
-    desired state from one piece of its trajectory (``traj_kind``, ``coef`` ...: see
-    ros_control.trajectory's ``piece``)."""
-    _fields_ = [("joint", ctypes.c_void_p), ("slider", ctypes.c_int), ("mode", ctypes.c_int),
-                ("err_kind", ctypes.c_int), ("has_hw_limit", ctypes.c_int), ("antiwindup", ctypes.c_int),
-                ("turn", ctypes.c_int)] + \
-        [(n, ctypes.c_double) for n in (
-            "lower", "upper", "hw_limit", "joint_limit", "force_cap", "command",
-            "p", "i", "d", "i_max", "i_min",
-            "p_error_last", "p_error", "i_error", "d_error", "cmd", "p_term", "i_term", "d_term",
-            "position", "velocity", "effort", "out", "applied")] + \
-        [("traj_kind", ctypes.c_int), ("ncoef", ctypes.c_int), ("has_offset", ctypes.c_int),
-         ("coef", ctypes.c_double * 6)] + \
-        [(n, ctypes.c_double)
-         for n in ("seg_t0", "seg_t1", "rel_base", "offset", "ff", "abs_until", "rel_until")]
-
-
-class _Turn(ctypes.Structure):
-    _fields_ = [("joint", ctypes.c_void_p), ("last_raw", ctypes.c_double), ("turns", ctypes.c_longlong)]
-
-
 class _Mimic(ctypes.Structure):
-    _fields_ = [("joint", ctypes.c_void_p), ("master", ctypes.c_void_p)] + \
-        [(n, ctypes.c_int)
-         for n in ("slider", "master_slider", "turn", "master_turn", "has_lower", "has_upper")] + \
+    _fields_ = [("joint", ctypes.c_void_p), ("master", ctypes.c_void_p), ("turn", ctypes.POINTER(MrTurn)),
+                ("master_turn", ctypes.POINTER(MrTurn))] + \
+        [(n, ctypes.c_int) for n in ("slider", "master_slider", "has_lower", "has_upper")] + \
         [(n, ctypes.c_double) for n in ("mult", "offset", "lower", "upper", "child_inertia")]
 
 
 class _Soft(ctypes.Structure):
-    _fields_ = [("joint", ctypes.c_void_p), ("turn", ctypes.c_int), ("lower", ctypes.c_double),
+    _fields_ = [("joint", ctypes.c_void_p), ("turn", ctypes.POINTER(MrTurn)), ("lower", ctypes.c_double),
                 ("upper", ctypes.c_double)]
 
 
 class _Batch(ctypes.Structure):
-    _fields_ = [("joints", ctypes.POINTER(BatchJoint)), ("njoints", ctypes.c_int), ("ndamp", ctypes.c_int),
+    _fields_ = [("acts", ctypes.c_void_p), ("nacts", ctypes.c_int), ("ndamp", ctypes.c_int),
                 ("damp_joints", ctypes.c_void_p), ("damp_kinds", ctypes.c_void_p),
                 ("damp_coef", ctypes.c_void_p), ("bodies", ctypes.c_void_p), ("nbodies", ctypes.c_int),
-                ("nturns", ctypes.c_int), ("turns", ctypes.POINTER(_Turn)),
+                ("nturns", ctypes.c_int), ("turns", ctypes.c_void_p),
                 ("guard_max_contacts", ctypes.c_int), ("max_contacts", ctypes.c_int),
                 ("snapshot_interval", ctypes.c_int)] + \
         [(n, ctypes.c_double)
@@ -98,21 +74,6 @@ def available(world):
     return _RUN is not None and getattr(world, "native", False) is True
 
 
-def joint_fields(joint):
-    """(ODE joint pointer, slider, joint limit) of a physics Joint for a BatchJoint."""
-    lim = joint.effort_limit
-    return (odelib.raw_pointer(joint.ode_joint), 0 if joint.is_angular else 1,
-            float(lim) if lim is not None and lim > 0.0 else 0.0)
-
-
-def new_joints(n):
-    arr = (BatchJoint * max(1, n))()
-    for k in range(n):
-        arr[k].force_cap = FORCE_CAP
-        arr[k].turn = -1
-    return arr
-
-
 class Batcher(object):
     """Runs batches of steps of ``world`` (native backend only)."""
 
@@ -120,13 +81,10 @@ class Batcher(object):
         self.world = world
         self._b = _Batch()
         self._ref = ctypes.byref(self._b)
-        self._turn_src = (None, None)   # (the World's turn-tracking joints, the joint array)
-        self._mimic_src = (None, None, None)    # (turn-tracking joints, mimics, soft-limit joints)
+        self._mimic_src = (None, None)    # (mimics, soft-limit joints) of the arrays below
         self._mimics = self._softs = None
-        self._turn_index = {}
         self.last_start = 0.0
         self.after_due = False
-        self._turns = None
 
     def eligible(self):
         w = self.world
@@ -144,13 +102,12 @@ class Batcher(object):
                 return False
         return True
 
-    def run(self, n, joints, njoints, physics_joints, before_due, after_due, clock=None, stop_due=INF):
+    def run(self, n, before_due, after_due, clock=None, stop_due=INF):
         """Up to ``n`` steps in C; returns the number done (0: the first step is due for Python).
         A step whose after-hooks are due (it ends at t with t + 1e-12 >= ``after_due``) ends the
         batch with ``after_due`` set: the caller then runs :meth:`run_after_hooks`.
-        ``joints``: a BatchJoint array of ``njoints`` entries for the physics Joints
-        ``physics_joints`` (same order), ``clock``: an object with ``publish`` (function pointer),
-        ``handle``, ``period`` (0: every step, else at most once per ``period`` s of
+        The World's actuators run at every step; ``clock``: an object with ``publish`` (function
+        pointer), ``handle``, ``period`` (0: every step, else at most once per ``period`` s of
         time.monotonic) and ``last`` (time.monotonic of the last /clock, updated) to publish
         /clock after the steps (``sent`` set True when it went out after the last one), or None.
         The caller makes sure that no before-hook is due at a step starting before
@@ -162,8 +119,12 @@ class Batcher(object):
         b = self._b
         dt = w._dt
         ndamp, dj, dk, dc, bodies, nbodies = be.batch_arrays()
-        b.joints = joints
-        b.njoints = njoints
+        acts, nacts = be.actuator_arrays()
+        turns, nturns = be.turn_arrays()
+        b.acts = ctypes.addressof(acts)
+        b.nacts = nacts
+        b.turns = ctypes.addressof(turns)
+        b.nturns = nturns
         b.ndamp = ndamp
         b.damp_joints = ctypes.addressof(dj)
         b.damp_kinds = ctypes.addressof(dk)
@@ -188,44 +149,26 @@ class Batcher(object):
                                                                        clock.period, clock.last)
         else:
             b.publish, b.clock_handle = None, None
-        unwrap = w._unwrap
-        if self._turn_src[0] is not unwrap or self._turn_src[1] is not joints:
-            self._turn_src = (unwrap, joints)
-            self._turns = (_Turn * max(1, len(unwrap)))()
-            index = {}
-            for u, j in enumerate(unwrap):
-                self._turns[u].joint = odelib.raw_pointer(j.ode_joint)
-                index[id(j)] = u
-            for idx, j in enumerate(physics_joints):
-                joints[idx].turn = index.get(id(j), -1)
-        turns = self._turns
-        for u, j in enumerate(unwrap):
-            turns[u].turns, turns[u].last_raw = j.turn_state
-        b.turns = turns
-        b.nturns = len(unwrap)
         if w._mimics or w._soft:
-            self._arrange_mimics_and_soft(unwrap, w._mimics, w._soft)
+            self._arrange_mimics_and_soft(w._mimics, w._soft)
         b.mimics, b.nmimic = self._mimics, len(w._mimics)
         b.softs, b.nsoft = self._softs, len(w._soft)
+        b.param_vel, b.param_fmax = odelib.PARAM_VEL, odelib.PARAM_FMAX
         k = _RUN(be.ctx, self._ref, int(n))
         if k <= 0:
             return 0
         w.time = b.time
         w.iterations = b.iterations
-        for u, j in enumerate(unwrap):
-            j.turn_state = (turns[u].turns, turns[u].last_raw)
         # what the first step's World._apply_forces did to efforts of the step before that were
-        # not commanded again (the batch joints were, at every step: set below)
+        # not commanded again
         for j in w._last_effort_joints:
             j.effort = 0.0
+        w._last_effort_joints = []
         if clock is not None:
             clock.last = b.last_clock
             clock.sent = bool(b.clock_sent)
         w._ncontacts = b.ncontacts
         be.batch_done(b.ncontacts, b.first_bad)
-        for idx, j in enumerate(physics_joints):
-            j.effort = joints[idx].applied
-        w._last_effort_joints = list(physics_joints)
         self.last_start = b.last_start
         self.after_due = bool(b.after)
         if b.guard:
@@ -234,22 +177,23 @@ class Batcher(object):
                 w._hold_frozen()
         return k
 
-    def _arrange_mimics_and_soft(self, unwrap, mimics, soft):
+    def _arrange_mimics_and_soft(self, mimics, soft):
         """The mimic and soft-limit joints into the batch (the arrays kept while the World's
         lists are the same; the values refreshed at every batch)."""
         b = self._b
-        if (self._mimic_src[0] is not unwrap or self._mimic_src[1] is not mimics
-                or self._mimic_src[2] is not soft):
-            self._mimic_src = (unwrap, mimics, soft)
+        if self._mimic_src[0] is not mimics or self._mimic_src[1] is not soft:
+            self._mimic_src = (mimics, soft)
             self._mimics = (_Mimic * max(1, len(mimics)))()
             self._softs = (_Soft * max(1, len(soft)))()
-            self._turn_index = {id(j): u for u, j in enumerate(unwrap)}
-        index = self._turn_index
+
+        def turn(j):
+            rec = j.turn_record
+            return ctypes.pointer(rec) if isinstance(rec, MrTurn) else ctypes.POINTER(MrTurn)()
         for k, (j, m) in enumerate(mimics):
             e = self._mimics[k]
             e.joint, e.master = odelib.raw_pointer(j.ode_joint), odelib.raw_pointer(m.ode_joint)
             e.slider, e.master_slider = (0 if j.is_angular else 1), (0 if m.is_angular else 1)
-            e.turn, e.master_turn = index.get(id(j), -1), index.get(id(m), -1)
+            e.turn, e.master_turn = turn(j), turn(m)
             e.mult, e.offset = j.mimic[1], j.mimic[2]
             e.has_lower, e.has_upper = int(j.lower is not None), int(j.upper is not None)
             e.lower = j.lower if j.lower is not None else 0.0
@@ -257,9 +201,8 @@ class Batcher(object):
             e.child_inertia = j.child_inertia
         for k, j in enumerate(soft):
             e = self._softs[k]
-            e.joint, e.turn = odelib.raw_pointer(j.ode_joint), index.get(id(j), -1)
+            e.joint, e.turn = odelib.raw_pointer(j.ode_joint), turn(j)
             e.lower, e.upper = j.lower, j.upper
-        b.param_vel, b.param_fmax = odelib.PARAM_VEL, odelib.PARAM_FMAX
         b.param_lo_stop, b.param_hi_stop = odelib.PARAM_LO_STOP, odelib.PARAM_HI_STOP
         b.mimic_gain, b.mimic_force = MIMIC_GAIN, MIMIC_COUPLING_FORCE
 

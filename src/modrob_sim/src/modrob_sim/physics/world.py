@@ -12,6 +12,7 @@ from collections import OrderedDict, namedtuple
 import ode
 
 from ..errors import InputError, ModelError, SimulationError
+from . import actuators as actuators_mod
 from . import limits
 from . import meshes as meshlib
 from . import native as native_mod
@@ -139,6 +140,7 @@ class World(object):
         self._after = ()
         self._effort_joints = []
         self._last_effort_joints = []
+        self._actuators = []
         self._wrench_links = _OrderedSet()
         self._events = []
         self._warned = set()
@@ -306,6 +308,53 @@ class World(object):
     def _update_hooks(self):
         self._before = tuple(b for b, _ in self._hooks.values() if b is not None)
         self._after = tuple(a for _, a in self._hooks.values() if a is not None)
+
+    # ---- actuators ---------------------------------------------------------------------------
+    def add_actuator(self, joint, kind, gains=None, effort_limit=None, error=actuators_mod.PLAIN):
+        """The actuator of ``joint`` (a revolute, continuous or prismatic Joint of a model in this
+        World): it drives the joint at every step until removed (docs/design/sim_core_api.md,
+        "Actuators"). InputError when the joint cannot take one or already has one."""
+        model = getattr(joint, "model", None)
+        what = "add_actuator: joint '%s' of model '%s'" % (getattr(joint, "name", joint),
+                                                           getattr(model, "name", "?"))
+        if kind not in actuators_mod.KIND_NAMES:
+            raise InputError("%s: unknown kind %r (physics.actuators: EFFORT, POSITION_PID, VELOCITY_PID, "
+                             "SEGMENT_PID, MOTOR)" % (what, kind))
+        if model is None or self.models.get(model.name) is not model:
+            raise InputError("%s: the joint's model is not in this World" % what)
+        if joint.ode_joint is None or joint.type not in ("revolute", "continuous", "prismatic"):
+            raise InputError("%s: a %s joint cannot be driven" % (what, joint.type))
+        if joint.actuator is not None:
+            raise InputError("%s already has an actuator (%r): remove it first, or change its kind"
+                             % (what, joint.actuator))
+        record = self._backend.new_actuator(joint, kind)
+        a = actuators_mod.Actuator(self, self._backend, joint, kind, record)
+        a.error = error
+        if gains is not None:
+            a.gains = gains
+        a.effort_limit = effort_limit
+        if kind == actuators_mod.MOTOR:
+            record.motor_vel = joint.velocity
+        joint.bind_actuator(a)
+        self._actuators.append(a)
+        self._backend.actuators_changed(self._actuators)
+        return a
+
+    def remove_actuator(self, actuator):
+        """The joint is free again (no effort from the actuator from the next step on)."""
+        if actuator not in self._actuators:
+            raise InputError("remove_actuator: %r is not an actuator of this World" % (actuator,))
+        self._actuators.remove(actuator)
+        joint = actuator.joint
+        if joint.actuator is actuator:
+            joint.bind_actuator(None)
+            joint.effort = 0.0
+        self._backend.actuators_changed(self._actuators)
+
+    @property
+    def actuators(self):
+        """Every actuator of the World, in the order they run."""
+        return tuple(self._actuators)
 
     # ---- models ------------------------------------------------------------------------------
     def _warn_once(self, key, message):
@@ -481,6 +530,12 @@ class World(object):
         LOG.info("removed model '%s'", name)
 
     def _destroy_model_objects(self, model):
+        gone = [a for a in self._actuators if a.joint.model is model]
+        if gone:
+            self._actuators = [a for a in self._actuators if a.joint.model is not model]
+            for a in gone:
+                a.joint.bind_actuator(None)
+            self._backend.actuators_changed(self._actuators)
         _destroy_objects(model, self._geom_info, self._backend, self._wrench_links)
         self._effort_joints = [j for j in self._effort_joints if j.model is not model]
         self._last_effort_joints = [j for j in self._last_effort_joints if j.model is not model]
@@ -687,28 +742,35 @@ class World(object):
         t = self.time
         for h in self._before:
             h(t, dt)
-        self._apply_forces(dt)
+        self._apply_forces(t, dt)
         self._ncontacts = self._backend.step(self, dt)
         self.iterations += 1
         self.time = t + dt
-        for j in self._unwrap:
-            j.track_turns()
+        self._backend.track_turns(self._unwrap)
         self._guard()
         if self._frozen:
             self._hold_frozen()
         for h in self._after:
             h(self.time, dt)
 
-    def _apply_forces(self, dt):
+    def _apply_forces(self, t, dt):
         for j in self._last_effort_joints:
             j.effort = 0.0
         if self._effort_joints:
+            applied = []
             for j in self._effort_joints:
-                j.apply_command()
-            self._last_effort_joints = self._effort_joints
+                a = j.actuator
+                if a is None:
+                    j.apply_command()
+                    applied.append(j)
+                else:       # added to the actuator's effort before the joint's clamp
+                    a.add_extra(j.take_command())
+            self._last_effort_joints = applied
             self._effort_joints = []
         else:
             self._last_effort_joints = []
+        if self._actuators:
+            self._backend.apply_actuators(self._actuators, t, dt)
         self._backend.apply_damping(self)
         for j, m in self._mimics:
             j.drive_mimic(m, dt)

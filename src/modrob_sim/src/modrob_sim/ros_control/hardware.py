@@ -23,10 +23,19 @@ position command starts at the joint's spawn position (Gazebo starts at 0 and sn
 there); non-finite commands are never passed to ODE (it would abort the process); a joint with
 several interfaces is one joint (Gazebo's DefaultRobotHWSim keeps only the first interface of a
 transmission and would register a joint named by three transmissions three times).
+
+The efforts are applied by the joint's actuator (modrob_sim.physics.actuators): with a ``world``
+the World's own, which it runs at every step, between two updates too (an idle effort joint keeps
+its last command, a PID its target); without one (a test plant, a script that steps joints
+itself) ``write`` runs them. A controller that needs another actuator kind (a PID to a position,
+a trajectory segment) takes the joint's actuator with :meth:`JointResource.actuate` and hands it
+back with :meth:`JointResource.release`; the hardware's write leaves a taken joint alone.
 """
 import math
 
 from modrob_sim.errors import ControllerError
+from modrob_sim.physics import actuators
+from modrob_sim.physics.backends import PureBackend
 from modrob_sim.ros_control import angles
 from modrob_sim.ros_control.pid import Pid, PidGains
 from modrob_sim.ros_control.params import Params
@@ -43,11 +52,16 @@ def _limit(value):
 class JointResource(object):
     """One simulated joint as ros_control sees it: state read each update, the command
     interfaces it offers (``interfaces``, declaration order), the active one (``interface``,
-    ``method``) and its command."""
+    ``method``), its command, and the actuator that applies it (``actuator``; ``owner`` is the
+    controller that took it, or None)."""
 
-    def __init__(self, sim_joint, interface):
+    def __init__(self, sim_joint, interface, world=None):
         """``interface``: one interface name or a sequence of them (the first is active)."""
         self.sim = sim_joint
+        self._world = world
+        self.actuator = None
+        self.owner = None
+        self.synced_gains = None
         self.name = sim_joint.name
         self.type = sim_joint.type
         self.interfaces = (interface,) if isinstance(interface, str) else tuple(interface)
@@ -56,7 +70,7 @@ class JointResource(object):
         self.upper = _limit(getattr(sim_joint, "upper", None))
         if self.type == "continuous":
             self.lower = self.upper = None
-        self.effort_limit = _limit(getattr(sim_joint, "effort_limit", None))
+        self._effort_limit = _limit(getattr(sim_joint, "effort_limit", None))
         vl = _limit(getattr(sim_joint, "velocity_limit", None))
         self.velocity_limit = vl if vl is not None and vl > 0.0 else None
         self.position = float(sim_joint.position)
@@ -73,6 +87,7 @@ class JointResource(object):
         through it from now on."""
         self.pid, self.pid_source = pid, source
         self.method = self._method(self.interface)
+        self.hardware_actuator()
 
     def _method(self, interface):
         if self.pid is not None and interface == POSITION:
@@ -98,10 +113,23 @@ class JointResource(object):
         self._prev_position_cmd = None
         if self.pid is not None:
             self.pid.reset()
+        if self.owner is None:
+            self.hardware_actuator()
         return True
 
     def offered(self):
         return ", ".join("hardware_interface/" + i for i in self.interfaces)
+
+    @property
+    def effort_limit(self):
+        """The hardware's effort clamp (the URDF's <limit effort>); the actuator applies it."""
+        return self._effort_limit
+
+    @effort_limit.setter
+    def effort_limit(self, limit):
+        self._effort_limit = _limit(limit)
+        if self.actuator is not None:
+            self.actuator.effort_limit = self._effort_limit
 
     @property
     def has_position_limits(self):
@@ -117,25 +145,94 @@ class JointResource(object):
             return e
         return min(max(e, -self.effort_limit), self.effort_limit)
 
-    def position_error(self, target):
+    @property
+    def position_rule(self):
+        """The error rule of a position PID on this joint (actuators.PLAIN, CLAMPED, SHORTEST):
+        the shortest way on a continuous joint, the target clamped into a revolute joint's travel."""
         if self.type == "continuous":
-            return angles.shortest_angular_distance(self.position, target)
+            return actuators.SHORTEST
         if self.type == "revolute" and self.has_position_limits:
-            return angles.shortest_angular_distance_with_limits(self.position, target, self.lower, self.upper)
-        return target - self.position
+            return actuators.CLAMPED
+        return actuators.PLAIN
+
+    def position_error(self, target):
+        return actuators.position_error(self.position_rule, target, self.position, self.lower, self.upper)
+
+    # ---- the joint's actuator ------------------------------------------------------------------
+    def actuate(self, kind, gains=None, error=actuators.PLAIN, owner=None):
+        """The joint's actuator, switched to ``kind`` (its PID state from zero) with ``gains`` and
+        the position error rule ``error``; ``owner`` (a controller) takes it: the hardware's write
+        leaves it alone until :meth:`release`."""
+        a = self.actuator
+        if a is None:
+            if self._world is not None:
+                a = self._world.add_actuator(self.sim, kind)
+            else:
+                a = actuators.Actuator(None, PureBackend, self.sim, kind, actuators.PyRecord(kind))
+                if hasattr(self.sim, "bind_actuator"):      # a physics Joint reports its effort
+                    self.sim.bind_actuator(a)
+            self.actuator = a
+        elif a.kind != kind:
+            a.kind = kind
+        a.reset()
+        a.error = error
+        if gains is not None:
+            a.gains = gains
+        a.effort_limit = self.effort_limit
+        self.owner = owner
+        return a
+
+    def hardware_actuator(self):
+        """The actuator through which the hardware applies the active interface's command:
+        an effort joint's held effort, the pid_gains PIDs (DefaultRobotHWSim's position and
+        velocity PIDs); none for a kinematic position joint or an ODE motor's velocity joint."""
+        m = self.method
+        if m == EFFORT:
+            self.actuate(actuators.EFFORT).command = self.command if math.isfinite(self.command) else 0.0
+        elif m == POSITION_PID:
+            self.actuate(actuators.POSITION_PID, self.pid.gains, self.position_rule).command = self.position
+        elif m == VELOCITY_PID:
+            self.actuate(actuators.VELOCITY_PID, self.pid.gains)
+        else:
+            self.remove_actuator()
+        self.synced_gains = self.pid.gains if self.pid is not None else None
+
+    def release(self):
+        """A controller lets the joint go: the hardware applies the active interface's command
+        again (an effort joint keeps the last effort, as ros_control's hardware does)."""
+        self.owner = None
+        self.hardware_actuator()
+
+    def remove_actuator(self):
+        """No actuator on the joint (its interface needs none, or the hardware goes)."""
+        a, self.actuator = self.actuator, None
+        self.owner = None
+        if a is None:
+            return
+        if self._world is not None:
+            if a in self._world.actuators:
+                self._world.remove_actuator(a)
+        elif hasattr(self.sim, "bind_actuator"):
+            self.sim.bind_actuator(None)
 
 
 class RobotHWSim(object):
     """The hardware of one model: ``joints`` (name -> JointResource) in transmission order."""
 
-    def __init__(self, model_joints, transmissions, pid_gains=None, warn=None):
+    def __init__(self, model_joints, transmissions, pid_gains=None, warn=None, world=None):
         """``model_joints``: name -> physics Joint. ``transmissions``: TransmissionInfo list.
         ``pid_gains``: Params of the ``gazebo_ros_control/pid_gains`` namespace (or None).
-        ``warn(msg)``: where warnings go (deprecated syntax, skipped transmissions)."""
+        ``warn(msg)``: where warnings go (deprecated syntax, skipped transmissions).
+        ``world``: the World of the joints, whose actuators then apply the efforts at every step;
+        None: :meth:`write` applies them (a plant stepped by its caller)."""
         warn = warn or (lambda msg: None)
         self.joints = {}
         self.order = []
         self.notes = []
+        self.world = world
+        #: the update's physics step count (ControllerManager.update sets it): controllers that
+        #: decimate by updates count with it, also across the steps the World made natively
+        self.iteration = -1
         offered = {}            # joint name -> [interface, ...] in declaration order
         for tr in transmissions:
             if not tr.joints:
@@ -190,9 +287,11 @@ class RobotHWSim(object):
                                       % (tr.name, act.reduction))
         for name in self.order:
             ifaces = offered[name]
-            res = JointResource(model_joints[name], ifaces)
+            res = JointResource(model_joints[name], ifaces, world)
             if (POSITION in ifaces or VELOCITY in ifaces) and pid_gains is not None and pid_gains.has(name):
                 res.set_pid(Pid(PidGains.from_params(pid_gains.child(name))), pid_gains.path(name))
+            else:
+                res.hardware_actuator()
             self.joints[name] = res
 
     def joint(self, name, interface=None, controller=""):
@@ -231,6 +330,13 @@ class RobotHWSim(object):
             res.velocity = float(j.velocity)
             res.effort = float(j.effort)
 
+    @property
+    def needs_every_update(self):
+        """True when a joint's command changes between updates by the hardware's own rule (a
+        position joint moved kinematically, or rate-limited towards its target): then every step
+        is an update in Python."""
+        return any(res.method in (POSITION, POSITION_PID) for res in self.joints.values())
+
     def reset_commands(self):
         """After a reset: hold where the joints are now, PIDs cleared."""
         self.read()
@@ -239,23 +345,29 @@ class RobotHWSim(object):
             res._prev_position_cmd = None
             if res.pid is not None:
                 res.pid.reset()
+            if res.owner is None:
+                res.hardware_actuator()
 
-    def write(self, dt):
+    def write(self, dt, t=0.0):
         for name in self.order:
             res = self.joints[name]
+            if res.owner is not None:
+                continue        # a controller drives the joint's actuator itself
             cmd = res.command
             if not math.isfinite(cmd):
                 cmd = res.position if res.interface == POSITION else 0.0
             m = res.method
+            if res.pid is not None and res.pid.gains is not res.synced_gains and res.actuator is not None:
+                res.synced_gains = res.pid.gains        # gains changed (dynamic_reconfigure)
+                res.actuator.gains = res.synced_gains
             if m == EFFORT:
-                res.sim.set_effort(res.clamp_effort(cmd))
+                res.actuator.command = cmd          # the actuator clamps to the effort limit
             elif m in (POSITION, POSITION_PID):
                 cmd = self._saturate_position(res, cmd, dt)
                 if m == POSITION:
                     res.sim.set_position(cmd)
                 else:
-                    effort = res.clamp_effort(res.pid.compute(res.position_error(cmd), dt))
-                    res.sim.set_effort(effort)
+                    res.actuator.command = cmd
             elif m == VELOCITY:
                 if res.velocity_limit is not None:
                     cmd = min(max(cmd, -res.velocity_limit), res.velocity_limit)
@@ -264,8 +376,18 @@ class RobotHWSim(object):
             elif m == VELOCITY_PID:
                 if res.velocity_limit is not None:
                     cmd = min(max(cmd, -res.velocity_limit), res.velocity_limit)
-                effort = res.clamp_effort(res.pid.compute(cmd - res.velocity, dt))
-                res.sim.set_effort(effort)
+                res.actuator.command = cmd
+        if self.world is None:      # no World to run the actuators: this update does
+            for name in self.order:
+                res = self.joints[name]
+                a = res.actuator
+                if a is not None:
+                    actuators.step_python(a.record, res.sim, t, dt, res.sim.limit_effort)
+
+    def remove_actuators(self):
+        """The hardware goes (its model's plugin shuts down): its joints are free again."""
+        for res in self.joints.values():
+            res.remove_actuator()
 
     @staticmethod
     def _saturate_position(res, cmd, dt):

@@ -25,8 +25,6 @@ class ControllerManager(object):
         self.time = 0.0
         #: the physics step (s); when set, loading a controller warns about gains that cannot run
         self.time_step = None
-        #: changes whenever the set of controllers or their states change (native_control's cue)
-        self.generation = 0
 
     # -- queries ---------------------------------------------------------------------------
     def list_types(self):
@@ -64,7 +62,6 @@ class ControllerManager(object):
                                   % (name, type_, ns, ", ".join(self.list_types())))
         controller = cls(name, self.hw, Params(params_values, ns))
         self.controllers[name] = controller
-        self.generation += 1
         if self.time_step:
             for joint, gain, k, limit, inertia in gain_check.unstable_gains(controller, self.time_step):
                 self.log("warn", gain_check.message(name, joint, gain, k, limit, inertia, self.time_step))
@@ -80,7 +77,6 @@ class ControllerManager(object):
             raise ControllerError("Could not unload controller with name '%s' because it is still running; "
                                   "stop it first (switch_controller)" % name)
         del self.controllers[name]
-        self.generation += 1
         return c
 
     # -- switch ----------------------------------------------------------------------------
@@ -131,7 +127,6 @@ class ControllerManager(object):
                                        "and '%s' (%s): stop one of them in the same switch"
                                        % (j, other, other_iface, n, iface))
                     claims[j] = (n, iface)
-        self.generation += 1
         t = self.time
         # as controller_manager: the hardware switches interfaces first, then stop, then start
         self.hw.do_switch([self.controllers[n] for n in to_start], [self.controllers[n] for n in to_stop])
@@ -153,11 +148,18 @@ class ControllerManager(object):
         return running
 
     # -- loop ------------------------------------------------------------------------------
-    def update(self, t, dt):
-        """read -> update running controllers -> write, at simulated time ``t``."""
+    def update(self, t, dt, iteration=None):
+        """read -> update running controllers -> write, at simulated time ``t``; ``iteration``:
+        the index of the physics step (the World's count: the steps between two updates in
+        Python count too), else one more than the last update's."""
         self.time = t
+        self.hw.iteration = self.hw.iteration + 1 if iteration is None else iteration
         self.hw.read()
         for c in self.controllers.values():
             if c.state == "running":
                 c.update(t, dt)
-        self.hw.write(dt)
+        self.hw.write(dt, t)
+        if self.hw.world is None:       # write ran the actuators: what they did is known now
+            for c in self.controllers.values():
+                if c.collect_due:
+                    c.collect()

@@ -22,9 +22,9 @@ from controller_manager_msgs.srv import (ListControllers, ListControllersRespons
 from modrob_sim.errors import LoopStoppedError, ModrobError
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
+from modrob_sim.ros_control.control_loop import ControlLoop
 from modrob_sim.ros_control.hardware import RobotHWSim
 from modrob_sim.ros_control.manager import BEST_EFFORT, ControllerManager
-from modrob_sim.ros_control.native_control import NativeControl
 from modrob_sim.ros_control.params import Params, join
 from modrob_sim.ros_control.plugin_config import DEFAULT_SIM_TYPE, PluginConfig
 from modrob_sim.ros_control.ros_adapters import adapter_for
@@ -63,20 +63,20 @@ class GazeboRosControlPlugin(ModelPlugin):
         transmissions = parse_transmissions(model.source_xml)
         self.hw = RobotHWSim(model.joints, transmissions,
                              Params(pid_values, pid_ns) if pid_ns else None,
-                             warn=lambda m: rospy.logwarn("model '%s': %s" % (model.name, m)))
+                             warn=lambda m: rospy.logwarn("model '%s': %s" % (model.name, m)),
+                             world=context.world)
         for note in self.hw.notes:
             rospy.loginfo("model '%s': %s" % (model.name, note))
         self.manager = ControllerManager(self.hw, self.namespace,
                                          log=lambda level, msg: _LOG[level]("%s: %s" % (self.namespace, msg)))
         self.manager.time_step = context.world.time_step
         self.adapters = {}      # controller name -> ROS adapter; changed only in the loop thread
-        self.reconfigure = [PidReconfigure(res.pid, res.pid_source) for res in self.hw.pid_joints().values()]
+        self.reconfigure = [PidReconfigure(res.pid, res.pid_source, on_change=lambda _g: context.wake())
+                            for res in self.hw.pid_joints().values()]
         for name, res in self.hw.pid_joints().items():
             rospy.loginfo("model '%s': joint %s driven by the PID at %s (%s)"
                           % (model.name, name, res.pid_source, res.pid.gains))
-        self._last_update = None
-        #: the update in the C loop's batches when nothing of it needs Python (native_control)
-        self.native_control = NativeControl(self)
+        self.loop = ControlLoop(self.hw, self.manager, self.adapters, context.world, cfg.control_period)
         cm = join(self.namespace, "controller_manager")
         self.services = [
             rospy.Service(cm + "/list_controllers", ListControllers, self._list),
@@ -90,31 +90,25 @@ class GazeboRosControlPlugin(ModelPlugin):
                       % (model.name, self.namespace, len(self.hw.order),
                          ", ".join("%s:%s" % (n, self.hw.joints[n].method) for n in self.hw.order)))
 
-    # ---- simulation loop ------------------------------------------------------------------
+    # ---- simulation loop (ros_control.control_loop) ------------------------------------------
+    def before_due(self):
+        return self.loop.before_due()
+
     def before_step(self, t, dt):
-        period = self.config.control_period
-        if period is not None and self._last_update is not None and t - self._last_update < period - 1e-9:
-            return
-        step = dt if self._last_update is None or period is None else t - self._last_update
-        self._last_update = t
-        adapters = list(self.adapters.values())
-        for a in adapters:
-            a.before_update(t)
-        self.manager.update(t, step)
-        for a in adapters:
-            a.after_update(t)
+        self.loop.before_step(t, dt)
+
+    def after_due(self):
+        return self.loop.after_due()
+
+    def after_step(self, t, dt):
+        self.loop.after_step(t, dt)
 
     def reset(self):
-        self._last_update = None
-        self.manager.time = 0.0
-        self.hw.reset_commands()
-        running = [c for c in self.manager.list_controllers() if c.state == "running"]
-        for c in running:
-            c.starting(0.0)
+        self.loop.reset()
 
     def shutdown(self):
-        self.native_control.detach()
         self.manager.stop_all()
+        self.hw.remove_actuators()
         adapters, self.adapters = list(self.adapters.values()), {}
         for a in adapters:
             a.shutdown()

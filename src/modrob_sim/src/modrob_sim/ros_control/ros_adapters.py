@@ -64,16 +64,27 @@ def _status_in_sim_time(adapter):
         adapter.handles.append(timer)
 
 
-class Adapter(object):
-    #: True when before_update/after_update have nothing to do unless the controller left data in
-    #: ``pending`` (then the update runs in Python): ros_control.native_control may batch steps
-    NATIVE = False
+def _wake(plugin):
+    """The plugin's context.wake (a callback stored work: the update runs at the next step), or a
+    no-op without a context."""
+    context = getattr(plugin, "context", None)
+    return context.wake if context is not None else (lambda: None)
 
+
+class Adapter(object):
     def __init__(self, plugin, controller):
         self.plugin = plugin
         self.c = controller
         self.ns = join(plugin.namespace, controller.name)
         self.handles = []
+        self.wake = _wake(plugin)
+        buf = getattr(controller, "command", None)
+        if buf is not None and hasattr(buf, "on_write"):
+            buf.on_write = self.wake        # a new command: the controller's next update at once
+
+    def waiting(self):
+        """True when a callback stored work that the next update must take (goals, commands)."""
+        return False
 
     def before_update(self, t):
         pass
@@ -91,8 +102,6 @@ class Adapter(object):
 
 
 class JointStateAdapter(Adapter):
-    NATIVE = True
-
     def __init__(self, plugin, controller):
         super(JointStateAdapter, self).__init__(plugin, controller)
         self.pub = publisher(join(plugin.namespace, "joint_states"), JointState, queue_size=10)
@@ -112,8 +121,6 @@ class SingleJointAdapter(Adapter):
     """``command`` (std_msgs/Float64); with a PID also ``state`` (JointControllerState) and the
     reconfigure server at ``<controller>/pid``."""
 
-    NATIVE = True
-
     def __init__(self, plugin, controller):
         super(SingleJointAdapter, self).__init__(plugin, controller)
         self.throttle = _Throttle()
@@ -122,11 +129,14 @@ class SingleJointAdapter(Adapter):
         if hasattr(controller, "pid"):
             self.state_pub = publisher(self.ns + "/state", JointControllerState, queue_size=10)
             self.handles.append(self.state_pub)
+            # nobody listens: no update is made in Python for the state message
+            controller.state_wanted = lambda: self.state_pub.get_num_connections() > 0
             self.handles.append(PidReconfigure(controller.pid, controller.pid_namespace,
                                                on_change=self._gains_changed))
 
     def _gains_changed(self, gains):
         rospy.loginfo("%s: new PID gains %s" % (self.ns, gains))
+        self.wake()
 
     def _on_command(self, msg):
         res = self.c.set_command(msg.data)
@@ -194,10 +204,15 @@ class GripperActionAdapter(Adapter):
     def _on_goal(self, gh):
         with self.lock:
             self.inbox.append(("goal", gh))
+        self.wake()
 
     def _on_cancel(self, gh):
         with self.lock:
             self.inbox.append(("cancel", gh))
+        self.wake()
+
+    def waiting(self):
+        return bool(self.inbox)
 
     def before_update(self, t):
         with self.lock:
@@ -262,9 +277,7 @@ def _points_from_msg(points):
 class TrajectoryAdapter(Adapter):
     """``command`` (trajectory_msgs/JointTrajectory), ``state`` (JointTrajectoryControllerState),
     ``follow_joint_trajectory`` (control_msgs/FollowJointTrajectory action), ``query_state``.
-    NATIVE: before_update has work only with something in ``inbox`` (native_control then runs the
-    update in Python), after_update only after a Python update (events, feedback, state)."""
-    NATIVE = True
+    Goals, commands and cancels wait in ``inbox`` for the next update (``waiting``)."""
 
     def __init__(self, plugin, controller):
         super(TrajectoryAdapter, self).__init__(plugin, controller)
@@ -283,7 +296,10 @@ class TrajectoryAdapter(Adapter):
         _status_in_sim_time(self)
         for name in ("pid_namespaces",):
             for pid, ns in zip(getattr(controller, "pids", []), getattr(controller, name, [])):
-                self.handles.append(PidReconfigure(pid, ns))
+                self.handles.append(PidReconfigure(pid, ns, on_change=lambda _g: self.wake()))
+
+    def waiting(self):
+        return bool(self.inbox)
 
     # callbacks: parse, check and build every segment here, then hand the finished trajectory over:
     # the loop only places it in time (a 100k-point goal built in the loop thread blocked every
@@ -302,16 +318,19 @@ class TrajectoryAdapter(Adapter):
         parsed = self._parse(list(msg.joint_names), msg.points)
         with self.lock:
             self.inbox.append(("command", (msg,) + parsed))
+        self.wake()
 
     def _on_goal(self, gh):
         traj = gh.get_goal().trajectory
         parsed = self._parse(list(traj.joint_names), traj.points)
         with self.lock:
             self.inbox.append(("goal", (gh,) + parsed))
+        self.wake()
 
     def _on_cancel(self, gh):
         with self.lock:
             self.inbox.append(("cancel", gh))
+        self.wake()
 
     def _on_query(self, req):
         """ros_controllers' queryStateService: the current trajectory sampled at ``req.time``

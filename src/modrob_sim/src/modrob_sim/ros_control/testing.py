@@ -24,6 +24,18 @@ class IntegratorJoint(object):
             f = max(-self.effort_limit, min(self.effort_limit, f))
         self._effort = f
 
+    def limit_effort(self, f):
+        if self.effort_limit is not None:
+            f = max(-self.effort_limit, min(self.effort_limit, f))
+        return f
+
+    def add_raw_effort(self, f):
+        """An actuator's effort for this step (already clamped)."""
+        self._effort += f
+
+    def drive_motor(self, v, max_force):
+        self._motor = None if max_force <= 0 else (float(v), float(max_force))
+
     def set_position(self, q):
         self._kinematic = float(q)
 

@@ -10,14 +10,14 @@ relative to the trajectory's start; pure, any thread, O(points)) and
 (O(joints) plus a bisection, in the loop thread). Sampling is a bisection, not a scan."""
 import bisect
 
-INF = float("inf")
-#: Piece kinds: a segment's polynomial in absolute time, in time relative to ``base``, or a hold
-ABSOLUTE, RELATIVE, HOLD = 0, 1, 2
+#: Piece kinds (a segment's polynomial in absolute time, in time relative to ``base``, a hold) are
+#: the actuators' segment kinds
+from modrob_sim.physics.actuators import ABSOLUTE, HOLD, INF, RELATIVE, eval_polynomial, segment_time
 
 
 class Piece(object):
     """What ``sample`` does from time ``t`` on, for as long as the same branch of it holds (the C
-    loop's batches evaluate it: ros_control.native_control): for a step starting at t' with
+    World's SEGMENT_PID actuators evaluate it: physics.actuators): for a step starting at t' with
     t' < ``abs_until`` and t' - ``base`` < ``rel_until`` (the same float operations as sample's
     own tests), sample(t') is ``segment.sample(t')`` (ABSOLUTE), ``segment.sample(t' - base)``
     plus ``offsets`` when not None (RELATIVE), or ``positions`` with zero velocity (HOLD)."""
@@ -54,17 +54,6 @@ def _coefficients(p0, v0, a0, p1, v1, a1, T, order):
             (12.0 * (p1 - p0) - 6.0 * (v1 + v0) * T - (a0 - a1) * T ** 2) / (2.0 * T ** 5)]
 
 
-def _eval(c, s):
-    pos = vel = acc = 0.0
-    for k, ck in enumerate(c):
-        pos += ck * s ** k
-        if k >= 1:
-            vel += k * ck * s ** (k - 1)
-        if k >= 2:
-            acc += k * (k - 1) * ck * s ** (k - 2)
-    return pos, vel, acc
-
-
 class Segment(object):
     def __init__(self, t0, start, t1, end):
         self.t0, self.t1 = t0, t1
@@ -83,8 +72,8 @@ class Segment(object):
                        for i in range(n)]
 
     def sample(self, t):
-        s = min(max(t, self.t0), self.t1) - self.t0
-        out = [_eval(c, s) for c in self.coeffs]
+        s = segment_time(t, self.t0, self.t1)
+        out = [eval_polynomial(c, s) for c in self.coeffs]
         return [o[0] for o in out], [o[1] for o in out], [o[2] for o in out]
 
 

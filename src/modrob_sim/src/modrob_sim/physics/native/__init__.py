@@ -81,6 +81,8 @@ def _declare(lib):
         "mr_geom_set_bits": (None, [vp, ul, ul]),
         "mr_geom_aabb": (None, [vp, vp]),
         "mr_max_depth": (d, [vp, vp]),
+        "mr_apply_actuators": (None, [vp, i, d, d, i, i]),
+        "mr_track_turns": (None, [vp, i]),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)

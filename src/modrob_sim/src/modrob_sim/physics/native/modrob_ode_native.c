@@ -843,79 +843,250 @@ double mr_max_depth(dGeomID a, dGeomID b)
     return d;
 }
 
-/* ---- batched steps with native effort controllers ------------------------------------------
+/* ---- actuators and turn counts ------------------------------------------------------------
+ * The World's actuators (physics/actuators.py: one per driven joint, owned by the native backend in
+ * this C memory): at every step, from the joint's state at the step's start, an effort (EFFORT: the
+ * command; POSITION_PID: PID on the position error; VELOCITY_PID: PID on the velocity error;
+ * SEGMENT_PID: PID along a trajectory segment plus velocity feed-forward) or an ODE joint motor
+ * (MOTOR), then the hardware clamp, the efforts given with set_effort in that step, the joint's
+ * own clamp (Joint.limit_effort) and FORCE_CAP. The pure-Python backend does the same in
+ * actuators.step_python; test_actuators.py runs both on the same worlds. */
+typedef struct {
+    dJointID joint;      /* a hinge whose position counts whole turns (Joint.track_turns) */
+    double last_raw;
+    long long turns;
+} MrTurn;
+
+typedef struct {
+    dJointID joint;
+    MrTurn *turn;        /* the joint's turn count (its position = raw angle + 2 pi turns), or NULL */
+    int slider;          /* 0 hinge, 1 slider */
+    int kind;            /* 0 EFFORT, 1 POSITION_PID, 2 SEGMENT_PID, 3 VELOCITY_PID, 4 MOTOR */
+    int err_kind;        /* 0 target - q, 1 target clamped to [lower, upper] first, 2 shortest angle */
+    int has_hw_limit;
+    int antiwindup;
+    int has_extra;       /* `extra` holds efforts given with set_effort for this step (Python steps) */
+    double lower, upper, hw_limit, joint_limit, force_cap;
+    double command, extra;
+    double p, i, d, i_max, i_min;
+    double p_error_last, p_error, i_error, d_error, cmd, p_term, i_term, d_term;
+    double t, position, velocity, set_point, desired_velocity, out, applied;
+    /* SEGMENT_PID: the desired state from one piece of a trajectory (trajectory.py, Piece): a
+     * polynomial in t (traj_kind 0) or in t - rel_base (1) on [seg_t0, seg_t1], plus `offset`, or a
+     * constant coef[0] (2); valid for steps starting at t < abs_until with t - rel_base < rel_until */
+    int traj_kind, ncoef, has_offset;
+    double coef[6];
+    double seg_t0, seg_t1, rel_base, offset, ff, abs_until, rel_until;
+    double max_force, accel, motor_vel;   /* MOTOR */
+} MrActuator;
+
+#define MR_TWO_PI 6.283185307179586
+
+/* angles.normalize_angle(to - from) (Python: fmod twice, then > pi -> -2 pi) */
+static double mr_shortest_angle(double from, double to)
+{
+    double a = fmod(fmod(to - from, MR_TWO_PI) + MR_TWO_PI, MR_TWO_PI);
+    return a > 3.141592653589793 ? a - MR_TWO_PI : a;
+}
+
+/* Python's max(x, lo) then min(., hi) */
+static inline double mr_clamp(double x, double lo, double hi)
+{
+    double v = lo > x ? lo : x;
+    return hi < v ? hi : v;
+}
+
+/* Pid.compute(error, dt, error_dot) past its checks */
+static double mr_pid_terms(MrActuator *j, double error, double error_dot, double dt)
+{
+    double i_term;
+    j->p_error = error;
+    j->d_error = error_dot;
+    j->p_term = j->p * error;
+    j->i_error += dt * error;
+    if (j->antiwindup && j->i != 0.0) {
+        double a = j->i_min / j->i, b = j->i_max / j->i;
+        double lo = b < a ? b : a, hi = b < a ? a : b;
+        j->i_error = mr_clamp(j->i_error, lo, hi);
+    }
+    i_term = j->i * j->i_error;
+    if (!j->antiwindup) i_term = mr_clamp(i_term, j->i_min, j->i_max);
+    j->i_term = i_term;
+    j->d_term = j->d * error_dot;
+    j->cmd = j->p_term + i_term + j->d_term;
+    return j->cmd;
+}
+
+/* Pid.compute(error, dt) */
+static double mr_pid(MrActuator *j, double error, double dt)
+{
+    double error_dot;
+    if (dt <= 0.0 || !isfinite(error)) return 0.0;
+    error_dot = (error - j->p_error_last) / dt;
+    j->p_error_last = error;
+    if (!isfinite(error_dot)) return 0.0;
+    return mr_pid_terms(j, error, error_dot, dt);
+}
+
+/* Pid.compute(error, dt, error_dot) */
+static double mr_pid_dot(MrActuator *j, double error, double error_dot, double dt)
+{
+    if (dt <= 0.0 || !isfinite(error)) return 0.0;
+    if (!isfinite(error_dot)) return 0.0;
+    return mr_pid_terms(j, error, error_dot, dt);
+}
+
+/* actuators.segment_sample: eval_polynomial's sums of ck * s ** k in the same order at
+ * s = segment_time(t) (Python's float ** int is C's pow) */
+static void mr_segment_sample(const MrActuator *j, double t, double *pos, double *vel)
+{
+    double tt, s, lo, p = 0.0, v = 0.0;
+    int k;
+    if (j->traj_kind == 2) {
+        *pos = j->coef[0];
+        *vel = 0.0;
+        return;
+    }
+    tt = j->traj_kind == 1 ? t - j->rel_base : t;
+    lo = j->seg_t0 > tt ? j->seg_t0 : tt;                     /* min(max(t, t0), t1) - t0 */
+    s = (j->seg_t1 < lo ? j->seg_t1 : lo) - j->seg_t0;
+    for (k = 0; k < j->ncoef; ++k) {
+        p += j->coef[k] * pow(s, (double)k);
+        if (k >= 1) v += (double)k * j->coef[k] * pow(s, (double)(k - 1));
+    }
+    *pos = j->has_offset ? p + j->offset : p;
+    *vel = v;
+}
+
+static inline double mr_joint_position(dJointID joint, int slider, const MrTurn *turn)
+{
+    if (slider) return dJointGetSliderPosition(joint);
+    return dJointGetHingeAngle(joint) + (turn ? MR_TWO_PI * (double)turn->turns : 0.0);
+}
+
+static void mr_set_param(dJointID j, int slider, int param, double v)
+{
+    if (slider) dJointSetSliderParam(j, param, v);
+    else dJointSetHingeParam(j, param, v);
+}
+
+/* every actuator's step at time t (actuators.step_python): dParamVel / dParamFMax are the running
+ * libode's parameter numbers (odelib.PARAM_VEL, PARAM_FMAX) */
+void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param_vel, int param_fmax)
+{
+    int k;
+    for (k = 0; k < n; ++k) {
+        MrActuator *j = acts[k];
+        double f, q, v, lim;
+        q = mr_joint_position(j->joint, j->slider, j->turn);
+        v = j->slider ? dJointGetSliderPositionRate(j->joint) : dJointGetHingeAngleRate(j->joint);
+        j->t = t;
+        j->position = q;
+        j->velocity = v;
+        if (j->kind == 1) {
+            double target = j->command, error;
+            j->set_point = target;
+            j->desired_velocity = 0.0;
+            if (j->err_kind == 2) error = mr_shortest_angle(q, target);
+            else if (j->err_kind == 1) error = mr_clamp(target, j->lower, j->upper) - q;
+            else error = target - q;
+            f = mr_pid(j, error, dt);
+        } else if (j->kind == 2) {
+            double dpos, dvel, error;
+            mr_segment_sample(j, t, &dpos, &dvel);
+            j->set_point = dpos;
+            j->desired_velocity = dvel;
+            error = j->err_kind == 2 ? mr_shortest_angle(q, dpos) : dpos - q;
+            f = mr_pid_dot(j, error, dvel - v, dt) + j->ff * dvel;
+        } else if (j->kind == 3) {
+            j->set_point = j->command;
+            j->desired_velocity = j->command;
+            f = mr_pid(j, j->command - v, dt);
+        } else if (j->kind == 4) {
+            double target = j->command;
+            if (j->accel > 0.0) {
+                double step = j->accel * dt;
+                target = mr_clamp(target, j->motor_vel - step, j->motor_vel + step);
+            }
+            j->motor_vel = target;
+            j->set_point = j->desired_velocity = target;
+            j->out = 0.0;
+            mr_set_param(j->joint, j->slider, param_vel, target);
+            mr_set_param(j->joint, j->slider, param_fmax, j->max_force);
+            continue;
+        } else {
+            f = j->set_point = j->command;
+            j->desired_velocity = 0.0;
+        }
+        j->out = f;
+        if (!isfinite(f)) f = 0.0;
+        if (j->has_hw_limit) f = mr_clamp(f, -j->hw_limit, j->hw_limit);
+        if (j->has_extra) {
+            f += j->extra;
+            j->has_extra = 0;
+            j->extra = 0.0;
+        }
+        lim = j->joint_limit;                                     /* Joint.limit_effort */
+        if (lim > 0.0) {
+            if (f > lim) f = lim;
+            else if (f < -lim) f = -lim;
+        }
+        if (f > j->force_cap) f = j->force_cap;
+        else if (f < -j->force_cap) f = -j->force_cap;
+        if (j->slider) dJointAddSliderForce(j->joint, f);
+        else dJointAddHingeTorque(j->joint, f);
+        j->applied = f;
+    }
+}
+
+/* Joint.track_turns of every turn-counting joint, after a step */
+void mr_track_turns(MrTurn **turns, int n)
+{
+    int k;
+    for (k = 0; k < n; ++k) {
+        MrTurn *u = turns[k];
+        double raw = dJointGetHingeAngle(u->joint);
+        double d = raw - u->last_raw;
+        if (d > 3.141592653589793) u->turns -= 1;
+        else if (d < -3.141592653589793) u->turns += 1;
+        u->last_raw = raw;
+    }
+}
+
+/* ---- batched steps --------------------------------------------------------------------------
  * Several whole steps in one call, for the stretches in which no Python hook is due (the /gazebo
  * node decides that: modrob_sim.physics.native_batch). Each step does what World._step_once
- * does for a world without wrenches, anti-gravity groups or frozen models,
- * with the ros_control effort joints of MrBatchJoint and the turn counts of MrBatchTurn:
- *   before: per joint, hw read (position, velocity, the effort applied in the previous step),
- *           the controller (PID on the position error, a trajectory's PID, or a constant effort
- *           command),
- *           RobotHWSim.write's clamp, Joint.set_effort's clamp, the torque or force applied;
- *   explicit damping, the mimic joints' couplings and the soft limits' stops (MrBatchMimic,
- *   MrBatchSoft), collide + quickStep or dWorldStep with the guard's velocity scan
- *   (mr_step_checked), time and iteration count;
+ * does for a world without wrenches, anti-gravity groups, frozen models or queued efforts:
+ *   the actuators (mr_apply_actuators), explicit damping, the mimic joints' couplings and the soft
+ *   limits' stops (MrBatchMimic, MrBatchSoft), collide + quickStep or dWorldStep with the guard's
+ *   velocity scan (mr_step_checked), time and iteration count, the turn counts;
  *   /clock (8 bytes: secs, nsecs, as rospy serialises rosgraph_msgs/Clock) through `publish`, at
  *   every step or throttled to a wall-clock period as StatePublishers.after_step does, also at
  *   a step whose after-hooks are due (`clock_sent` tells them);
  *   the blow-up guard's checks: a step the guard would flag, or a snapshot step, ends the batch
  *   (`guard` = 1) so that the World's Python guard runs for it; so does a step whose after-hooks
- *   are due (`after` = 1: Python runs them).
- * Semantics are those of ros_control/pid.py, hardware.py, effort_joint_position.py and
- * physics/model.py (Joint._limit), which stay the reference. */
-typedef struct {
-    dJointID joint;
-    int slider;          /* 0 hinge, 1 slider */
-    int mode;            /* 0 constant effort command, 1 PID on the position error, 2 trajectory */
-    int err_kind;        /* 0 target - position, 1 target clamped to [lower, upper], 2 shortest angle */
-    int has_hw_limit;    /* RobotHWSim.clamp_effort applies hw_limit */
-    int antiwindup;
-    int turn;            /* index of the joint's MrBatchTurn (its position counts turns), or -1 */
-    double lower, upper, hw_limit, joint_limit, force_cap;
-    double command;      /* the target (PID) or effort (constant); Python may write it any time */
-    double p, i, d, i_max, i_min;
-    double p_error_last, p_error, i_error, d_error, cmd, p_term, i_term, d_term;
-    double position, velocity, effort;   /* what the last update read */
-    double out;          /* the controller's command of the last update (joint.command) */
-    double applied;      /* the effort applied in the last step (Joint.effort) */
-    /* mode 2: a joint of an effort JointTrajectoryController (controllers/joint_trajectory.py):
-     * the desired position and velocity from one piece of its trajectory (trajectory.py, Piece),
-     * PID on (desired - actual, desired velocity - actual velocity) plus velocity_ff * desired
-     * velocity. The piece is valid for steps starting at t < abs_until with t - rel_base <
-     * rel_until; a step outside it ends the batch before it starts (Python places the next). */
-    int traj_kind;       /* 0 polynomial in t, 1 polynomial in t - rel_base, 2 hold coef[0] */
-    int ncoef;           /* 1..6 */
-    int has_offset;      /* add `offset` to the polynomial's position */
-    double coef[6];
-    double seg_t0, seg_t1, rel_base, offset, ff, abs_until, rel_until;
-} MrBatchJoint;
+ *   are due (`after` = 1: Python runs them). */
 
-typedef struct {
-    dJointID joint;      /* a hinge whose position counts whole turns (Joint.track_turns) */
-    double last_raw;
-    long long turns;
-} MrBatchTurn;
-
-/* a mimic joint (Joint.drive_mimic) and its master; positions as Joint.position: the raw angle
- * plus 2 pi times the turns counted in the batch's MrBatchTurn `turn` (-1: none counted) */
+/* a mimic joint (Joint.drive_mimic) and its master; positions as Joint.position */
 typedef struct {
     dJointID joint, master;
-    int slider, master_slider, turn, master_turn, has_lower, has_upper;
+    MrTurn *turn, *master_turn;
+    int slider, master_slider, has_lower, has_upper;
     double mult, offset, lower, upper, child_inertia;
 } MrBatchMimic;
 
 /* a revolute joint with limits beyond +-pi (Joint.update_soft_limits) */
 typedef struct {
     dJointID joint;
-    int turn;
+    MrTurn *turn;
     double lower, upper;
 } MrBatchSoft;
 
 typedef int (*mr_publish_fn)(void *handle, const uint8_t *data, uint32_t size);
 
 typedef struct {
-    MrBatchJoint *joints;
-    int njoints;
+    MrActuator **acts;
+    int nacts;
     int ndamp;
     dJointID *damp_joints;
     int *damp_kinds;
@@ -923,7 +1094,7 @@ typedef struct {
     dBodyID *bodies;
     int nbodies;
     int nturns;
-    MrBatchTurn *turns;
+    MrTurn **turns;
     int guard_max_contacts;
     int max_contacts;
     int snapshot_interval;
@@ -955,131 +1126,6 @@ typedef struct {
     double mimic_gain, mimic_force;                           /* MIMIC_GAIN, MIMIC_COUPLING_FORCE */
 } MrBatch;
 
-#define MR_TWO_PI 6.283185307179586
-
-/* angles.normalize_angle(to - from) (Python: fmod twice, then > pi -> -2 pi) */
-static double mr_shortest_angle(double from, double to)
-{
-    double a = fmod(fmod(to - from, MR_TWO_PI) + MR_TWO_PI, MR_TWO_PI);
-    return a > 3.141592653589793 ? a - MR_TWO_PI : a;
-}
-
-/* Python's max(x, lo) then min(., hi) */
-static inline double mr_clamp(double x, double lo, double hi)
-{
-    double v = lo > x ? lo : x;
-    return hi < v ? hi : v;
-}
-
-/* Pid.compute(error, dt, error_dot) past its checks */
-static double mr_pid_terms(MrBatchJoint *j, double error, double error_dot, double dt)
-{
-    double i_term;
-    j->p_error = error;
-    j->d_error = error_dot;
-    j->p_term = j->p * error;
-    j->i_error += dt * error;
-    if (j->antiwindup && j->i != 0.0) {
-        double a = j->i_min / j->i, b = j->i_max / j->i;
-        double lo = b < a ? b : a, hi = b < a ? a : b;
-        j->i_error = mr_clamp(j->i_error, lo, hi);
-    }
-    i_term = j->i * j->i_error;
-    if (!j->antiwindup) i_term = mr_clamp(i_term, j->i_min, j->i_max);
-    j->i_term = i_term;
-    j->d_term = j->d * error_dot;
-    j->cmd = j->p_term + i_term + j->d_term;
-    return j->cmd;
-}
-
-/* Pid.compute(error, dt) */
-static double mr_pid(MrBatchJoint *j, double error, double dt)
-{
-    double error_dot;
-    if (dt <= 0.0 || !isfinite(error)) return 0.0;
-    error_dot = (error - j->p_error_last) / dt;
-    j->p_error_last = error;
-    if (!isfinite(error_dot)) return 0.0;
-    return mr_pid_terms(j, error, error_dot, dt);
-}
-
-/* Pid.compute(error, dt, error_dot) */
-static double mr_pid_dot(MrBatchJoint *j, double error, double error_dot, double dt)
-{
-    if (dt <= 0.0 || !isfinite(error)) return 0.0;
-    if (!isfinite(error_dot)) return 0.0;
-    return mr_pid_terms(j, error, error_dot, dt);
-}
-
-/* The trajectory's desired position and velocity at t (trajectory.py: Segment.sample's clamp of
- * t to the segment and _eval's sums of ck * s ** k in the same order; Python's float ** int is
- * C's pow) */
-static void mr_traj_sample(const MrBatchJoint *j, double t, double *pos, double *vel)
-{
-    double tt, s, lo, p = 0.0, v = 0.0;
-    int k;
-    if (j->traj_kind == 2) {
-        *pos = j->coef[0];
-        *vel = 0.0;
-        return;
-    }
-    tt = j->traj_kind == 1 ? t - j->rel_base : t;
-    lo = j->seg_t0 > tt ? j->seg_t0 : tt;                     /* min(max(t, t0), t1) - t0 */
-    s = (j->seg_t1 < lo ? j->seg_t1 : lo) - j->seg_t0;
-    for (k = 0; k < j->ncoef; ++k) {
-        p += j->coef[k] * pow(s, (double)k);
-        if (k >= 1) v += (double)k * j->coef[k] * pow(s, (double)(k - 1));
-    }
-    *pos = j->has_offset ? p + j->offset : p;
-    *vel = v;
-}
-
-static void mr_batch_controllers(MrBatch *b)
-{
-    int k;
-    for (k = 0; k < b->njoints; ++k) {
-        MrBatchJoint *j = &b->joints[k];
-        double f, lim;
-        volatile double *command = &j->command;
-        if (j->slider) {
-            j->position = dJointGetSliderPosition(j->joint);
-            j->velocity = dJointGetSliderPositionRate(j->joint);
-        } else {
-            j->position = dJointGetHingeAngle(j->joint);
-            if (j->turn >= 0) j->position += MR_TWO_PI * (double)b->turns[j->turn].turns;
-            j->velocity = dJointGetHingeAngleRate(j->joint);
-        }
-        j->effort = j->applied;
-        if (j->mode == 1) {
-            double target = *command, error;
-            if (j->err_kind == 2) error = mr_shortest_angle(j->position, target);
-            else if (j->err_kind == 1) error = mr_clamp(target, j->lower, j->upper) - j->position;
-            else error = target - j->position;
-            f = mr_pid(j, error, b->dt);
-        } else if (j->mode == 2) {
-            double dpos, dvel, error;
-            mr_traj_sample(j, b->time, &dpos, &dvel);
-            error = j->err_kind == 2 ? mr_shortest_angle(j->position, dpos) : dpos - j->position;
-            f = mr_pid_dot(j, error, dvel - j->velocity, b->dt) + j->ff * dvel;
-        } else {
-            f = *command;
-        }
-        j->out = f;
-        if (!isfinite(f)) f = 0.0;                               /* RobotHWSim.write */
-        if (j->has_hw_limit) f = mr_clamp(f, -j->hw_limit, j->hw_limit);
-        lim = j->joint_limit;                                     /* Joint._limit */
-        if (lim > 0.0) {
-            if (f > lim) f = lim;
-            else if (f < -lim) f = -lim;
-        }
-        if (f > j->force_cap) f = j->force_cap;
-        else if (f < -j->force_cap) f = -j->force_cap;
-        if (j->slider) dJointAddSliderForce(j->joint, f);
-        else dJointAddHingeTorque(j->joint, f);
-        j->applied = f;
-    }
-}
-
 static void mr_batch_clock(MrBatch *b)
 {
     double t = b->time;
@@ -1096,32 +1142,6 @@ static void mr_batch_clock(MrBatch *b)
     ((mr_publish_fn)b->publish)(b->clock_handle, (const uint8_t *)buf, 8);
 }
 
-/* Joint.track_turns */
-static void mr_batch_track_turns(MrBatch *b)
-{
-    int k;
-    for (k = 0; k < b->nturns; ++k) {
-        MrBatchTurn *u = &b->turns[k];
-        double raw = dJointGetHingeAngle(u->joint);
-        double d = raw - u->last_raw;
-        if (d > 3.141592653589793) u->turns -= 1;
-        else if (d < -3.141592653589793) u->turns += 1;
-        u->last_raw = raw;
-    }
-}
-
-static double mr_batch_position(const MrBatch *b, dJointID j, int slider, int turn)
-{
-    if (slider) return dJointGetSliderPosition(j);
-    return dJointGetHingeAngle(j) + MR_TWO_PI * (double)(turn >= 0 ? b->turns[turn].turns : 0);
-}
-
-static void mr_set_param(dJointID j, int slider, int param, double v)
-{
-    if (slider) dJointSetSliderParam(j, param, v);
-    else dJointSetHingeParam(j, param, v);
-}
-
 /* World._apply_forces after the damping: Joint.drive_mimic of every mimic joint, then
  * Joint.update_soft_limits of every joint with limits beyond +-pi */
 static void mr_batch_mimics_and_soft_limits(MrBatch *b)
@@ -1129,8 +1149,8 @@ static void mr_batch_mimics_and_soft_limits(MrBatch *b)
     int k;
     for (k = 0; k < b->nmimic; ++k) {
         const MrBatchMimic *m = &b->mimics[k];
-        double q = mr_batch_position(b, m->joint, m->slider, m->turn);
-        double qm = mr_batch_position(b, m->master, m->master_slider, m->master_turn);
+        double q = mr_joint_position(m->joint, m->slider, m->turn);
+        double qm = mr_joint_position(m->master, m->master_slider, m->master_turn);
         double v = b->mimic_gain * (qm * m->mult + m->offset - q) / b->dt;
         double fmax = b->mimic_force;
         if ((m->has_lower && q <= m->lower) || (m->has_upper && q >= m->upper)) {
@@ -1143,20 +1163,20 @@ static void mr_batch_mimics_and_soft_limits(MrBatch *b)
     }
     for (k = 0; k < b->nsoft; ++k) {
         const MrBatchSoft *u = &b->softs[k];
-        double turns = MR_TWO_PI * (double)(u->turn >= 0 ? b->turns[u->turn].turns : 0);
+        double turns = MR_TWO_PI * (double)(u->turn ? u->turn->turns : 0);
         double lo = u->lower - turns, hi = u->upper - turns;
         dJointSetHingeParam(u->joint, b->param_lo_stop, lo > -3.141592653589793 ? lo : -dInfinity);
         dJointSetHingeParam(u->joint, b->param_hi_stop, hi < 3.141592653589793 ? hi : dInfinity);
     }
 }
 
-/* 1 when a trajectory joint's piece does not hold for a step starting at t */
+/* 1 when a segment actuator's piece does not hold for a step starting at t */
 static int mr_batch_pieces_end(const MrBatch *b, double t)
 {
     int k;
-    for (k = 0; k < b->njoints; ++k) {
-        const MrBatchJoint *j = &b->joints[k];
-        if (j->mode == 2 && (t >= j->abs_until || t - j->rel_base >= j->rel_until)) return 1;
+    for (k = 0; k < b->nacts; ++k) {
+        const MrActuator *j = b->acts[k];
+        if (j->kind == 2 && (t >= j->abs_until || t - j->rel_base >= j->rel_until)) return 1;
     }
     return 0;
 }
@@ -1172,14 +1192,14 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
         int after = tn + 1e-12 >= b->after_due;
         if (t >= b->before_due || mr_batch_pieces_end(b, t)) break;
         b->last_start = t;
-        mr_batch_controllers(b);
+        mr_apply_actuators(b->acts, b->nacts, t, b->dt, b->param_vel, b->param_fmax);
         if (b->ndamp) mr_apply_damping(b->damp_joints, b->damp_kinds, b->damp_coef, b->ndamp);
         if (b->nmimic || b->nsoft) mr_batch_mimics_and_soft_limits(b);
         b->ncontacts = mr_step_checked(c, b->dt, b->gx, b->gy, b->gz, b->layer, b->max_contacts, b->world_step,
                                        b->bodies, b->nbodies, b->vmax2, b->wmax2, &b->first_bad);
         b->iterations += 1;
         b->time = tn;
-        mr_batch_track_turns(b);
+        mr_track_turns(b->turns, b->nturns);
         b->clock_sent = 0;
         if (b->publish) {
             if (b->clock_period > 0.0) {

@@ -7,27 +7,23 @@ from modrob_sim.ros_control.transmissions import CPP_NAMES
 
 
 class CommandBuffer(object):
-    """ros_controllers' realtime_tools::RealtimeBuffer: ROS callbacks write, the loop reads."""
+    """ros_controllers' realtime_tools::RealtimeBuffer: ROS callbacks write, the loop reads.
+    ``version`` counts the writes (a controller compares it to know that a command waits);
+    ``on_write`` (set by the plugin: its context's wake) is called after each write."""
 
     def __init__(self, value=0.0):
         self._lock = threading.Lock()
         self._value = value
-        self._mirror = None
+        self.version = 0
+        self.on_write = None
 
     def write(self, value):
         with self._lock:
             self._value = value
-            if self._mirror is not None:
-                self._mirror.command = value
-
-    def mirror(self, target):
-        """Write every value also to ``target.command`` (a batch joint of the C loop, which reads
-        it at every step; ros_control.native_control), starting with the current one; None
-        stops it."""
-        with self._lock:
-            self._mirror = target
-            if target is not None:
-                target.command = self._value
+            self.version += 1
+        cb = self.on_write
+        if cb is not None:
+            cb()
 
     def read(self):
         with self._lock:
@@ -81,3 +77,20 @@ class Controller(object):
 
     def stopping(self, t):
         pass
+
+    #: True after an update whose results come from the step's actuators: the plugin calls
+    #: :meth:`collect` after that step (its ``pending`` is then filled)
+    collect_due = False
+
+    def update_due(self, t, iteration, dt):
+        """The simulated time of the next update that must run in Python, asked at the step that
+        starts at ``t`` (``iteration`` its index, ``dt`` the step): between two such updates the
+        World's actuators carry the controller's last set-points (docs/plugins.md, "Due times").
+        The default, ``t``: every update runs (a controller that writes new commands at every
+        update). ``math.inf``: none until something changes."""
+        return t
+
+    def collect(self):
+        """After the step of an update that set ``collect_due``: ``pending`` from what the
+        actuators did in that step."""
+        self.collect_due = False

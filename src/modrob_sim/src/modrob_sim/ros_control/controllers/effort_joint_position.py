@@ -4,29 +4,102 @@ i_clamp_max, antiwindup}. The command is clamped to the joint limits (revolute, 
 continuous joints take the shortest angular way. ``state`` (JointControllerState) is due every
 10th update, as ros_controllers publishes it.
 
+The PID runs in the joint's actuator (a POSITION_PID of the World, at every step): an update
+writes the target and the gains; the state message is built from what the actuator did in the
+update's step. Between updates with nothing to publish nothing of this runs in Python.
+
 velocity_controllers/JointPositionController is the same loop writing the PID's output to the
-velocity interface (a velocity command)."""
+velocity interface (a velocity command): it runs the PID itself, at every update."""
+from modrob_sim.physics import actuators
 from modrob_sim.ros_control.controllers.base import CommandBuffer, CommandResult, Controller, check_finite
 from modrob_sim.ros_control.pid import Pid, PidGains
 from modrob_sim.ros_control.transmissions import EFFORT, VELOCITY
 
 STATE_DECIMATION = 10
+INF = float("inf")
 
 
-class EffortJointPositionController(Controller):
-    TYPE = "effort_controllers/JointPositionController"
+class _PidController(Controller):
+    """A single-joint PID controller whose PID is the joint's actuator (position or velocity)."""
     INTERFACE = EFFORT
+    KIND = actuators.POSITION_PID
 
     def __init__(self, name, hw, params):
-        super(EffortJointPositionController, self).__init__(name, hw, params)
+        super(_PidController, self).__init__(name, hw, params)
         joint = params.get("joint", kind=str)
         self.joint = hw.joint(joint, self.INTERFACE, controller=name)
         self.joint_names = [joint]
+        #: the gains (dynamic_reconfigure swaps them); the PID's state is the actuator's
         self.pid = Pid(PidGains.from_params(params.child("pid", required=True)))
         self.pid_namespace = params.path("pid")
-        self.command = CommandBuffer(self.joint.position)
-        self._count = 0
-        self.last_effort = 0.0
+        self.command = CommandBuffer(self._initial())
+        self.act = None
+        self._gains = None
+        self._version = None
+        self._start = None
+        self._dt = 0.0
+        #: whether a state message is wanted at all (the ROS layer: its topic has subscribers)
+        self.state_wanted = lambda: True
+
+    def _initial(self):
+        return 0.0
+
+    def _error_rule(self):
+        return actuators.PLAIN
+
+    def starting(self, t):
+        self.command.write(self._initial())
+        self.pid.reset()
+        self.act = self.joint.actuate(self.KIND, self.pid.gains, self._error_rule(), owner=self)
+        self._gains = self.pid.gains
+        self._version = None
+        self._start = None
+        self.collect_due = False
+
+    def stopping(self, t):
+        if self.joint.owner is self:
+            # the hardware keeps applying the last effort, as ros_control's does
+            self.joint.command = self.act.last.output
+            self.joint.release()
+        self.act = None
+
+    def update(self, t, dt):
+        a = self.act
+        if self.pid.gains is not self._gains:
+            self._gains = a.gains = self.pid.gains
+        self._version = self.command.version
+        target = self.command.read()
+        a.command = target
+        if self._start is None:
+            self._start = self.hw.iteration
+        if (self.hw.iteration - self._start) % STATE_DECIMATION == 0:
+            self.collect_due = True
+            self._dt = dt
+
+    def update_due(self, t, iteration, dt):
+        if self.pid.gains is not self._gains or self.command.version != self._version or self._start is None:
+            return t
+        if not self.state_wanted():
+            return INF
+        k = (STATE_DECIMATION - (iteration - self._start) % STATE_DECIMATION) % STATE_DECIMATION
+        return t + k * dt - 0.5 * dt
+
+    def collect(self):
+        self.collect_due = False
+        s = self.act.last
+        g = self.pid.gains
+        self.pending = self._state(s, g)
+
+
+class EffortJointPositionController(_PidController):
+    TYPE = "effort_controllers/JointPositionController"
+    KIND = actuators.POSITION_PID
+
+    def _initial(self):
+        return self.joint.clamp_position(self.joint.position)
+
+    def _error_rule(self):
+        return self.joint.position_rule
 
     def set_command(self, value):
         value, bad = check_finite(value, "position command for joint '%s'" % self.joint.name)
@@ -42,26 +115,38 @@ class EffortJointPositionController(Controller):
         self.command.write(value)
         return CommandResult(True, value)
 
+    def _state(self, s, g):
+        return dict(stamp=s.t, set_point=s.set_point, process_value=s.position, process_value_dot=s.velocity,
+                    error=s.error, time_step=self._dt, command=s.output, p=g.p, i=g.i, d=g.d,
+                    i_clamp=g.i_max, antiwindup=g.antiwindup)
+
+
+class VelocityJointPositionController(EffortJointPositionController):
+    """The PID's output is a velocity command for the hardware: computed here at every update
+    (the World's actuators apply efforts)."""
+    TYPE = "velocity_controllers/JointPositionController"
+    INTERFACE = VELOCITY
+
     def starting(self, t):
-        self.command.write(self.joint.clamp_position(self.joint.position))
+        self.command.write(self._initial())
         self.pid.reset()
         self._count = 0
+
+    def stopping(self, t):
+        pass
+
+    def update_due(self, t, iteration, dt):
+        return t
 
     def update(self, t, dt):
         target = self.command.read()
         error = self.joint.position_error(target)
-        effort = self.pid.compute(error, dt)
-        self.joint.command = effort
-        self.last_effort = effort
+        command = self.pid.compute(error, dt)
+        self.joint.command = command
         if self._count % STATE_DECIMATION == 0:
             g = self.pid.gains
             self.pending = dict(stamp=t, set_point=target, process_value=self.joint.position,
                                 process_value_dot=self.joint.velocity, error=error, time_step=dt,
-                                command=effort, p=g.p, i=g.i, d=g.d, i_clamp=g.i_max,
+                                command=command, p=g.p, i=g.i, d=g.d, i_clamp=g.i_max,
                                 antiwindup=g.antiwindup)
         self._count += 1
-
-
-class VelocityJointPositionController(EffortJointPositionController):
-    TYPE = "velocity_controllers/JointPositionController"
-    INTERFACE = VELOCITY

@@ -1,26 +1,16 @@
 """effort_controllers/JointVelocityController (ros_controllers, Noetic): a PID on the velocity
 error writes an effort. Parameters ``joint`` and ``pid``; starts with command 0; ``state`` every
-10th update."""
-from modrob_sim.ros_control.controllers.base import CommandBuffer, CommandResult, Controller, check_finite
-from modrob_sim.ros_control.pid import Pid, PidGains
-from modrob_sim.ros_control.transmissions import EFFORT
+10th update. The PID runs in the joint's actuator (a VELOCITY_PID of the World)."""
+from modrob_sim.physics import actuators
+from modrob_sim.ros_control.controllers.base import CommandResult, check_finite
+from modrob_sim.ros_control.controllers.effort_joint_position import STATE_DECIMATION, _PidController
 
-STATE_DECIMATION = 10
+__all__ = ["EffortJointVelocityController", "STATE_DECIMATION"]
 
 
-class EffortJointVelocityController(Controller):
+class EffortJointVelocityController(_PidController):
     TYPE = "effort_controllers/JointVelocityController"
-    INTERFACE = EFFORT
-
-    def __init__(self, name, hw, params):
-        super(EffortJointVelocityController, self).__init__(name, hw, params)
-        joint = params.get("joint", kind=str)
-        self.joint = hw.joint(joint, EFFORT, controller=name)
-        self.joint_names = [joint]
-        self.pid = Pid(PidGains.from_params(params.child("pid", required=True)))
-        self.pid_namespace = params.path("pid")
-        self.command = CommandBuffer(0.0)
-        self._count = 0
+    KIND = actuators.VELOCITY_PID
 
     def set_command(self, value):
         value, bad = check_finite(value, "velocity command for joint '%s'" % self.joint.name)
@@ -35,19 +25,7 @@ class EffortJointVelocityController(Controller):
         self.command.write(value)
         return CommandResult(True, value)
 
-    def starting(self, t):
-        self.command.write(0.0)
-        self.pid.reset()
-        self._count = 0
-
-    def update(self, t, dt):
-        target = self.command.read()
-        error = target - self.joint.velocity
-        effort = self.pid.compute(error, dt)
-        self.joint.command = effort
-        if self._count % STATE_DECIMATION == 0:
-            g = self.pid.gains
-            self.pending = dict(stamp=t, set_point=target, process_value=self.joint.velocity,
-                                process_value_dot=0.0, error=error, time_step=dt, command=effort,
-                                p=g.p, i=g.i, d=g.d, i_clamp=g.i_max, antiwindup=g.antiwindup)
-        self._count += 1
+    def _state(self, s, g):
+        return dict(stamp=s.t, set_point=s.set_point, process_value=s.velocity, process_value_dot=0.0,
+                    error=s.error, time_step=self._dt, command=s.output, p=g.p, i=g.i, d=g.d,
+                    i_clamp=g.i_max, antiwindup=g.antiwindup)

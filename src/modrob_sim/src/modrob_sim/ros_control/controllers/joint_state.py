@@ -36,6 +36,10 @@ class JointStateController(Controller):
             return None
         return self._last_publish + 1.0 / self.publish_rate - 1e-9
 
+    def update_due(self, t, iteration, dt):
+        due = self.next_due()
+        return t if due is None else due
+
     def update(self, t, dt):
         if self._last_publish is not None and t < self.next_due():
             return

@@ -22,11 +22,15 @@ and ``pending``/``pending_feedback`` (state/feedback data) after each update.
 import math
 
 from modrob_sim.errors import ControllerError
+from modrob_sim.physics import actuators
 from modrob_sim.ros_control import angles
 from modrob_sim.ros_control.controllers.base import Controller
 from modrob_sim.ros_control.pid import Pid, PidGains
-from modrob_sim.ros_control.trajectory import PreparedTrajectory, State, Trajectory, hold_trajectory
+from modrob_sim.ros_control.trajectory import (ABSOLUTE, HOLD, PreparedTrajectory, State, Trajectory,
+                                               hold_trajectory)
 from modrob_sim.ros_control.transmissions import EFFORT, POSITION, VELOCITY
+
+INF = float("inf")
 
 SUCCESSFUL = 0
 INVALID_GOAL = -1
@@ -112,7 +116,6 @@ class JointTrajectoryControllerBase(Controller):
         self.events = []
         self.pending_feedback = None
         self._desired = ([0.0] * self.n, [0.0] * self.n, [0.0] * self.n)
-        self._desired_t = None
         self._next_state = None
         self._next_feedback = None
         self._now = 0.0
@@ -121,16 +124,7 @@ class JointTrajectoryControllerBase(Controller):
     @property
     def desired(self):
         """(positions, velocities, accelerations) the last update commanded."""
-        if self._desired_t is not None:
-            traj, t = self._desired_t
-            self._desired = traj.sample(t)
-            self._desired_t = None
         return self._desired
-
-    def desired_at(self, t):
-        """The last update ran in the C loop at ``t`` (ros_control.native_control): ``desired``
-        samples the trajectory it followed there when asked."""
-        self._desired_t = (self.trajectory, t)
 
     def _actual(self):
         return [j.position for j in self.joints], [j.velocity for j in self.joints]
@@ -340,19 +334,31 @@ class JointTrajectoryControllerBase(Controller):
             self._hold(t)
         dpos, dvel, dacc = self.trajectory.sample(t)
         self._desired = (dpos, dvel, dacc)
-        self._desired_t = None
         epos, evel = self._errors(dpos, dvel)
         self._write(dpos, dvel, epos, evel, dt)
         if self.goal is not None:
             self._check_goal(t, epos, evel)
         self._samples(t, dpos, dvel, dacc, epos, evel)
 
-    def samples_due(self, t):
-        """True when the update at ``t`` leaves a state sample or action feedback."""
-        if self._state_due(t):
-            return True
-        return (self.goal is not None and not self._feedback_with_state
-                and (self._next_feedback is None or t >= self._next_feedback - 1e-9))
+    def _samples_due_from(self):
+        """The time from which an update leaves a state sample or action feedback."""
+        due = INF if self._next_state is None else self._next_state - 1e-9
+        if self.goal is not None and not self._feedback_with_state:
+            due = min(due, -INF if self._next_feedback is None else self._next_feedback - 1e-9)
+        return due
+
+    def _goal_due(self, t):
+        """The time from which an update has the goal to check: at every update while it has
+        path tolerances, from the trajectory's end on (until its outcome), else never."""
+        g = self.goal
+        if g is None:
+            return INF
+        if t >= g.end_time:
+            return t
+        for tol in g.path:
+            if tol.position > 0.0 or tol.velocity > 0.0:
+                return t
+        return g.end_time
 
     def _state_due(self, t):
         return self._next_state is None or t >= self._next_state - 1e-9
@@ -362,19 +368,6 @@ class JointTrajectoryControllerBase(Controller):
         """The action feedback is taken at state sample times (see _samples): unless the feedback
         is asked for more often than the state."""
         return self.action_monitor_rate <= self.state_publish_rate
-
-    def native_update_done(self, t):
-        """The update at ``t`` ran in the C loop (ros_control.native_control) from the joints'
-        read of that step, now in ``joints``: what it leaves for the ROS layer, as update()."""
-        self._now = t
-        if not self.samples_due(t):
-            self.desired_at(t)
-            return
-        dpos, dvel, dacc = self.trajectory.sample(t)
-        self._desired = (dpos, dvel, dacc)
-        self._desired_t = None
-        epos, evel = self._errors(dpos, dvel)
-        self._samples(t, dpos, dvel, dacc, epos, evel)
 
     def _samples(self, t, dpos, dvel, dacc, epos, evel):
         state_due = self._state_due(t)
@@ -390,7 +383,7 @@ class JointTrajectoryControllerBase(Controller):
         # updates is arbitrary. Here it is taken at the first state sample once its period has
         # passed, on a schedule kept from the goal's first feedback (at 50 and 20 Hz: 60 and 40 ms
         # apart in turn, 20 Hz on average): a feedback between two state samples would end a batch
-        # of native steps of its own (ros_control.native_control), a fifth more batches in a motion.
+        # of native steps of its own (a Python update), a fifth more of them in a motion.
         if self.goal is None or (self._feedback_with_state and not state_due):
             return
         if self._next_feedback is None or t >= self._next_feedback - 1e-9:
@@ -467,6 +460,7 @@ class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
         super(_ClosedLoopTrajectoryController, self).__init__(name, hw, params)
         gains = params.child("gains", required=True)
         ff = params.child("velocity_ff")
+        #: the gains per joint (dynamic_reconfigure swaps them)
         self.pids = [Pid(PidGains.from_params(gains.child(j, required=True))) for j in self.joint_names]
         self.pid_namespaces = [gains.path(j) for j in self.joint_names]
         self.velocity_ff = [ff.get(j, 0.0, kind=float) for j in self.joint_names]
@@ -481,8 +475,68 @@ class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
 
 
 class EffortJointTrajectoryController(_ClosedLoopTrajectoryController):
+    """The PIDs run in the joints' actuators (SEGMENT_PID: the piece of the trajectory that holds,
+    at every step, natively); an update places the next piece when the last one ends."""
     TYPE = "effort_controllers/JointTrajectoryController"
     INTERFACE = EFFORT
+
+    def __init__(self, name, hw, params):
+        super(EffortJointTrajectoryController, self).__init__(name, hw, params)
+        self.acts = []
+        self._gains = []
+        self._piece = None      # (trajectory, Piece, time) placed in the actuators
+
+    def _reset_pids(self):
+        super(EffortJointTrajectoryController, self)._reset_pids()
+        self.acts = []
+        for j, pid, ff in zip(self.joints, self.pids, self.velocity_ff):
+            rule = actuators.SHORTEST if j.type == "continuous" else actuators.PLAIN
+            a = j.actuate(actuators.SEGMENT_PID, pid.gains, rule, owner=self)
+            a.feedforward = ff
+            self.acts.append(a)
+        self._gains = [p.gains for p in self.pids]
+        self._piece = None
+
+    def stopping(self, t):
+        super(EffortJointTrajectoryController, self).stopping(t)
+        for j, a in zip(self.joints, self.acts):
+            if j.owner is self:
+                j.command = a.last.output
+                j.release()
+        self.acts = []
+
+    def _write(self, dpos, dvel, epos, evel, dt):
+        t = self._now
+        for k, (a, pid) in enumerate(zip(self.acts, self.pids)):
+            if pid.gains is not self._gains[k]:
+                self._gains[k] = a.gains = pid.gains
+        last = self._piece
+        if last is not None and last[0] is self.trajectory and t >= last[2] and t < last[1].abs_until and \
+                t - last[1].base < last[1].rel_until:
+            return
+        piece = self.trajectory.piece(t)
+        self._piece = (self.trajectory, piece, t)
+        seg, off = piece.segment, piece.offsets
+        for k, a in enumerate(self.acts):
+            if piece.kind == HOLD:
+                a.hold(piece.positions[k])
+            elif piece.kind == ABSOLUTE:
+                a.set_segment(seg.coeffs[k], seg.t0, seg.t1, until=piece.abs_until)
+            else:
+                a.set_segment(seg.coeffs[k], seg.t0, seg.t1, base=piece.base,
+                              offset=None if off is None else off[k], until=piece.abs_until,
+                              rel_until=piece.rel_until)
+
+    def update_due(self, t, iteration, dt):
+        if self.trajectory is None or self._piece is None or self._piece[0] is not self.trajectory:
+            return t
+        if any(p.gains is not g for p, g in zip(self.pids, self._gains)):
+            return t
+        piece = self._piece[1]
+        ends = min(piece.abs_until, piece.base + piece.rel_until if piece.rel_until < INF else INF)
+        # a step starting at or after `ends` needs the next piece; the float comparisons of the
+        # piece's own test decide exactly, so the update is asked for half a step early
+        return min(ends - 0.5 * dt, self._samples_due_from(), self._goal_due(t))
 
 
 class VelocityJointTrajectoryController(_ClosedLoopTrajectoryController):

@@ -1,0 +1,402 @@
+"""Actuators: what drives a joint at every step, owned by the World (docs/design/sim_core_api.md,
+"Actuators"), as MuJoCo's actuator layer or ros_control's command handles.
+
+A controller writes a set-point (an effort, a position or velocity target, a trajectory segment,
+a wheel's velocity) and reads back what the last step did; the World's backend runs the actuator
+at every step, in Python steps and in its native stretches alike: :func:`step_python` on the
+pure-Python backend, ``mr_apply_actuators`` of native/modrob_ode_native.c on the native one (one
+implementation per backend, the same operations in the same order).
+
+Per step, from the joint's state at the step's start (what a controller's read sees):
+
+==============  ========================================================================
+EFFORT          out = command (held until changed)
+POSITION_PID    out = PID(error(command, q))          error: PLAIN, CLAMPED or SHORTEST
+VELOCITY_PID    out = PID(command - dq)
+SEGMENT_PID     desired (p, v) from the segment; out = PID(error(p, q), v - dq) + ff * v
+MOTOR           ODE joint motor: velocity ramped towards command by at most accel * dt,
+                force at most max_force (a wheel's motor); out = 0
+==============  ========================================================================
+
+then the effort the joint gets: joint_limit(hardware_clamp(out, finite) + efforts given with
+set_effort/add_effort in that step), capped at FORCE_CAP.
+
+:class:`Pid` is control_toolbox::Pid (ROS Noetic, control_toolbox 1.18):
+
+* gains ``p`` (required), ``i``, ``d`` (default 0), ``i_max``, ``i_min``, ``antiwindup`` (false);
+* ``compute(error, dt)`` takes the error derivative by finite difference; ``compute(error, dt,
+  error_dot)`` uses the given one;
+* the integral ``i_error`` accumulates ``dt * error``. Without antiwindup the integral TERM is
+  clamped to [i_min, i_max] -- so with no i_clamp the integral term is zero, as in ros_control.
+  With antiwindup the integral STATE is clamped to [i_min/i, i_max/i];
+* dt == 0 or a non-finite error returns 0.
+"""
+import math
+import weakref
+from collections import namedtuple
+
+from .angles import shortest_angular_distance
+
+#: actuator kinds (the numbers are the C loop's)
+EFFORT, POSITION_PID, SEGMENT_PID, VELOCITY_PID, MOTOR = 0, 1, 2, 3, 4
+KIND_NAMES = {EFFORT: "EFFORT", POSITION_PID: "POSITION_PID", SEGMENT_PID: "SEGMENT_PID",
+              VELOCITY_PID: "VELOCITY_PID", MOTOR: "MOTOR"}
+#: position error rules: target - q; the target clamped to [lower, upper] first; shortest angle
+PLAIN, CLAMPED, SHORTEST = 0, 1, 2
+#: segment kinds: polynomial in absolute time, in time relative to ``base``, holding a position
+ABSOLUTE, RELATIVE, HOLD = 0, 1, 2
+MAX_COEFFS = 6
+INF = float("inf")
+
+#: what one step of an actuator did (``Actuator.last``)
+ActuatorSample = namedtuple("ActuatorSample", "t position velocity set_point desired_velocity error "
+                                              "error_dot p_term i_term d_term output applied")
+
+
+class PidGains(object):
+    __slots__ = ("p", "i", "d", "i_max", "i_min", "antiwindup")
+
+    def __init__(self, p, i=0.0, d=0.0, i_max=0.0, i_min=0.0, antiwindup=False):
+        self.p, self.i, self.d = float(p), float(i), float(d)
+        self.i_max, self.i_min = float(i_max), float(i_min)
+        self.antiwindup = bool(antiwindup)
+
+    def as_dict(self):
+        return {"p": self.p, "i": self.i, "d": self.d, "i_clamp_max": self.i_max,
+                "i_clamp_min": self.i_min, "antiwindup": self.antiwindup}
+
+    def __repr__(self):
+        return "PidGains(p=%g, i=%g, d=%g, i_max=%g, i_min=%g, antiwindup=%s)" % (
+            self.p, self.i, self.d, self.i_max, self.i_min, self.antiwindup)
+
+
+class Pid(object):
+    """One PID loop. ``gains`` may be replaced at any time (one reference swap: live tuning)."""
+
+    def __init__(self, gains):
+        self.gains = gains
+        self.reset()
+
+    def reset(self):
+        self.p_error_last = 0.0
+        self.p_error = 0.0
+        self.i_error = 0.0
+        self.d_error = 0.0
+        self.cmd = 0.0
+        self.terms = (0.0, 0.0, 0.0)
+
+    def set_gains(self, gains):
+        self.gains = gains
+
+    def state(self):
+        """(p_error_last, p_error, i_error, d_error, cmd)."""
+        return (self.p_error_last, self.p_error, self.i_error, self.d_error, self.cmd)
+
+    def compute(self, error, dt, error_dot=None):
+        if dt <= 0.0 or not math.isfinite(error):
+            return 0.0
+        if error_dot is None:
+            error_dot = (error - self.p_error_last) / dt
+            self.p_error_last = error
+        if not math.isfinite(error_dot):
+            return 0.0
+        g = self.gains
+        self.p_error = error
+        self.d_error = error_dot
+        p_term = g.p * error
+        self.i_error += dt * error
+        if g.antiwindup and g.i != 0.0:
+            lo, hi = sorted((g.i_min / g.i, g.i_max / g.i))
+            self.i_error = min(max(self.i_error, lo), hi)
+        i_term = g.i * self.i_error
+        if not g.antiwindup:
+            i_term = min(max(i_term, g.i_min), g.i_max)
+        d_term = g.d * error_dot
+        self.terms = (p_term, i_term, d_term)
+        self.cmd = p_term + i_term + d_term
+        return self.cmd
+
+
+def eval_polynomial(coeffs, s):
+    """(position, velocity, acceleration) of sum(c_k s^k) at ``s``."""
+    pos = vel = acc = 0.0
+    for k, ck in enumerate(coeffs):
+        pos += ck * s ** k
+        if k >= 1:
+            vel += k * ck * s ** (k - 1)
+        if k >= 2:
+            acc += k * (k - 1) * ck * s ** (k - 2)
+    return pos, vel, acc
+
+
+def segment_time(t, t0, t1):
+    """The polynomial's argument at time ``t`` for a segment on [t0, t1] (clamped to it)."""
+    return min(max(t, t0), t1) - t0
+
+
+def position_error(rule, target, q, lower, upper):
+    """The error of a position PID: PLAIN target - q, CLAMPED the target clamped to [lower, upper]
+    first (a revolute joint's travel), SHORTEST the shortest angle (a continuous joint)."""
+    if rule == SHORTEST:
+        return shortest_angular_distance(q, target)
+    if rule == CLAMPED:
+        return min(max(target, lower), upper) - q
+    return target - q
+
+
+class PyRecord(object):
+    """An actuator's data on the pure-Python backend (the native backend's is the C struct
+    MrActuator with the same field names; the PID's state is ``pid`` here)."""
+    __slots__ = ("kind", "err_kind", "has_hw_limit", "has_extra", "lower", "upper", "hw_limit", "command",
+                 "extra", "t", "position", "velocity", "set_point", "desired_velocity", "out", "applied",
+                 "traj_kind", "coef", "seg_t0", "seg_t1", "rel_base", "offset", "has_offset", "ff",
+                 "abs_until", "rel_until", "max_force", "accel", "motor_vel", "pid")
+
+    def __init__(self, kind):
+        self.kind = kind
+        self.err_kind = PLAIN
+        self.has_hw_limit = 0
+        self.has_extra = 0
+        self.lower = self.upper = self.hw_limit = 0.0
+        self.command = self.extra = 0.0
+        self.t = self.position = self.velocity = self.set_point = self.desired_velocity = 0.0
+        self.out = self.applied = 0.0
+        self.traj_kind = HOLD
+        self.coef = [0.0]
+        self.seg_t0 = self.seg_t1 = self.rel_base = self.offset = self.ff = 0.0
+        self.has_offset = 0
+        self.abs_until = self.rel_until = INF
+        self.max_force = self.accel = self.motor_vel = 0.0
+        self.pid = Pid(PidGains(0.0))
+
+
+def segment_sample(r, t):
+    """(desired position, desired velocity) of a SEGMENT_PID record at ``t``."""
+    if r.traj_kind == HOLD:
+        return r.coef[0], 0.0
+    tt = t - r.rel_base if r.traj_kind == RELATIVE else t
+    pos, vel, _acc = eval_polynomial(r.coef, segment_time(tt, r.seg_t0, r.seg_t1))
+    return (pos + r.offset if r.has_offset else pos), vel
+
+
+def step_python(r, joint, t, dt, limit):
+    """One step of the actuator ``r`` (a PyRecord) on the physics Joint ``joint``: its effort from
+    the joint's state now, applied through the joint's ODE joint; ``limit(f)`` is the joint's own
+    clamp (Joint.limit_effort). Returns the effort applied (MOTOR: None, the motor acts)."""
+    q = joint.position
+    v = joint.velocity
+    r.t, r.position, r.velocity = t, q, v
+    kind = r.kind
+    pid = r.pid
+    if kind == POSITION_PID:
+        r.set_point = target = r.command
+        r.desired_velocity = 0.0
+        f = pid.compute(position_error(r.err_kind, target, q, r.lower, r.upper), dt)
+    elif kind == SEGMENT_PID:
+        dpos, dvel = segment_sample(r, t)
+        r.set_point, r.desired_velocity = dpos, dvel
+        error = shortest_angular_distance(q, dpos) if r.err_kind == SHORTEST else dpos - q
+        f = pid.compute(error, dt, dvel - v) + r.ff * dvel
+    elif kind == VELOCITY_PID:
+        r.set_point = r.command
+        r.desired_velocity = r.command
+        f = pid.compute(r.command - v, dt)
+    elif kind == MOTOR:
+        target = r.command
+        if r.accel > 0.0:
+            step = r.accel * dt
+            target = min(max(target, r.motor_vel - step), r.motor_vel + step)
+        r.motor_vel = target
+        r.set_point = r.desired_velocity = target
+        r.out = 0.0
+        joint.drive_motor(target, r.max_force)
+        return None
+    else:
+        f = r.set_point = r.command
+        r.desired_velocity = 0.0
+    r.out = f
+    if not math.isfinite(f):
+        f = 0.0
+    if r.has_hw_limit:
+        f = min(max(f, -r.hw_limit), r.hw_limit)
+    if r.has_extra:
+        f += r.extra
+        r.has_extra = 0
+        r.extra = 0.0
+    f = limit(f)
+    joint.add_raw_effort(f)
+    r.applied = f
+    return f
+
+
+class Actuator(object):
+    """The handle of one actuator (``world.add_actuator``). Use it from the simulation loop thread
+    only (set-points, gains, segments), like the World itself."""
+
+    def __init__(self, world, backend, joint, kind, record):
+        # the World only weakly (as models hold it): its finalizer must run before the cycle
+        # collector frees PyODE objects in an arbitrary order
+        self._world = weakref.ref(world) if world is not None else None
+        self._be = backend
+        self.joint = joint
+        self._r = record
+        self._kind = kind
+
+    def __repr__(self):
+        return "<Actuator %s on %s::%s>" % (KIND_NAMES.get(self._kind, self._kind), self.joint.model.name,
+                                            self.joint.name)
+
+    @property
+    def record(self):
+        """The backend's data of this actuator (physics side: the World's backends)."""
+        return self._r
+
+    @property
+    def kind(self):
+        return self._kind
+
+    @kind.setter
+    def kind(self, kind):
+        """Switch kind (a controller taking the joint over); the PID state starts from zero."""
+        if kind not in KIND_NAMES:
+            raise ValueError("unknown actuator kind %r (known: %s)" % (kind, ", ".join(KIND_NAMES.values())))
+        self._kind = kind
+        self._r.kind = kind
+        if kind == MOTOR:
+            self._r.motor_vel = self.joint.velocity
+        self.reset()
+
+    @property
+    def command(self):
+        return self._r.command
+
+    @command.setter
+    def command(self, value):
+        self._r.command = float(value)
+
+    @property
+    def error(self):
+        return self._r.err_kind
+
+    @error.setter
+    def error(self, rule):
+        if rule not in (PLAIN, CLAMPED, SHORTEST):
+            raise ValueError("actuator error rule must be PLAIN, CLAMPED or SHORTEST, got %r" % (rule,))
+        r = self._r
+        r.err_kind = rule
+        j = self.joint
+        r.lower = j.lower if j.lower is not None else -INF
+        r.upper = j.upper if j.upper is not None else INF
+
+    @property
+    def effort_limit(self):
+        return self._r.hw_limit if self._r.has_hw_limit else None
+
+    @effort_limit.setter
+    def effort_limit(self, limit):
+        self._r.has_hw_limit = 0 if limit is None else 1
+        self._r.hw_limit = 0.0 if limit is None else float(limit)
+
+    @property
+    def feedforward(self):
+        return self._r.ff
+
+    @feedforward.setter
+    def feedforward(self, ff):
+        self._r.ff = float(ff)
+
+    @property
+    def max_force(self):
+        return self._r.max_force
+
+    @max_force.setter
+    def max_force(self, f):
+        self._r.max_force = float(f)
+
+    @property
+    def acceleration(self):
+        return self._r.accel
+
+    @acceleration.setter
+    def acceleration(self, a):
+        self._r.accel = float(a)
+
+    def set_segment(self, coeffs, t0, t1, base=None, offset=None, until=INF, rel_until=INF):
+        """SEGMENT_PID: the desired state from now on is the polynomial ``coeffs`` on [t0, t1] in
+        absolute time (``base`` None) or in time relative to ``base``, plus ``offset`` (None: no
+        offset); valid for steps starting at t < ``until`` with t - base < ``rel_until`` (then the
+        World steps in Python, and the owner places the next segment)."""
+        r = self._r
+        n = len(coeffs)
+        if not 1 <= n <= MAX_COEFFS:
+            raise ValueError("a segment has 1 to %d coefficients, got %d" % (MAX_COEFFS, n))
+        r.traj_kind = ABSOLUTE if base is None else RELATIVE
+        self._set_coef(coeffs)
+        r.seg_t0, r.seg_t1 = float(t0), float(t1)
+        r.rel_base = 0.0 if base is None else float(base)
+        r.has_offset = 0 if offset is None else 1
+        r.offset = 0.0 if offset is None else float(offset)
+        r.abs_until, r.rel_until = float(until), float(rel_until)
+
+    def hold(self, position, until=INF):
+        """SEGMENT_PID: desired position ``position``, velocity 0."""
+        r = self._r
+        r.traj_kind = HOLD
+        self._set_coef([position])
+        r.has_offset = 0
+        r.offset = 0.0
+        r.rel_base = 0.0
+        r.abs_until, r.rel_until = float(until), INF
+
+    def _set_coef(self, coeffs):
+        self._be.set_actuator_coeffs(self._r, coeffs)
+
+    def segment_ends(self):
+        """The time from which the segment no longer holds (SEGMENT_PID; else inf)."""
+        if self._kind != SEGMENT_PID:
+            return INF
+        r = self._r
+        end = r.abs_until
+        if r.traj_kind == RELATIVE and r.rel_until < INF:
+            end = min(end, r.rel_base + r.rel_until)
+        return end
+
+    @property
+    def gains(self):
+        return self._be.actuator_gains(self._r)
+
+    @gains.setter
+    def gains(self, gains):
+        self._be.set_actuator_gains(self._r, gains)
+
+    def reset(self):
+        """PID state to zero (a controller's starting())."""
+        self._be.reset_actuator_pid(self._r)
+
+    def pid_state(self):
+        """(p_error_last, p_error, i_error, d_error, cmd) of the PID."""
+        return self._be.actuator_pid_state(self._r)
+
+    @property
+    def last(self):
+        """ActuatorSample of the last step the actuator ran."""
+        r = self._r
+        p_error, d_error, p_term, i_term, d_term = self._be.actuator_terms(r)
+        return ActuatorSample(r.t, r.position, r.velocity, r.set_point, r.desired_velocity, p_error, d_error,
+                              p_term, i_term, d_term, r.out, r.applied)
+
+    @property
+    def applied(self):
+        return self._r.applied
+
+    def add_extra(self, raw):
+        """Efforts given with set_effort/add_effort for this step (World: added before the joint's
+        clamp, as Gazebo adds SetForce calls)."""
+        r = self._r
+        r.extra = (r.extra if r.has_extra else 0.0) + raw
+        r.has_extra = 1
+
+    def remove(self):
+        world = self._world() if self._world is not None else None
+        if world is not None:
+            world.remove_actuator(self)

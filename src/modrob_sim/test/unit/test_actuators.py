@@ -1,0 +1,121 @@
+"""The World's actuators (physics.actuators, docs/design/sim_core_api.md "Actuators"): one interface
+over the two backends. The pure-Python backend (actuators.step_python, the Pid class) and the
+native one (mr_apply_actuators in C) give the same steps bit for bit for every kind (held effort,
+PID to a position with each error rule, PID to a velocity, PID along absolute, relative and held
+trajectory segments with feed-forward, a wheel motor with an acceleration ramp), with gains and
+set-points changed mid-run, efforts given with set_effort added before the joint's clamp, and a
+continuous joint counting turns; bad requests are refused with messages that say what to do."""
+import math
+import os
+
+import pytest
+
+from modrob_sim.errors import InputError
+from modrob_sim.physics import World, actuators as A
+from modrob_sim.physics import native as native_mod
+
+FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
+needs_c = pytest.mark.skipif(native_mod.LIB is None, reason="the C loop is not built")
+
+
+def arm(native):
+    with open(os.path.join(FIX, "arm_3dof.urdf")) as f:
+        xml = f.read().replace('name="yaw" type="revolute"', 'name="yaw" type="continuous"')
+    w = World(time_step=0.001, seed=3, native=native)
+    m = w.add_urdf("arm", xml)
+    return w, m
+
+
+def scenario(native):
+    """Every kind on the three joints in turn; returns what was seen at every 25th step."""
+    w, m = arm(native)
+    yaw, shoulder, elbow = (m.joints[n] for n in ("yaw", "shoulder", "elbow"))
+    g = A.PidGains(60.0, 20.0, 3.0, 4.0, -4.0, True)
+    a_yaw = w.add_actuator(yaw, A.POSITION_PID, gains=g, effort_limit=30.0, error=A.SHORTEST)
+    a_sh = w.add_actuator(shoulder, A.SEGMENT_PID, gains=A.PidGains(150.0, 10.0, 8.0, 2.0, -2.0))
+    a_el = w.add_actuator(elbow, A.EFFORT, effort_limit=3.0)
+    a_yaw.command = 7.0                             # continuous: the short way, across +-pi
+    a_sh.set_segment([0.0, 0.4, 0.0, -0.05], 0.0, 2.0, until=0.6)
+    a_sh.feedforward = 0.3
+    a_el.command = 8.0                              # beyond the hardware clamp
+    seen = []
+    for k in range(1600):
+        t = w.time
+        if k == 300:
+            a_yaw.gains = A.PidGains(80.0, 0.0, 4.0)
+            a_el.kind = A.VELOCITY_PID
+            a_el.gains = A.PidGains(2.0, 1.0, 0.0, 1.0, -1.0)
+            a_el.command = -1.5
+        if k == 600:
+            a_sh.set_segment([0.1, -0.3, 0.2], 0.0, 0.5, base=t, offset=0.25, rel_until=0.4)
+            a_yaw.kind = A.POSITION_PID
+            a_yaw.error = A.PLAIN
+            a_yaw.command = 2.0
+        if k == 900:
+            a_sh.hold(-0.4)
+            a_el.kind = A.MOTOR
+            a_el.max_force = 4.0
+            a_el.acceleration = 3.0
+            a_el.command = 2.0
+        if 1000 <= k < 1010:
+            yaw.set_effort(5.0)                     # added to the actuator's, then the joint's clamp
+        if k == 1200:
+            w.remove_actuator(a_el)
+        w.step(1)
+        if k % 25 == 0 or 1000 <= k < 1012:
+            seen.append((k, [(j.position, j.velocity, j.effort) for j in (yaw, shoulder, elbow)],
+                         [(a.pid_state(), a.last) for a in w.actuators], yaw.turn_state))
+    return w, seen
+
+
+@needs_c
+def test_the_two_backends_step_every_kind_alike_bit_for_bit():
+    wp, pure = scenario(False)
+    wn, nat = scenario(True)
+    assert not wp.native and wn.native
+    assert len(pure) == len(nat) > 60
+    for a, b in zip(pure, nat):
+        assert a == b, "step %d differs" % a[0]
+    assert wp.state_digest() == wn.state_digest()
+
+
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_what_the_actuators_do(native):
+    w, m = arm(native)
+    yaw, shoulder, elbow = (m.joints[n] for n in ("yaw", "shoulder", "elbow"))
+    a = w.add_actuator(yaw, A.POSITION_PID, gains=A.PidGains(60.0, 0.0, 3.0), error=A.SHORTEST)
+    a.command = 7.0
+    e = w.add_actuator(elbow, A.EFFORT, effort_limit=3.0)
+    e.command = 8.0
+    w.step(2000)
+    # the short way to 7 rad is 7 - 2 pi = 0.717 rad, not a turn and more
+    assert abs(yaw.position - (7.0 - 2 * math.pi)) < 0.02
+    assert e.last.output == 8.0 and e.applied == 3.0 == elbow.effort
+    s = a.last
+    assert s.set_point == 7.0 and abs(s.error) < 0.02 and s.t == pytest.approx(w.time - 0.001)
+    yaw.set_effort(10.0)            # for one step, on top of the actuator's effort
+    w.step(1)
+    assert yaw.effort == pytest.approx(a.last.output + 10.0)
+    w.step(1)
+    assert yaw.effort == a.last.output
+    w.remove_actuator(e)
+    w.step(1)
+    assert elbow.effort == 0.0 and elbow.actuator is None
+
+
+def test_bad_requests_say_what_to_do():
+    w, m = arm(False)
+    a = w.add_actuator(m.joints["yaw"], A.EFFORT)
+    with pytest.raises(InputError, match="already has an actuator.*remove it first"):
+        w.add_actuator(m.joints["yaw"], A.POSITION_PID)
+    with pytest.raises(InputError, match="a fixed joint cannot be driven"):
+        w.add_actuator(m.joints["base_fixed"], A.EFFORT)
+    with pytest.raises(InputError, match="unknown kind 99"):
+        w.add_actuator(m.joints["elbow"], 99)
+    with pytest.raises(ValueError, match="1 to 6 coefficients"):
+        a.set_segment([0.0] * 7, 0.0, 1.0)
+    other, om = arm(False)
+    with pytest.raises(InputError, match="not in this World"):
+        other.add_actuator(m.joints["elbow"], A.EFFORT)
+    w.remove_model("arm")
+    assert w.actuators == () and om.joints["yaw"].actuator is None
