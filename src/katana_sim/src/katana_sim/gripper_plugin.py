@@ -32,6 +32,7 @@ from katana_sim.errors import ConfigError
 from katana_sim.gripper import GripperController
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
+from modrob_sim.physics import actuators
 
 FILENAME = "libgazebo_ros_katana_gripper.so"
 
@@ -73,6 +74,12 @@ class KatanaGripperPlugin(ModelPlugin):
         lower = max(j.lower for j in self.joints if j.lower is not None)
         upper = min(j.upper for j in self.joints if j.upper is not None)
         self.core = GripperController(max_torque=cfg["max_torque"], lower=lower, upper=upper)
+        # the fingers' actuators: while the gripper holds its set-point (no goal running, the ramp
+        # at its end) they carry the controller's PD natively (p (sp - q) - d dq, clamped, is a
+        # PID held on a constant with the joint's velocity as the error's rate); while a goal runs
+        # the update runs at every step and they apply its efforts
+        gains = actuators.PidGains(self.core.p, 0.0, self.core.d)
+        self.acts = [context.world.add_actuator(j, actuators.EFFORT, gains=gains) for j in self.joints]
         self.lock = threading.Lock()
         self._done = threading.Condition(self.lock)
         self._next_js = 0.0
@@ -89,6 +96,17 @@ class KatanaGripperPlugin(ModelPlugin):
                       % (model.name, self.action_name, ", ".join(self.names), cfg["max_torque"]))
 
     # -- simulation loop -------------------------------------------------------------------
+    def _holds(self):
+        """True while the fingers hold a set-point (nothing pending, running or ramping)."""
+        c = self.core
+        return c.setpoint is not None and not c.active and c._pending is None and c.setpoint == c.goal
+
+    def before_due(self):
+        with self.lock:
+            if not self._holds():
+                return None
+        return min(self._next_js, self._next_state)
+
     def before_step(self, t, dt):
         positions = [j.position for j in self.joints]
         velocities = [j.velocity for j in self.joints]
@@ -98,8 +116,19 @@ class KatanaGripperPlugin(ModelPlugin):
             if was_active and not self.core.active:
                 self._done.notify_all()
             setpoint = self.core.setpoint
-        for joint, effort in zip(self.joints, efforts):
-            joint.set_effort(effort)
+            holds = self._holds()
+            limit = self.core.effort_limit
+        for a, effort in zip(self.acts, efforts):
+            if holds:       # the same effort, from the actuator, at this step and the next ones
+                if a.kind != actuators.SEGMENT_PID:
+                    a.kind = actuators.SEGMENT_PID
+                a.hold(setpoint)
+                a.effort_limit = limit
+            else:
+                if a.kind != actuators.EFFORT:
+                    a.kind = actuators.EFFORT
+                a.effort_limit = None
+                a.command = effort
         if t >= self._next_js:
             self._next_js = t + 0.02
             stamp = rospy.Time.from_sec(t)
@@ -130,6 +159,7 @@ class KatanaGripperPlugin(ModelPlugin):
     def _execute(self, goal):
         with self.lock:
             ok, text = self.core.command(goal.command.position, goal.command.max_effort)
+        self.context.wake()         # the goal starts at the next step
         if not ok:
             rospy.logerr("%s: goal refused: %s" % (self.action_name, text))
             self.server.set_aborted(GripperCommandResult(), text)
@@ -142,6 +172,7 @@ class KatanaGripperPlugin(ModelPlugin):
                     break
                 if self.server.is_preempt_requested():
                     self.core.cancel(0.0)
+                    self.context.wake()
                     break
                 self._done.wait(0.05)
             res = self.core.result
