@@ -158,12 +158,9 @@ def main():
         world = os.path.join(ROOT, "src/modrob_sim/test/fixtures/camera_box.world")
         # /clock at 250 Hz of wall time, as bulbs_and_slides.launch: at every step (1000+/s) the
         # renderer's two clients (rospy and RViz's roscpp) would spend the CPU on /clock alone;
-        # topics through roscpp (MODROB_SIM_ROSCPP=1) as in the other benchmarks and make demo: with
-        # rospy's publishers every subscriber of /clock and /tf (the renderer adds two of each) costs
-        # the simulator a Python thread wake-up per message
+        # topics through roscpp (the node's default)
         sim = start(["roslaunch", "modrob_sim", "empty_world.launch", "gui:=false", "real_time_factor:=0",
-                     "use_clock_frequency:=true", "pub_clock_frequency:=250", "world_name:=" + world],
-                    dict(env, MODROB_SIM_ROSCPP="1"))
+                     "use_clock_frequency:=true", "pub_clock_frequency:=250", "world_name:=" + world], env)
         rospy.init_node("render_bench", anonymous=True, disable_signals=True)
         meter = Meter()
         end = time.monotonic() + 120

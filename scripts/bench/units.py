@@ -199,14 +199,15 @@ def build_scene(ns="/arm"):
     return pubs
 
 
-def run_node_once(seconds, clock_hz, ns="/arm", env=None):
+def run_node_once(seconds, clock_hz, ns="/arm", env=None, roscpp=True):
     import rospy
     from gazebo_msgs.msg import LinkStates, ModelStates
     from gazebo_msgs.srv import GetWorldProperties
     from rosgraph_msgs.msg import Clock
     from sensor_msgs.msg import JointState
     from std_srvs.srv import Empty
-    node = start_node(["_pub_clock_frequency:=%g" % clock_hz], env=env)
+    node = start_node(["_pub_clock_frequency:=%g" % clock_hz, "_native_publishing:=%s" % str(roscpp).lower()],
+                      env=env)
     try:
         pubs = build_scene(ns)
         g = "/gazebo/"
@@ -253,18 +254,12 @@ def unit_node(args):
         rospy.set_param("/use_sim_time", True)
         rospy.init_node("bench_node", disable_signals=True)
         seconds = args.seconds or 5.0
-        # the node as it runs by default (roscpp publishing, the steps at which no hook is due in
-        # batches of the C loop), then every step in Python (MODROB_SIM_NATIVE_STEPS=0), then
-        # also publishing with rospy (MODROB_SIM_ROSCPP=0)
-        cpp_env = dict(os.environ, MODROB_SIM_ROSCPP="1", MODROB_SIM_NATIVE_STEPS="1")
-        py_steps_env = dict(cpp_env, MODROB_SIM_NATIVE_STEPS="0")
-        rospy_env = dict(py_steps_env, MODROB_SIM_ROSCPP="0")
-        out = {"throttled": run_node_once(seconds, 1000.0, env=cpp_env),
-               "every_step": run_node_once(seconds, 0.0, env=cpp_env),
-               "throttled_pysteps": run_node_once(seconds, 1000.0, env=py_steps_env),
-               "every_step_pysteps": run_node_once(seconds, 0.0, env=py_steps_env),
-               "throttled_rospy": run_node_once(seconds, 1000.0, env=rospy_env),
-               "every_step_rospy": run_node_once(seconds, 0.0, env=rospy_env)}
+        # the node as it runs by default (roscpp publishing, the World stepping natively between
+        # the hooks' due times), then publishing with rospy (~native_publishing false)
+        out = {"throttled": run_node_once(seconds, 1000.0),
+               "every_step": run_node_once(seconds, 0.0),
+               "throttled_rospy": run_node_once(seconds, 1000.0, roscpp=False),
+               "every_step_rospy": run_node_once(seconds, 0.0, roscpp=False)}
         out["pybullet"] = scene.run_pybullet(int(seconds * 2000), scene.scene_files())
         return out
     finally:
@@ -370,10 +365,9 @@ def unit_sensor_arm(args):
         # this process does not subscribe to /clock: only the node and its robot are measured
         rospy.init_node("bench_sensor_arm", disable_signals=True, disable_rostime=True)
         seconds = args.seconds or 6.0
-        env = {k: v for k, v in os.environ.items() if not k.startswith("MODROB_SIM_")}
-        return {"bare": run_sensor_arm_once(seconds, False, False, env),
-                "sensors": run_sensor_arm_once(seconds, True, False, env),
-                "sensors_subscribed": run_sensor_arm_once(seconds, True, True, env)}
+        return {"bare": run_sensor_arm_once(seconds, False, False),
+                "sensors": run_sensor_arm_once(seconds, True, False),
+                "sensors_subscribed": run_sensor_arm_once(seconds, True, True)}
     finally:
         master.close()
 
@@ -382,7 +376,7 @@ def unit_sensor_arm(args):
 PACE_PROBE_S = 4.0
 
 
-def unit_bulbs(scenario, args, roscpp="1"):
+def unit_bulbs(scenario, args):
     """One ``bulbs_and_slides_demo`` run; the simulator node's CPU seconds are sampled while it
     runs, so that simulated s per node CPU s can be given beside simulated s per wall s."""
     import threading
@@ -394,7 +388,7 @@ def unit_bulbs(scenario, args, roscpp="1"):
     # right after the pick-and-place: the reference that says whether the scenario keeps up
     proc = subprocess.Popen([demo, "--scenario", scenario, "--out", out, "--seed", str(args.rep),
                              "--no-streams", "--pace-probe", str(PACE_PROBE_S)],
-                            env=dict(os.environ, MODROB_SIM_ROSCPP=roscpp), stdout=subprocess.PIPE,
+                            stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     cpu = {}
 
@@ -578,7 +572,6 @@ def unit_kdl_fk(_args):
 UNITS = {"physics_core": unit_physics_core, "node": unit_node,
          "bulbs_one": lambda a: unit_bulbs("one_robot", a),
          "bulbs_two": lambda a: unit_bulbs("two_robots", a),
-         "bulbs_one_rospy": lambda a: unit_bulbs("one_robot", a, roscpp="0"),
          "startup": unit_startup, "rss": unit_rss, "kdl_fk": unit_kdl_fk, "sensor_arm": unit_sensor_arm}
 
 

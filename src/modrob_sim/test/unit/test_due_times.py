@@ -11,7 +11,7 @@ from modrob_sim.gazebo_ros import plugins
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin, RateGate, SensorPlugin
 from modrob_sim.gazebo_ros.plugin_host import PluginHost
 from modrob_sim.gazebo_ros.testing import ControlRig
-from modrob_sim.physics import native_batch
+from modrob_sim.physics import native as native_mod
 from modrob_sim.ros_control.manager import STRICT
 
 FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
@@ -22,7 +22,7 @@ SENSORS = """
     <plugin name="scan" filename="libtest_due_sensor.so"/></sensor></gazebo>
   <gazebo><plugin name="probe" filename="libtest_due_probe.so"><rate>30</rate></plugin></gazebo>
 </robot>"""
-needs_c = pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+needs_c = pytest.mark.skipif(native_mod.LIB is None, reason="the C loop is not built")
 
 
 class Sensor(SensorPlugin):
@@ -84,7 +84,7 @@ class Rig(ControlRig):
         assert self.mgr.switch(list(self.ctl), [], STRICT)[0]
         self.host = PluginHost(self.world, "/gazebo", lambda uri: uri)
         self.loaded = self.host.load(self.model, "/arm")
-        self.start(fast, after=self.host.after_step, plugins=self.host)
+        self.start(fast, plugins=self.host)
 
     def outputs(self):
         return [getattr(p, "readings", None) or p.samples for p in self.loaded]
@@ -131,8 +131,8 @@ def test_sensors_with_due_times_step_natively_and_read_what_python_steps_read():
     assert abs(fast.model.joints["yaw"].position - 1.0) < 0.05
     # the 200 Hz IMU ends a batch every 5 steps: the steps run in C, the 300 readings in Python;
     # the controllers' updates in Python: the joint_states samples (50 Hz) and the new commands
-    assert fast.fast.steps >= 0.95 * fast.world.iterations, "%d of %d steps in batches" % (
-        fast.fast.steps, fast.world.iterations)
+    assert fast.world.native_steps >= 0.95 * fast.world.iterations, "%d of %d steps in batches" % (
+        fast.world.native_steps, fast.world.iterations)
 
 
 @needs_c
@@ -141,6 +141,5 @@ def test_a_hook_without_a_due_time_runs_at_every_step():
     Undeclared.calls = 0
     fast = run(True, steps=200)
     assert Undeclared.calls == fast.world.iterations == 200
-    # each batch is the one step whose after-hooks are then run in Python
-    assert fast.fast.batches == fast.fast.steps
+    # each step is made in C and its after-hooks run in Python
     assert len(fast.loaded[2].samples) == 6            # its own gate still decimates (30 Hz, 0.2 s)

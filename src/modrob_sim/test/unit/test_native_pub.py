@@ -1,10 +1,12 @@
 """Tier 1 (own roscore on a free port): the roscpp publishers of the /gazebo node's process
 (modrob_sim.gazebo_ros.native_pub, libmodrob_roscpp_pub.so) send exactly the bytes rospy sends
 (header seq included), latch, count their subscribers, are registered by the ``<node>_roscpp``
-node, and MODROB_SIM_ROSCPP=0 falls back to rospy publishers. Messages deferred by C code (the C loop's
-/clock in a batch of steps: ``native_handle(deferred=True)``, then ``flush``) reach every subscriber
-complete and in order, mixed with immediate ones, also one that comes and goes mid-stream; a late
-subscriber of the latched topic gets the last message alone; a stalled subscriber blocks nothing."""
+node, and without roscpp started the publishers are rospy's. /clock from a ClockTicker (the World's
+native steps through its step observer, deferred until ``flush``) reaches every subscriber complete
+and in order as rospy's bytes, mixed with immediate messages, also one that comes and goes
+mid-stream; a late subscriber of the latched topic gets the last message alone; a stalled
+subscriber blocks nothing; the ticker's wall-clock period and its one message per simulated time
+hold."""
 import os
 import signal
 import socket
@@ -27,7 +29,7 @@ CLIENT = textwrap.dedent(r"""
     from modrob_sim.gazebo_ros import native_pub
 
     rospy.init_node("pubtest", disable_signals=True)
-    native = native_pub.start(rospy.get_name())
+    native = native_pub.start(rospy.get_name()) if sys.argv[1] == "roscpp" else False
     print("native", native, native_pub.reason(), flush=True)
     js_pub = native_pub.publisher("~joint_states", JointState, queue_size=10)
     clock_pub = native_pub.publisher("/clock_test", Clock, queue_size=10, latch=True)
@@ -69,7 +71,7 @@ CLIENT = textwrap.dedent(r"""
 
 
 # a subscriber in its own process (its own connection): takes the first int(argv[1]) /clock_deferred
-# messages, or what comes in 0.5 s after the first, leaves and prints them (as ms)
+# messages, or what comes in 0.5 s after the first, leaves and prints them (their whole seconds)
 LISTEN = textwrap.dedent(r"""
     import struct, sys, threading, time
     import rospy
@@ -79,7 +81,7 @@ LISTEN = textwrap.dedent(r"""
     def cb(m):
         if len(got) < most:
             secs, nsecs = struct.unpack("<2I", bytes(m._buff))
-            got.append(secs * 1000 + nsecs // 1000000)
+            got.append(secs)
         if len(got) >= most:
             done.set()
     sub = rospy.Subscriber("/clock_deferred", rospy.AnyMsg, cb)
@@ -91,25 +93,23 @@ LISTEN = textwrap.dedent(r"""
     print(" ".join(str(v) for v in got), flush=True)
 """)
 
-# deferred publishing, as the C loop and StatePublishers.after_batch do it
+# /clock through a ClockTicker, as the World's native steps (its observer) and the node's after-step
+# hook tick it and the node's passes flush it; whole seconds as times, so that the bytes say which
 DEFERRED = textwrap.dedent(r"""
     LISTEN = LISTEN_SOURCE
-    import ctypes, struct, subprocess, sys, threading, time
+    import io, struct, subprocess, sys, threading, time
     import rospy
+    from rospy.msg import serialize_message
     from rosgraph_msgs.msg import Clock
-    from std_msgs.msg import String
     from modrob_sim.gazebo_ros import native_pub
 
     rospy.init_node("deftest", disable_signals=True)
     assert native_pub.start(rospy.get_name()), native_pub.reason()
-    PUBLISH = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_char_p, ctypes.c_uint32)
     pub = native_pub.publisher("/clock_deferred", Clock, queue_size=10, latch=True)
-    addr, handle = pub.native_handle(deferred=True)
-    deferred = PUBLISH(addr)
+    ticker = pub.clock_ticker(0.0)
 
-    def ms(buf):                                  # a Clock's bytes -> its time in ms
-        secs, nsecs = struct.unpack("<2I", bytes(buf))
-        return secs * 1000 + nsecs // 1000000
+    def secs(buf):
+        return struct.unpack("<2I", bytes(buf))[0]
 
     def wait(pred, limit=30.0):
         deadline = time.time() + limit
@@ -117,8 +117,9 @@ DEFERRED = textwrap.dedent(r"""
             time.sleep(0.01)
         return pred()
 
-    full = []
-    subs = [rospy.Subscriber("/clock_deferred", rospy.AnyMsg, lambda m: full.append(ms(m._buff)))]
+    full, raw = [], []
+    subs = [rospy.Subscriber("/clock_deferred", rospy.AnyMsg,
+                             lambda m: (full.append(secs(m._buff)), raw.append(bytes(m._buff))))]
     wait(lambda: pub.get_num_connections() == 1)
     N, BATCH = 3000, 10
     mid, left = None, None
@@ -131,17 +132,18 @@ DEFERRED = textwrap.dedent(r"""
             wait(lambda: pub.get_num_connections() == 2)
         if k % 70 == 0:                           # an immediate message between deferred ones
             c = Clock()
-            c.clock.secs, c.clock.nsecs = k // 1000, (k % 1000) * 1000000
+            c.clock.secs = k
             pub.publish(c)
             k += 1
             continue
         for j in range(k, min(k + BATCH, N)):
             if j % 70 == 35:                      # immediate, while deferred ones wait: they go first
                 c = Clock()
-                c.clock.secs, c.clock.nsecs = j // 1000, (j % 1000) * 1000000
+                c.clock.secs = j
                 pub.publish(c)
             else:
-                deferred(handle, struct.pack("<2I", j // 1000, (j % 1000) * 1000000), 8)
+                ticker.tick(float(j))
+                ticker.tick(float(j))             # one message per simulated time
         k = min(k + BATCH, N)
         pub.flush()
         time.sleep(0.001)
@@ -151,34 +153,57 @@ DEFERRED = textwrap.dedent(r"""
           flush=True)
     wait(lambda: len(full) >= N)
     print("full_in_order", full == list(range(N)), len(full), flush=True)
+
+    from modrob_sim.gazebo_ros.state_publishers import set_clock
+
+    def rospy_bytes(t):                           # what the node's rospy path sends for t
+        b = io.BytesIO()
+        serialize_message(b, 0, set_clock(Clock(), t))
+        return b.getvalue()[4:]
+    print("rospys_bytes", all(raw[j] == rospy_bytes(float(j)) for j in range(N)), flush=True)
     late = subprocess.run([sys.executable, "-c", LISTEN, str(10 ** 9)], capture_output=True, text=True,
                           timeout=90).stdout.split()
     print("late", late, flush=True)
+    # the nanoseconds as rospy rounds them, and the wall-clock period
+    frac = native_pub.publisher("/clock_frac", Clock, queue_size=10)
+    fr = []
+    subs.append(rospy.Subscriber("/clock_frac", rospy.AnyMsg, lambda m: fr.append(bytes(m._buff))))
+    wait(lambda: frac.get_num_connections() == 1)
+    tf = frac.clock_ticker(0.0)
+    times = [6.9895, 7.0 - 1e-10, 1e-3 * 7, 12345.678901234]
+    for t in times:
+        tf.tick(t)
+    frac.flush()
+    wait(lambda: len(fr) == len(times))
+    print("fractions", fr == [rospy_bytes(t) for t in times], flush=True)
+    slow = frac.clock_ticker(0.05)
+    t0, sent = time.monotonic(), 0
+    while time.monotonic() - t0 < 0.5:
+        sent += slow.tick(time.monotonic())
+    print("throttled", sent, flush=True)
 
     # a stalled subscriber: its socket fills up; publishing goes on (roscpp drops its oldest queued)
-    big = native_pub.publisher("/big_deferred", String, queue_size=10)
-    addr, big_handle = big.native_handle(deferred=True)
+    big = native_pub.publisher("/big_deferred", Clock, queue_size=10)
+    big_ticker = big.clock_ticker(0.0)
     release = threading.Event()
     got = []
 
     def stalled(m):
-        got.append(int(bytes(m._buff)[4:12]))
+        got.append(secs(m._buff))
         release.wait(60)
 
     subs.append(rospy.Subscriber("/big_deferred", rospy.AnyMsg, stalled))
     wait(lambda: big.get_num_connections() == 1)
-    M, PAD = 20000, b"x" * 2000                   # 40 MB: more than the sockets' buffers hold
+    M = 400000                                    # 4.8 MB: more than the sockets' buffers hold
     done = threading.Event()
 
     def run():
         for i in range(M):
-            body = b"%08d" % i + PAD
-            PUBLISH(addr)(big_handle, struct.pack("<I", len(body)) + body, 4 + len(body))
-            if i % BATCH == BATCH - 1:
+            big_ticker.tick(float(i))
+            if i % 1000 == 999:
                 big.flush()
         big.flush()
         done.set()
-    t0 = time.time()
     threading.Thread(target=run, daemon=True).start()
     print("stalled_not_blocking", done.wait(120), flush=True)
     release.set()
@@ -214,8 +239,9 @@ def master():
         core.wait(30)
 
 
-def run_client(env):
-    proc = subprocess.run([sys.executable, "-c", CLIENT], env=env, capture_output=True, text=True, timeout=90)
+def run_client(env, mode="roscpp"):
+    proc = subprocess.run([sys.executable, "-c", CLIENT, mode], env=env, capture_output=True, text=True,
+                          timeout=90)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     return dict(ln.split(" ", 1) for ln in proc.stdout.splitlines() if " " in ln)
 
@@ -230,9 +256,9 @@ def test_roscpp_publishers_send_rospys_bytes_and_latch(master):
     assert out["publishers"] == "['/pubtest_roscpp']"
 
 
-def test_switched_off_it_is_rospy(master):
-    out = run_client(dict(master, MODROB_SIM_ROSCPP="0"))
-    assert out["native"] == "False disabled by MODROB_SIM_ROSCPP=0"
+def test_without_roscpp_it_is_rospy(master):
+    out = run_client(master, mode="rospy")      # the node's ~native_publishing false: not started
+    assert out["native"] == "False not started"
     assert out["class"] == "Publisher /pubtest/joint_states"
     assert out["js_equal"] == "[True, True, True]"
     assert out["clock_equal"] == "True"
@@ -245,6 +271,9 @@ def test_deferred_messages_arrive_complete_in_order_and_latch_the_last(master):
     assert proc.returncode == 0, proc.stdout + proc.stderr
     out = dict(ln.split(" ", 1) for ln in proc.stdout.splitlines() if " " in ln)
     assert out["full_in_order"] == "True 3000", out
+    assert out["rospys_bytes"] == "True", out
+    assert out["fractions"] == "True", out
+    assert 8 <= int(out["throttled"]) <= 11, out       # 0.5 s at one per 50 ms
     # the subscriber that came mid-stream got 800 consecutive messages and left before the end
     assert out["mid_consecutive"] == "True", out
     assert out["mid_left_before_the_end"] == "True", out
@@ -255,29 +284,41 @@ def test_deferred_messages_arrive_complete_in_order_and_latch_the_last(master):
     assert out["stalled_in_order"] == "True True True", out
 
 
-def test_a_batchs_clock_is_deferred_and_flushed_when_the_batch_ends():
-    """StatePublishers hands the C loop the deferred entry point for /clock and flushes after the
-    batch (gazebo_ros.fast_steps calls after_batch after every batch), before anything else."""
+def test_the_clock_ticks_in_the_after_hook_and_flushes_after_a_pass():
+    """StatePublishers gives the World the ticker's observer, ticks /clock in its after-step hook
+    (the ticker sends it once per time: the observer may have sent the step's already) and flushes
+    after the loop's pass, before the scene."""
     import types
     from modrob_sim.gazebo_ros.state_publishers import StatePublishers
     calls = []
 
+    class Ticker(object):
+        observer = (1234, 5678)
+
+        def tick(self, t):
+            calls.append(("tick", t))
+
     class ClockPub(object):
-        def native_handle(self, deferred=False):
-            calls.append(("handle", deferred))
-            return (1234, 5678)
+        def clock_ticker(self, period):
+            calls.append(("ticker", period))
+            return Ticker()
 
         def flush(self):
             calls.append(("flush",))
 
     out = StatePublishers.__new__(StatePublishers)
-    out.world = types.SimpleNamespace(time=1.5)
+    world = types.SimpleNamespace(time=1.5, time_step=0.001,
+                                  set_step_observer=lambda fn, user: calls.append(("observer", fn, user)))
+    out.world = world
     out._clock_pub = ClockPub()
-    out._clock_period, out._last_clock_wall, out._batch_clock, out._clock_sent_t = 0.0, -1e9, None, None
+    out._clock_period, out._last_clock_wall = 0.0, -1e9
+    out._ticker = out._clock_pub.clock_ticker(0.0)
+    world.set_step_observer(*out._ticker.observer)
     out._scene = types.SimpleNamespace(after_step=lambda t: calls.append(("scene", t)))
-    clock = out.batch_clock()
-    assert (clock.publish, clock.handle, clock.period) == (1234, 5678, 0.0)
-    clock.sent = True
-    out.after_batch()
-    assert calls == [("handle", True), ("flush",), ("scene", 1.5)]
-    assert out._clock_sent_t == 1.5
+    out._next_state_t = out._next_marker_t = 10.0
+    out._state_period = out._marker_period = 0.01
+    out.after_step()
+    out.after_pass()
+    assert calls == [("ticker", 0.0), ("observer", 1234, 5678), ("tick", 1.5), ("scene", 1.5), ("flush",),
+                     ("scene", 1.5)]
+    assert out.after_due() == pytest.approx(10.0 - 0.0005)       # /clock needs no Python step

@@ -1,20 +1,20 @@
-"""The /gazebo node's batches of native steps (gazebo_ros.fast_steps, physics.native_batch) between
-the due times of its hooks give exactly the steps of calling every hook at every step: the same
+"""The World's native stretches between the due times of its hooks (World.step on the native
+backend, mr_run_steps) give exactly the steps of calling every hook at every step: the same
 states, efforts, actuator internals and published samples, bit for bit, with commands and gains
 changing mid-run, an effort PID with antiwindup, a forward effort controller, a
-joint_state_controller and a schedule of after-step work; and the batches do run the steps."""
+joint_state_controller and a schedule of after-step work; and the stretches do run the steps."""
 import os
-import types
 
 import pytest
 
 from modrob_sim.gazebo_ros.testing import ControlRig
-from modrob_sim.physics import native_batch
+from modrob_sim.physics import native as native_mod
 from modrob_sim.ros_control.manager import STRICT
 
 physics = pytest.importorskip("modrob_sim.physics")
 FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
 PERIOD = 0.01           # the "state publisher": every 10 ms of simulated time
+needs_c = pytest.mark.skipif(native_mod.LIB is None, reason="the C loop is not built")
 
 
 class Rig(ControlRig):
@@ -58,10 +58,9 @@ class Rig(ControlRig):
         return (self.world.time, self.world.iterations, self.world.state_digest(), acts, joints)
 
 
-def run(fast, guard_speed=None, whole=True, first=10, first_state=0.0):
+def run(fast, guard_speed=None, first=10, first_state=0.0):
     """1200 steps in passes of 10 (the first of ``first``), commands changed after steps 200, 600
-    and 900; ``whole`` False: a pass may end early, as the simulation loop's do (the next pass
-    starts there)."""
+    and 900."""
     rig = Rig(fast, first_state)
     if guard_speed is not None:             # the guard restores the arm again and again
         rig.world.set_physics_params(guard_max_angular_velocity=guard_speed)
@@ -79,19 +78,19 @@ def run(fast, guard_speed=None, whole=True, first=10, first_state=0.0):
             gains = type(rig.ctl["shoulder"].pid.gains)(150.0, 20.0, 8.0, 4.0, -4.0)
             rig.ctl["shoulder"].pid.set_gains(gains)
         n = min(n, min(e for e in events if e > i) - i)
-        assert 0 < rig.step(n, whole=whole) <= n
+        rig.step(n)
         n = 10
     return rig
 
 
-@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+@needs_c
 def test_batched_steps_equal_python_steps_bit_for_bit():
     ref, fast = run(False), run(True)
-    assert fast.fast.batcher is not None
+    assert fast.world.native
     # the steps in Python: the updates with a state message (every 10th), a joint_states sample
     # (every 20th), a command or a gain change; all others in the C loop's batches
-    assert fast.fast.steps > 0.85 * fast.world.iterations, "the batches ran %d of %d steps" % (
-        fast.fast.steps, fast.world.iterations)
+    assert fast.world.native_steps > 0.85 * fast.world.iterations, "the batches ran %d of %d steps" % (
+        fast.world.native_steps, fast.world.iterations)
     assert len(ref.log) == len(fast.log) > 300
     for a, b in zip(ref.log, fast.log):
         assert a == b
@@ -101,102 +100,76 @@ def test_batched_steps_equal_python_steps_bit_for_bit():
     assert abs(q + 2.0) < 0.3, "the yaw joint did not follow its command (%g)" % q
 
 
-@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+@needs_c
 @pytest.mark.parametrize("first", [10, 3, 9])
 @pytest.mark.parametrize("first_state", [0.0, PERIOD])
-def test_passes_fall_in_step_with_the_publishers(first, first_state):
-    """As the node's loop runs them: a pass ends where a batch ended at a state message; whatever
-    the first pass's phase, the steps give the Python path's results bit for bit."""
+def test_passes_of_any_phase_give_the_same_steps(first, first_state):
+    """As the node's loop runs them, in passes of 10 steps: whatever the first pass's phase
+    against the publishers' schedule, the steps give the every-hook-every-step results bit for
+    bit."""
     ref = run(False, first_state=first_state)
-    fast = run(True, whole=False, first=first, first_state=first_state)
+    fast = run(True, first=first, first_state=first_state)
     assert fast.world.iterations == 1200
     assert ref.log == fast.log and ref.snapshot() == fast.snapshot()
 
 
-@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+@needs_c
 def test_guard_restorations_in_batches_equal_the_python_path():
     ref, fast = run(False, guard_speed=1.0), run(True, guard_speed=1.0)
     events = ref.world.pop_events()
     assert len(events) > 3, "the guard never fired"
     assert events == fast.world.pop_events()
     assert ref.log == fast.log and ref.snapshot() == fast.snapshot()
-    assert fast.fast.steps > 0.5 * fast.world.iterations
+    assert fast.world.native_steps > 0.5 * fast.world.iterations
 
 
-@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+@needs_c
 def test_updates_run_in_python_only_when_due():
     rig = Rig(True, states_wanted=False)
     rig.next_t = 1e9
     rig.step(1)                               # the first update: every controller starts its schedule
-    assert rig.fast.steps == 0 and rig.world.iterations == 1
+    assert rig.world.native_steps == 0 and rig.world.iterations == 1
     rig.step(18)                              # nothing due until the joint_states sample at 20 ms
-    assert rig.fast.steps == 18 and rig.world.iterations == 19
+    assert rig.world.native_steps == 18 and rig.world.iterations == 19
     rig.ctl["yaw"].set_command(0.4)           # a command waits: the next step is an update
     rig.step(1)
-    assert rig.fast.steps == 18
+    assert rig.world.native_steps == 18
     rig.step(10)
-    assert rig.fast.steps == 18 + 9           # the joint_states sample at 20 ms is in Python
+    assert rig.world.native_steps == 18 + 9           # the joint_states sample at 20 ms is in Python
     rig.ctl["yaw"].state_wanted = lambda: True   # a subscriber: every 10th update in Python
     rig.step(40)                # Python: the state updates at 30, 40, 50, 60 ms (joint_states at 40, 60)
-    assert rig.fast.steps == 27 + 40 - 4, rig.fast.steps
-    rig.world.add_step_hook(after=lambda t, dt: None)   # a hook the node does not know
+    assert rig.world.native_steps == 27 + 40 - 4, rig.world.native_steps
+    calls = []
+    rig.world.add_step_hook(after=lambda t, dt: calls.append(t))   # no due time: every step
     rig.step(20)
-    assert rig.fast.steps == 63 and rig.world.iterations == 90
+    # each step is made in C (but the two state updates) and the new hook runs after every one
+    assert rig.world.native_steps == 63 + 18 and rig.world.iterations == 90 and len(calls) == 20
 
 
-@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
-def test_the_c_loops_clock_bytes_are_rospys():
-    """/clock from the C loop at every step: the bytes rospy serialises for the Clock that
-    StatePublishers.publish_clock builds from the World's time after that step."""
+@needs_c
+def test_the_step_observer_sees_every_native_step():
+    """World.set_step_observer: the C function is called after every step the World makes
+    natively, with that step's time (the node's /clock through roscpp), never for a step made in
+    Python (whose hooks run instead)."""
     import ctypes
-    io = pytest.importorskip("io")
-    Clock = pytest.importorskip("rosgraph_msgs.msg").Clock
-    got = []
-    proto = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.POINTER(ctypes.c_ubyte), ctypes.c_uint32)
-    fn = proto(lambda _h, data, size: got.append(bytes(data[:size])) or 0)
+    seen = []
+    proto = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_double)
+    fn = proto(lambda _user, t: seen.append(t))
     rig = Rig(True, states_wanted=False)
-    rig.world.time = 7.0 - 0.0105           # whole seconds and nanosecond rounding on the way
     rig.next_t = 1e9
-    clock = types.SimpleNamespace(publish=ctypes.cast(fn, ctypes.c_void_p).value, handle=None, period=0.0,
-                                  last=0.0)
-    rig.fast.outputs.batch_clock = lambda: clock
-    t0 = rig.world.time
-    rig.fast.step(30)
-    assert rig.fast.steps >= 25 and len(got) == rig.fast.steps
-
-    def rospy_bytes(t):
-        msg = Clock()
-        c = msg.clock
-        c.secs = int(t)
-        c.nsecs = int(round((t - c.secs) * 1e9))
-        if c.nsecs >= 1000000000:
-            c.secs, c.nsecs = c.secs + 1, c.nsecs - 1000000000
-        buf = io.BytesIO()
-        msg.serialize(buf)
-        return buf.getvalue()
-    expected, t = [], t0
-    for _ in range(30):
-        t = t + rig.world.time_step
-        expected.append(rospy_bytes(t))
-    assert expected[-1] == rospy_bytes(rig.world.time)
-    assert len(set(got)) == len(got) and set(got) <= set(expected)
-    assert got[0][:4] == (6).to_bytes(4, "little") and got[-1][:4] == (7).to_bytes(4, "little")
-
-
-@pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
-def test_the_c_loop_publishes_clock_at_steps_whose_after_hooks_are_due():
-    """/clock every step: the C loop publishes it at every step it makes, the steps whose
-    after-step hooks are due included, and says so (``sent``) for the node's after-step hook."""
-    import ctypes
-    got = []
-    proto = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.POINTER(ctypes.c_ubyte), ctypes.c_uint32)
-    fn = proto(lambda _h, data, size: got.append(bytes(data[:size])) or 0)
-    rig = Rig(True, states_wanted=False)
-    clock = types.SimpleNamespace(publish=ctypes.cast(fn, ctypes.c_void_p).value, handle=None, period=0.0,
-                                  last=0.0, sent=False)
-    rig.fast.outputs.batch_clock = lambda: clock
-    rig.fast.step(95)
+    rig.world.set_step_observer(ctypes.cast(fn, ctypes.c_void_p).value, None)
+    times = []
+    rig.world.add_step_hook(after=lambda t, dt: times.append(t), after_due=lambda: float("inf"))
+    rig.step(95)
     # in Python: the first update and the joint_states samples (20, 40, .. ms); the rest in C
-    assert rig.world.iterations == 95 and rig.fast.steps == 95 - 5
-    assert sum(1 for e in rig.log if e[0] == "states") == 10
-    assert len(got) == rig.fast.steps and len(set(got)) == len(got) and clock.sent
+    assert rig.world.iterations == 95 and rig.world.native_steps == 95 - 5
+    assert len(seen) == rig.world.native_steps and len(set(seen)) == len(seen)
+    expected, t = [], 0.0
+    for _ in range(95):
+        t += rig.world.time_step
+        expected.append(t)
+    assert set(seen) <= set(expected) and seen == sorted(seen)
+    assert len(set(seen) | set(times)) == 95      # every step: observed natively or its hooks ran
+    rig.world.set_step_observer(None, None)
+    rig.step(10)
+    assert len(seen) == 90

@@ -15,7 +15,7 @@ import types
 import pytest
 
 from modrob_sim.gazebo_ros.testing import ControlRig
-from modrob_sim.physics import native_batch
+from modrob_sim.physics import native as native_mod
 from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
 from modrob_sim.ros_control.manager import STRICT
 from modrob_sim.ros_control.trajectory import ABSOLUTE, HOLD, RELATIVE, PreparedTrajectory, State
@@ -23,7 +23,7 @@ from modrob_sim.ros_control.trajectory import ABSOLUTE, HOLD, RELATIVE, Prepared
 physics = pytest.importorskip("modrob_sim.physics")
 FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
 JOINTS = ["yaw", "shoulder", "elbow"]
-needs_c = pytest.mark.skipif(not native_batch._RUN, reason="the C loop (with mr_run_batch) is not built")
+needs_c = pytest.mark.skipif(native_mod.LIB is None, reason="the C loop is not built")
 
 
 class Rig(ControlRig):
@@ -143,7 +143,7 @@ def run(fast):
 @needs_c
 def test_trajectory_controller_batches_equal_python_steps_bit_for_bit():
     ref, fast = run(False), run(True)
-    assert fast.fast.batcher is not None
+    assert fast.world.native
     assert len(ref.log) == len(fast.log) > 200
     for a, b in zip(ref.log, fast.log):
         assert a == b
@@ -155,8 +155,8 @@ def test_trajectory_controller_batches_equal_python_steps_bit_for_bit():
     assert all(e[2][0] for e in ref.log if e[0] == "submit"), "a goal was rejected"
     # most steps ran in C: the Python updates are those with a goal past its end or with path
     # tolerances, with a goal waiting, a segment ending, a state or feedback sample due
-    assert fast.fast.steps > 0.65 * fast.world.iterations, "%d of %d steps batched" % (
-        fast.fast.steps, fast.world.iterations)
+    assert fast.world.native_steps > 0.65 * fast.world.iterations, "%d of %d steps batched" % (
+        fast.world.native_steps, fast.world.iterations)
     q = ref.yaw_after_wrap
     assert abs(math.remainder(q - 6.0, 2 * math.pi)) < 0.2, "yaw did not follow the short way to 6.0 (%g)" % q
 
@@ -167,11 +167,11 @@ def test_a_goal_with_path_tolerances_runs_every_update_in_python():
     rig.inbox.append(("goal", (JOINTS, _points(3, 0.3, n=8), dict(
         goal_id="g", path_tolerance=[types.SimpleNamespace(name="yaw", position=3.0, velocity=0.0)]))))
     rig.step(300)
-    assert rig.fast.steps == 0 and rig.jtc.goal is not None
+    assert rig.world.native_steps == 0 and rig.jtc.goal is not None
     rig.step(700)               # the goal succeeds after 0.48 s of motion and some settling
     done = [e for e in rig.log if e[0] == "event"]
     assert rig.jtc.goal is None and done and done[-1][3] == "succeeded"
-    assert rig.fast.steps > 0.9 * (1000 - 1000 * done[-1][1])
+    assert rig.world.native_steps > 0.9 * (1000 - 1000 * done[-1][1])
 
 
 @needs_c
@@ -183,10 +183,10 @@ def test_a_motion_needs_few_more_python_updates_than_a_hold():
     rig.step(30)
 
     def python_updates(steps):
-        n0, s0 = rig.world.iterations, rig.fast.steps
+        n0, s0 = rig.world.iterations, rig.world.native_steps
         for _ in range(steps // 10):
             rig.step(10)
-        return (rig.world.iterations - n0) - (rig.fast.steps - s0)
+        return (rig.world.iterations - n0) - (rig.world.native_steps - s0)
     hold = python_updates(400)
     rig.inbox.append(("goal", (JOINTS, _points(3, 0.4, n=8), dict(goal_id="g"))))
     rig.step(10)                # the goal's arrival: one step in Python
@@ -257,5 +257,5 @@ def test_mimic_joints_and_soft_limits_in_batches_equal_python_steps_bit_for_bit(
     yaw = ref.model.joints["yaw"]
     assert 4.3 < yaw.position < 4.52 and yaw.turn_state[0] == 1, "yaw passed pi to %g, not to its stop" % (
         yaw.position)
-    assert fast.fast.steps > 0.6 * fast.world.iterations, "%d of %d steps batched" % (
-        fast.fast.steps, fast.world.iterations)
+    assert fast.world.native_steps > 0.6 * fast.world.iterations, "%d of %d steps batched" % (
+        fast.world.native_steps, fast.world.iterations)

@@ -1,15 +1,18 @@
-"""The World and its backends use Model, Link and Joint only through their physics-side
-interface (physics/model.py), never through their private attributes: a change inside a model
-class must not silently break the stepping. The backends are part of the World and may read the
-World's own state."""
+"""No object of the physics core reads another object's private attributes: the World and its
+backends use Model, Link and Joint only through their physics-side interface (physics/model.py),
+the backends get what they share with the World handed over (world_parts.WorldParts) and never
+see the World, and the builder uses the World's physics-side methods. A change inside a class
+must not silently break the stepping. Only ``self`` may be read privately (an object's own
+attributes); the builder constructs Model, Link and Joint and so sets theirs (it is checked for
+the World's only)."""
 import ast
 import os
 
 import pytest
 
 PHYSICS = os.path.join(os.path.dirname(__file__), "..", "..", "src", "modrob_sim", "physics")
-#: names that stand for the World itself inside these modules; PyODE's own ``_id()``
-WORLD_NAMES = {"self", "world", "w"}
+#: an object's own attributes; PyODE's own ``_id()``
+OWN = {"self"}
 ALLOWED_ATTRS = {"_id"}
 
 
@@ -23,7 +26,7 @@ def private_reads(path):
         if not a.startswith("_") or a.startswith("__") or a in ALLOWED_ATTRS:
             continue
         owner = node.value
-        if isinstance(owner, ast.Name) and (owner.id in WORLD_NAMES or owner.id.endswith("_mod")
+        if isinstance(owner, ast.Name) and (owner.id in OWN or owner.id.endswith("_mod")
                                             or owner.id == "odelib"):
             continue
         found.append("%s:%d %s.%s" % (os.path.basename(path), node.lineno,
@@ -31,10 +34,15 @@ def private_reads(path):
     return found
 
 
-@pytest.mark.parametrize("module", ["world.py", "backends.py", "gripper.py", "native_batch.py",
+@pytest.mark.parametrize("module", ["world.py", "backends.py", "world_parts.py", "gripper.py",
                                     "actuators.py"])
 def test_no_private_attribute_of_another_object(module):
     assert private_reads(os.path.join(PHYSICS, module)) == []
+
+
+def test_the_builder_reads_nothing_private_of_the_world():
+    found = [r for r in private_reads(os.path.join(PHYSICS, "builder.py")) if " world." in r]
+    assert found == []
 
 
 def test_the_check_finds_a_private_read(tmp_path):

@@ -21,7 +21,7 @@ INERTIAL = ("<inertial><mass value='1'/><inertia ixx='0.01' ixy='0' ixz='0' iyy=
 
 
 def signature(world):
-    return (list(world.models), len(world._geom_info), world.gravity, world.time_step, world.state_digest())
+    return (list(world.models), world.geom_count, world.gravity, world.time_step, world.state_digest())
 
 
 def scene():

@@ -15,7 +15,7 @@ _spec.loader.exec_module(H)
 
 
 def world_signature(world):
-    return (list(world.models), len(world._geom_info), world._ode_world is not None,
+    return (list(world.models), world.geom_count, world.ode_world is not None,
             sum(len(m.bodies) for m in world.models.values()), world.state_digest())
 
 
@@ -80,7 +80,7 @@ def test_bad_mesh_file_is_a_model_error(tmp_path):
                   '</collision></link>' % bad)
     with pytest.raises(ModelError, match="link 'a'.*broken.stl"):
         world.add_urdf("m", xml)
-    assert not world.models and not world._geom_info
+    assert not world.models and not world.geom_count
 
 
 def test_duplicate_model_name_is_refused():

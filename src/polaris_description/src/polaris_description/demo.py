@@ -42,9 +42,6 @@ def main(argv=None):
     os.makedirs(a.out, exist_ok=True)
     port = free_port()
     os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % port
-    # the simulator publishes /clock, the states and joint_states through roscpp (several times less
-    # CPU per message than rospy, docs/benchmarks.md); MODROB_SIM_ROSCPP=0 keeps rospy's
-    os.environ.setdefault("MODROB_SIM_ROSCPP", "1")
     log_path = os.path.join(a.out, "polaris_demo_launch.log")
     print("[polaris] starting the simulator (log: %s)" % log_path, flush=True)
     with open(log_path, "w") as logf:

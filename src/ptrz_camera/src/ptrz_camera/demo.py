@@ -40,9 +40,6 @@ def main(argv=None):
     os.makedirs(args.out, exist_ok=True)
     port = free_port()
     os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % port
-    # the simulator publishes /clock, the states, joint_states and the scene through roscpp: with
-    # rospy's publishers the three cameras kept 0.39 of real time, with roscpp 0.81 (20 s runs)
-    os.environ.setdefault("MODROB_SIM_ROSCPP", "1")
     log = open(os.path.join(args.out, "ptrz_launch.log"), "w")
     cmd = ["roslaunch", "-p", str(port), "ptrz_camera", "tracking.launch", "gui:=false",
            "cameras:=%d" % args.cameras, "real_time_factor:=%s" % args.real_time_factor]

@@ -65,9 +65,6 @@ def wait_for_param(name, timeout=60.0):
 def start_simulation(scenario, log_path, gui=False, rtf="0", grip_force=3.0, port=None, gains="tuned"):
     port = port or free_port()
     os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % port
-    # the simulator publishes /clock, the states and joint_states through roscpp (several times
-    # less CPU per message than rospy, docs/benchmarks.md); MODROB_SIM_ROSCPP=0 keeps rospy's
-    os.environ.setdefault("MODROB_SIM_ROSCPP", "1")
     log = open(log_path, "w")
     cmd = ["roslaunch", "-p", str(port), "modrob_motion", "bulbs_and_slides.launch",
            "scenario:=%s" % scenario,

@@ -12,23 +12,20 @@ the topics; rospy keeps the services, parameters and subscriptions.
 
 :func:`publisher` is the factory the node uses: a NativePublisher once :func:`start` succeeded,
 else rospy.Publisher. Both offer ``publish``, ``get_num_connections``, ``resolved_name``, ``name``,
-``unregister``. The node starts it when ``~native_publishing`` is true; that parameter defaults to
-true when the environment has ``MODROB_SIM_ROSCPP=1`` (``make demo`` and the benchmarks set it),
-else to false; ``MODROB_SIM_ROSCPP=0`` refuses it whatever the parameter says.
+``unregister``. The node starts it unless its one switch, ``~native_publishing`` (default true),
+is false (docs/simulator.md).
 """
 import atexit
 import ctypes
 import io
 import logging
-import os
 import threading
 
 LIBRARY = "libmodrob_roscpp_pub.so"
 LOG = logging.getLogger("modrob_sim.gazebo_ros.native_pub")
 
 _lib = None
-_state = {"tried": False, "ok": False, "reason": "not started", "publish_addr": None,
-          "deferred_addr": None}
+_state = {"tried": False, "ok": False, "reason": "not started"}
 _lock = threading.Lock()
 
 
@@ -40,7 +37,8 @@ def _load():
     # microseconds, and releasing the GIL for it let a rospy thread of the node take it, so that
     # the simulation thread then waited for it. roscpp's threads never need the GIL.
     held = ctypes.PyDLL(path)
-    for name in ("mrp_publish", "mrp_publish_deferred", "mrp_flush", "mrp_num_subscribers"):
+    for name in ("mrp_publish", "mrp_publish_deferred", "mrp_flush", "mrp_num_subscribers", "mrp_clock_tick",
+                 "mrp_clock_last_t"):
         setattr(lib, name, getattr(held, name))
     lib.mrp_init.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p]
     lib.mrp_init.restype = ctypes.c_int
@@ -56,18 +54,16 @@ def _load():
     lib.mrp_num_subscribers.argtypes = [ctypes.c_void_p]
     lib.mrp_num_subscribers.restype = ctypes.c_int
     lib.mrp_unadvertise.argtypes = [ctypes.c_void_p]
+    lib.mrp_clock_new.argtypes = [ctypes.c_void_p, ctypes.c_double]
+    lib.mrp_clock_new.restype = ctypes.c_void_p
+    lib.mrp_clock_free.argtypes = [ctypes.c_void_p]
+    lib.mrp_clock_set_period.argtypes = [ctypes.c_void_p, ctypes.c_double]
+    lib.mrp_clock_tick.argtypes = [ctypes.c_void_p, ctypes.c_double]
+    lib.mrp_clock_tick.restype = ctypes.c_int
+    lib.mrp_clock_last_t.argtypes = [ctypes.c_void_p]
+    lib.mrp_clock_last_t.restype = ctypes.c_double
     lib.mrp_shutdown.restype = None
     return lib
-
-
-def enabled():
-    """False when MODROB_SIM_ROSCPP=0 refuses native publishing."""
-    return os.environ.get("MODROB_SIM_ROSCPP", "") not in ("0", "false", "no")
-
-
-def wanted_by_default():
-    """The default of the node's ~native_publishing: MODROB_SIM_ROSCPP=1 in the environment."""
-    return os.environ.get("MODROB_SIM_ROSCPP", "") in ("1", "true", "yes")
 
 
 def start(node_name):
@@ -78,9 +74,6 @@ def start(node_name):
         if _state["tried"]:
             return _state["ok"]
         _state["tried"] = True
-        if not enabled():
-            _state["reason"] = "disabled by MODROB_SIM_ROSCPP=0"
-            return False
         try:
             lib = _load()
         except OSError as exc:      # FileNotFoundError included: not built
@@ -93,8 +86,6 @@ def start(node_name):
             _state["reason"] = "roscpp did not start: %s" % lib.mrp_error().decode(errors="replace")
             return False
         _lib = lib
-        _state["publish_addr"] = ctypes.cast(lib.mrp_publish, ctypes.c_void_p).value
-        _state["deferred_addr"] = ctypes.cast(lib.mrp_publish_deferred, ctypes.c_void_p).value
         _state["ok"] = True
         _state["reason"] = ""
         atexit.register(stop)
@@ -161,18 +152,22 @@ class NativePublisher(object):
             data = b.getvalue()
         _lib.mrp_publish(h, data[4:], len(data) - 4)
 
-    def native_handle(self, deferred=False):
-        """(address of mrp_publish, this publisher's handle) for C code that publishes serialised
-        messages itself (the states), or False when it cannot. ``deferred``: the address of
-        mrp_publish_deferred instead (the C loop's /clock in a batch of steps), whose messages
-        wait for :meth:`flush` (or the next ``publish``), then leave in order, in fewer writes."""
+    def publish_serialized(self, buf, size):
+        """Publish ``size`` bytes of ``buf`` (a ctypes buffer holding the serialised message
+        without rospy's 4-byte length: the states of native_states)."""
+        h = self._h
+        if h and _state["ok"]:
+            _lib.mrp_publish(h, buf, size)
+
+    def clock_ticker(self, period):
+        """A ClockTicker on this (/clock) publisher, or None when roscpp is not running."""
         h = self._h
         if not h or not _state["ok"]:
-            return False
-        return _state["deferred_addr" if deferred else "publish_addr"], h
+            return None
+        return ClockTicker(_lib.mrp_clock_new(h, period))
 
     def flush(self):
-        """Publish the messages deferred by C code through ``native_handle(deferred=True)``."""
+        """Publish the deferred messages now (the /clock ticker's, after a pass of steps)."""
         h = self._h
         if h and _state["ok"]:
             _lib.mrp_flush(h)
@@ -181,6 +176,29 @@ class NativePublisher(object):
         h, self._h = self._h, None
         if h and _state["ok"]:
             _lib.mrp_unadvertise(h)
+
+
+class ClockTicker(object):
+    """/clock through roscpp at simulated times it is given (modrob_roscpp_pub.cpp): at every
+    ``tick(t)`` or, with a ``period`` > 0, at most once per period of wall time; never twice for
+    one time. ``observer`` is (function, argument) for World.set_step_observer: the World's native
+    stretches then tick at every step they make, without Python. Deferred: the publisher's
+    ``flush`` sends them."""
+
+    def __init__(self, ptr):
+        self._ptr = ptr
+        self.observer = (ctypes.cast(_lib.mrp_clock_observe, ctypes.c_void_p).value, ptr)
+
+    def tick(self, t):
+        return bool(_lib.mrp_clock_tick(self._ptr, t))
+
+    @property
+    def last(self):
+        """The simulated time of the last /clock sent (nan before the first)."""
+        return _lib.mrp_clock_last_t(self._ptr)
+
+    def set_period(self, period):
+        _lib.mrp_clock_set_period(self._ptr, period)
 
 
 def publisher(topic, msg_class, queue_size=1, latch=False):

@@ -1,16 +1,18 @@
-"""``/gazebo/model_states`` and ``/gazebo/link_states`` serialised by the C loop (``mr_states_publish``
-of physics/native/modrob_ode_native.c) and handed to roscpp without building rospy messages.
+"""``/gazebo/model_states`` and ``/gazebo/link_states`` serialised once per world layout and sent
+through roscpp (gazebo_ros.native_pub) without building rospy messages.
 
 At 100 Hz of simulated time and ten or more times real time, building the two messages in Python
 (a Pose and a Twist object per model and per link, Link.pose and Link.twist, then rospy's
 serialisation) cost the node more per step than the collision detection. The messages have no
 header, so their bytes are fixed but for the float64s: :class:`StatesMessage` keeps the serialised
-message of one layout of the world (names, counts) and the C loop writes every pose and twist
-into it, computed exactly as Link.pose and Link.twist compute them (same operations, same order:
-the bytes are rospy's, ``test_native_states.py`` compares them).
+message of one layout of the world (names, counts), and the physics core's ``mr_link_poses``
+(physics/native/modrob_ode_native.c) writes every pose and twist into its two arrays of doubles,
+computed exactly as Link.pose and Link.twist compute them (the bytes are rospy's,
+``test_native_states.py`` compares them). The physics knows links and doubles; this module knows
+the message.
 
-Used only with the C loop (native backend) and roscpp publishing (gazebo_ros.native_pub); the
-rospy messages stay the path otherwise.
+Used only with the C loop (native backend) and roscpp publishing; the rospy messages stay the path
+otherwise.
 """
 import ctypes
 import struct
@@ -20,29 +22,25 @@ from modrob_sim.physics import odelib
 
 
 class _Entry(ctypes.Structure):
-    _fields_ = [("body", ctypes.c_void_p), ("T", ctypes.c_double * 7), ("pose_off", ctypes.c_int),
-                ("twist_off", ctypes.c_int)]
+    """MrLinkEntry: a link's body and its frame in the body frame (static: its world pose)."""
+    _fields_ = [("body", ctypes.c_void_p), ("T", ctypes.c_double * 7)]
 
 
 def _declare(lib):
-    """(mr_states_publish, mr_states_write) of ``lib`` with their signatures, or (None, None)."""
-    if lib is None or not hasattr(lib, "mr_states_publish"):
-        return None, None
-    f = lib.mr_states_publish
-    f.restype = ctypes.c_int
-    f.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p, ctypes.c_uint32, ctypes.c_void_p,
-                  ctypes.c_void_p]
-    w = lib.mr_states_write
-    w.restype = None
-    w.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p]
-    return f, w
+    """mr_link_poses of ``lib`` with its signature, or None."""
+    if lib is None or not hasattr(lib, "mr_link_poses"):
+        return None
+    f = lib.mr_link_poses
+    f.restype = None
+    f.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p]
+    return f
 
 
-_PUBLISH, _WRITE = _declare(native_mod.LIB_HELD)   # keep the GIL: see native_pub._load
+_POSES = _declare(native_mod.LIB_HELD)   # keep the GIL: microseconds, in the simulation thread
 
 
 def available(world):
-    return _PUBLISH is not None and getattr(world, "native", False) is True
+    return _POSES is not None and getattr(world, "native", False) is True
 
 
 def _names_blob(names):
@@ -55,8 +53,8 @@ def _names_blob(names):
 
 class StatesMessage(object):
     """The serialised ModelStates or LinkStates of ``links`` named ``names`` (one physics Link per
-    entry: a model's entry is its canonical link). ``publish(native_handle)`` fills in the poses
-    and twists of now and publishes."""
+    entry: a model's entry is its canonical link). ``publish(publisher)`` fills in the poses and
+    twists of now and publishes (a NativePublisher)."""
 
     def __init__(self, names, links):
         n = len(names)
@@ -67,19 +65,20 @@ class StatesMessage(object):
         self._buf = (ctypes.c_uint8 * self.size)()
         ctypes.memmove(self._buf, head + struct.pack("<I", n), pose0)
         struct.pack_into("<I", self._buf, pose0 + 56 * n, n)
+        base = ctypes.addressof(self._buf)
+        self._poses, self._twists = base + pose0, base + twist0
         self._entries = (_Entry * max(1, n))()
         self._n = n
         self._static = []       # (entry, link, the static pose tuple last written)
         for k, ln in enumerate(links):
             e = self._entries[k]
-            e.pose_off, e.twist_off = pose0 + 56 * k, twist0 + 48 * k
-            body = ln._body
+            body = ln.body
             if body is None:
                 e.body = None
                 self._static.append([e, ln, None])
             else:
                 e.body = odelib.raw_pointer(body)
-                p, q = ln._T
+                p, q = ln.body_offset
                 e.T[:] = tuple(p) + tuple(q)
 
     def _refresh_static(self):
@@ -90,15 +89,18 @@ class StatesMessage(object):
                 e.T[:] = tuple(pose[0]) + tuple(pose[1])
                 item[2] = pose
 
-    def publish(self, native):
-        """``native``: (mrp_publish address, roscpp publisher handle) of NativePublisher.native_handle."""
+    def write(self):
+        """The poses and twists of now into the message."""
         self._refresh_static()
-        _PUBLISH(self._entries, self._n, self._buf, self.size, native[0], native[1])
+        _POSES(self._entries, self._n, self._poses, self._twists)
+
+    def publish(self, publisher):
+        self.write()
+        publisher.publish_serialized(self._buf, self.size)
 
     def serialized(self):
         """The message's bytes as of now (tests)."""
-        self._refresh_static()
-        _WRITE(self._entries, self._n, self._buf)
+        self.write()
         return bytes(self._buf)
 
 

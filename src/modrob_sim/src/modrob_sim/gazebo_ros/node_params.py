@@ -2,7 +2,6 @@
 import rospy
 
 from modrob_sim.errors import ModelError
-from modrob_sim.gazebo_ros import native_pub
 
 
 class Params(object):
@@ -11,7 +10,7 @@ class Params(object):
     def __init__(self, time_step=None, real_time_factor=None, paused=False, seed=0, world_name="",
                  pub_clock_frequency=1000.0, publish_rate=100.0, marker_rate=10.0, marker_models="props",
                  rtf_log_period=5.0, plugin_modules=(), gravity=None, scene_rate=30.0,
-                 native_publishing=False, enable_ros_network=True):
+                 native_publishing=True, enable_ros_network=True):
         self.time_step = time_step
         self.real_time_factor = real_time_factor
         self.paused = paused
@@ -56,8 +55,7 @@ class Params(object):
                    marker_models=str(rospy.get_param("~marker_models", "props")),
                    rtf_log_period=number("rtf_log_period", 5.0),
                    scene_rate=number("scene_rate", 30.0),
-                   native_publishing=bool(rospy.get_param("~native_publishing",
-                                                          native_pub.wanted_by_default())),
+                   native_publishing=_as_bool(rospy.get_param("~native_publishing", True)),
                    plugin_modules=_as_list(rospy.get_param("~plugin_modules", [])),
                    enable_ros_network=_as_bool(rospy.get_param("~enable_ros_network", True)))
 

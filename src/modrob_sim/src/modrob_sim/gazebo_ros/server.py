@@ -9,7 +9,6 @@ and the node's publishers. The parts:
 node_params.Params         ~parameters and gzserver's command line
 force_jobs.ForceJobs       timed wrenches and efforts
 plugin_host.PluginHost     loads plugins and calls their hooks (contract: plugin_base)
-fast_steps.FastSteps       the steps at which no hook is due, in batches of the C loop
 state_publishers           /clock, model/link states, guard events, markers, performance
 services.*                 the service groups (models, properties, forces, physics)
 """
@@ -21,7 +20,6 @@ import rospy
 from modrob_sim.errors import ModelError, ModrobError, SimulationError
 from modrob_sim.gazebo_ros import native_pub, plugins
 from modrob_sim.gazebo_ros.conversions import ros_time
-from modrob_sim.gazebo_ros.fast_steps import FastSteps
 from modrob_sim.gazebo_ros.force_jobs import ForceJobs
 from modrob_sim.gazebo_ros import memory_debug
 from modrob_sim.gazebo_ros.lookup import Lookup
@@ -116,7 +114,7 @@ class GazeboRosNode(object):
 
         if params.native_publishing and native_pub.start(self.node_name):
             rospy.loginfo("%s: publishing through roscpp (node %s_roscpp)" % (self.node_name, self.node_name))
-        elif params.native_publishing and native_pub.enabled():
+        elif params.native_publishing:
             rospy.logwarn("%s: publishing through rospy (slower): %s" % (self.node_name, native_pub.reason()))
         self.outputs = StatePublishers(self.world, params)   # before any model: first states go out
         self.forces = ForceJobs(self.world)
@@ -128,10 +126,11 @@ class GazeboRosNode(object):
         self.timers = SimTimers(self._publish_queue) if self._own_sim_time else None
         self.plugins = PluginHost(self.world, self.node_name, self.resolve, call=self.loop.call,
                                   advertise=ros_advertiser(self._publish_queue), timers=self.timers,
+                                  wake=self.world.wake,
                                   exports=self.exports)
-        self._hook = self.world.add_step_hook(before=self._before_step, after=self._after_step)
-        self.fast = FastSteps(self.world, self.plugins, self.forces, self.outputs,
-                              set_time=self._set_time if self._own_sim_time else None)
+        # the node's one step hook, with its due times: the World steps natively in between
+        self._hook = self.world.add_step_hook(before=self._before_step, after=self._after_step,
+                                              before_due=self._before_due, after_due=self._after_due)
         if settings.text is not None:
             self._load_world_file(settings)
         self.outputs.publish_markers(force=True)
@@ -175,6 +174,7 @@ class GazeboRosNode(object):
     def shutdown(self):
         """Plugins first, in the loop thread while it still runs (their services go away before
         the loop stops answering), then the loop, then the publishing thread."""
+        self.loop.interrupt()       # a long step request ends now, not after its millions of steps
         if self._physics_reconfigure is not None:
             self._physics_reconfigure.shutdown()
         if self.loop.running:
@@ -187,13 +187,35 @@ class GazeboRosNode(object):
             # process; leave the memory to the OS instead
             rospy.logwarn("%s: the simulation loop did not stop within 5 s; exiting without freeing "
                           "the physics world" % self.node_name)
-            self.world._finalizer.detach()
+            self.world.abandon()
         self.plugins.shutdown()     # no-op when done above
         self._publish_queue.stop()
 
     # ---- the World's step hooks (loop thread) ----------------------------------------------------
     def _step(self, n):
-        return self.fast.step(n, whole=False)
+        """One pass of the simulation loop: ``n`` steps of the World (natively between the hooks'
+        due times), then what follows the wall clock (a throttled /clock, the scene) and rospy's
+        time with the node's timers."""
+        self.world.step(n)
+        if self._own_sim_time:
+            self._set_time(self.world.time)
+        self.outputs.after_pass()
+        return n
+
+    def _before_due(self):
+        """The simulated time from which the before-hook has work: the plugins' (controllers)
+        and, while force jobs run, every step."""
+        if not self.forces.idle:
+            return None
+        return self.plugins.before_due()
+
+    def _after_due(self):
+        """The simulated time from which the after-hook has work: the plugins' (sensors) and the
+        publishers' (states, markers; /clock at every step through rospy: every step)."""
+        due = self.outputs.after_due()
+        if due is None:
+            return None
+        return min(due, self.plugins.after_due())
 
     def _set_time(self, t):
         """Simulated time is ``t`` [s] (before a step, or after a batch of steps in C): rospy's

@@ -49,6 +49,7 @@ class SimulationLoop(object):
         self._jobs = collections.deque()
         self._cond = threading.Condition()
         self._stop = False
+        self._interrupted = False   # shutting down: long jobs end now, the loop still serves calls
         self._finished = False      # set when run() has returned: calls are refused from then on
         self._thread = None
         self._ref = None            # (wall, sim) at which pacing was anchored
@@ -62,8 +63,14 @@ class SimulationLoop(object):
 
     @property
     def stopping(self):
-        """True once stop() was called: long jobs check it between chunks of work."""
-        return self._stop
+        """True once stop() or interrupt() was called: long jobs check it between chunks of work."""
+        return self._stop or self._interrupted
+
+    def interrupt(self):
+        """The node is shutting down: a long job in progress (a step request of millions of steps)
+        ends at its next chunk, so that the shutdown's own calls get the loop at once; calls are
+        still served until stop()."""
+        self._interrupted = True
 
     @property
     def real_time_factor(self):

@@ -39,9 +39,16 @@ def link_states_msg(world):
     return ls
 
 
-class _BatchClock(object):
-    """/clock for the C loop's batches (physics.native_batch.Batcher.run)."""
-    __slots__ = ("publish", "handle", "period", "last", "sent")
+def set_clock(msg, t):
+    """rosgraph_msgs/Clock ``msg`` := simulated time ``t`` (whole seconds, the rest rounded to
+    nanoseconds; roscpp's ClockTicker makes the same bytes)."""
+    c = msg.clock
+    c.secs = int(t)
+    c.nsecs = int(round((t - c.secs) * 1e9))
+    if c.nsecs >= 1000000000:
+        c.secs += 1
+        c.nsecs -= 1000000000
+    return msg
 
 
 def _next_on_grid(t, period):
@@ -91,8 +98,11 @@ class StatePublishers(object):
 
         self._clock_period = 1.0 / params.pub_clock_frequency if params.pub_clock_frequency > 0 else 0.0
         self._last_clock_wall = -1e9
-        self._clock_sent_t = None     # the simulated time whose /clock the C loop has published
-        self._batch_clock = None
+        # with roscpp: /clock from the World's native steps too (its step observer), without Python
+        ticker = getattr(self._clock_pub, "clock_ticker", None)
+        self._ticker = ticker(self._clock_period) if ticker is not None else None
+        if self._ticker is not None:
+            world.set_step_observer(*self._ticker.observer)
         self._state_period = 1.0 / params.publish_rate if params.publish_rate > 0 else 0.0
         self._next_state_t = 0.0
         self._marker_period = 1.0 / params.marker_rate if params.marker_rate > 0 else 0.0
@@ -102,9 +112,8 @@ class StatePublishers(object):
 
     def after_step(self):
         now_t = self.world.time
-        sent, self._clock_sent_t = self._clock_sent_t, None
-        if sent == now_t:
-            pass                    # the batch's last step: the C loop has published its /clock
+        if self._ticker is not None:
+            self._ticker.tick(now_t)    # at its period, once per time (the observer may have sent it)
         elif self._clock_period <= 0.0:
             self.publish_clock()
         else:
@@ -122,42 +131,25 @@ class StatePublishers(object):
             self.publish_markers()
         self._scene.after_step(now_t)
 
-    # ---- batches of native steps (gazebo_ros.fast_steps) ----------------------------------------
-    def batch_after_due(self):
-        """The simulated time from which after_step has work at simulated-time schedules."""
+    # ---- due times and the loop's passes (the World steps natively in between) --------------------
+    def after_due(self):
+        """The simulated time from which after_step has work (the World's due time for it):
+        states and markers on their grids; None (every step) when /clock goes out at every step and
+        only rospy can send it."""
+        if self._ticker is None and self._clock_period <= 0.0:
+            return None
         due = self._next_state_t
         if self._marker_period > 0.0 and self._next_marker_t < due:
             due = self._next_marker_t
         return due - 0.5 * self.world.time_step
 
-    def batch_clock(self):
-        """/clock for a batch: a _BatchClock when the C loop publishes it through roscpp (at every
-        step, or throttled to the same wall-clock period as after_step), None when it is
-        throttled and only rospy can publish it (after_batch does), False when it is due at
-        every step and only rospy can publish it (no batch)."""
-        native = getattr(self._clock_pub, "native_handle", None)
-        # deferred: the batch's /clock messages leave together when it ends (after_batch flushes),
-        # one roscpp hand-off per batch instead of one per step
-        native = native(deferred=True) if native is not None else False
-        if not native:
-            self._batch_clock = None
-            return None if self._clock_period > 0.0 else False
-        c = self._batch_clock or _BatchClock()
-        c.publish, c.handle = native
-        c.period, c.last, c.sent = self._clock_period, self._last_clock_wall, False
-        self._batch_clock = c
-        return c
-
-    def after_batch(self, wall_schedules=True):
-        """After a batch of native steps: the wall-clock schedules (/clock throttled, scene),
-        unless the caller runs after_step for the batch's last step (``wall_schedules`` False)."""
-        if self._batch_clock is not None:
+    def after_pass(self):
+        """After a pass of the simulation loop (world.step): the /clock messages of its native
+        steps leave together (roscpp), or a throttled /clock through rospy; the scene's wall-clock
+        schedule."""
+        if self._ticker is not None:
             self._clock_pub.flush()
-            self._last_clock_wall = self._batch_clock.last
-            self._clock_sent_t = self.world.time if self._batch_clock.sent else None
-        if not wall_schedules:
-            return
-        if self._batch_clock is None and self._clock_period > 0.0:
+        elif self._clock_period > 0.0:
             wall = time.monotonic()
             if wall - self._last_clock_wall >= self._clock_period:
                 self._last_clock_wall = wall
@@ -173,29 +165,20 @@ class StatePublishers(object):
         self.publish_markers(force=True)
 
     def publish_clock(self):
-        t = self.world.time
-        c = self._clock_msg.clock
-        c.secs = int(t)
-        c.nsecs = int(round((t - c.secs) * 1e9))
-        if c.nsecs >= 1000000000:
-            c.secs += 1
-            c.nsecs -= 1000000000
+        set_clock(self._clock_msg, self.world.time)
         self._clock_pub.publish(self._clock_msg)
 
     def publish_states(self):
         world = self.world
-        if self._native_states:
-            ms_native = self._model_states_pub.native_handle() if hasattr(self._model_states_pub,
-                                                                          "native_handle") else False
-            if ms_native:
-                self._publish_native_states(ms_native)
-                return
+        if self._native_states and hasattr(self._model_states_pub, "publish_serialized"):
+            self._publish_native_states()
+            return
         if self._model_states_pub.get_num_connections() > 0:
             self._model_states_pub.publish(model_states_msg(world))
         if self._link_states_pub.get_num_connections() > 0:
             self._link_states_pub.publish(link_states_msg(world))
 
-    def _publish_native_states(self, ms_native):
+    def _publish_native_states(self):
         world = self.world
         ms_sub = self._model_states_pub.get_num_connections() > 0
         ls_sub = self._link_states_pub.get_num_connections() > 0
@@ -208,11 +191,11 @@ class StatePublishers(object):
         if ms_sub:
             if ms is None:
                 ms = native_states.model_states(world)
-            ms.publish(ms_native)
+            ms.publish(self._model_states_pub)
         if ls_sub:
             if ls is None:
                 ls = native_states.link_states(world)
-            ls.publish(self._link_states_pub.native_handle())
+            ls.publish(self._link_states_pub)
         self._states_cache = (version, ms, ls)
 
     def publish_markers(self, force=False):

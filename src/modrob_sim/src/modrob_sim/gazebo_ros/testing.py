@@ -1,13 +1,12 @@
 """Test support for the node's steps without ROS (test_native_steps.py,
 test_native_trajectory_steps.py, test_due_times.py): a World with one robot under ros_control,
 its update as gazebo_ros_control's plugin runs it (ros_control.control_loop, with stand-in
-adapters), stepped either in Python at every step (World.step, every hook called) or as the node
-steps it (FastSteps: batches of the C loop between the due times), so that the two can be
-compared bit for bit."""
+adapters), stepped either with every hook called at every step or as the node steps it (the hooks
+declare their due times: the World steps natively between them), so that the two can be compared
+bit for bit."""
 import types
 
 from modrob_sim import physics
-from modrob_sim.gazebo_ros.fast_steps import FastSteps
 from modrob_sim.ros_control.control_loop import ControlLoop
 from modrob_sim.ros_control.hardware import RobotHWSim
 from modrob_sim.ros_control.manager import ControllerManager
@@ -65,30 +64,30 @@ class ControlRig(object):
             self.log.append(("joint_states", t, data))
 
     def start(self, fast, batch_after_due=lambda: INF, after=None, plugins=None):
-        """The step hooks (``after``: the node's after-step work, e.g. its state messages, and
-        the control loop's) and, with ``fast``, the node's FastSteps with ``batch_after_due`` as
-        its publishers' schedule and the due times of ``plugins`` (a PluginHost whose hooks
-        ``after`` calls) and of the control loop as the node's."""
+        """The node's step hook: the control loop's before- and after-hooks, ``after`` (the node's
+        after-step work, e.g. its state messages) and the after-hooks of ``plugins`` (a
+        PluginHost). With ``fast`` the hook declares its due times as the node's does (the control
+        loop's, ``batch_after_due`` as its publishers' schedule, the plugins'): the World then
+        steps natively between them; without, every hook runs at every step."""
         loop = self.loop
 
         def after_hook(t, dt):
             loop.after_step(t, dt)
+            if plugins is not None:
+                plugins.after_step(t, dt)
             if after is not None:
                 after(t, dt)
-        self.world.add_step_hook(before=loop.before_step, after=after_hook)
-        if fast:
-            never = lambda: INF  # noqa: E731
-            pb, pa = (plugins.before_due, plugins.after_due) if plugins is not None else (never, never)
-            host = types.SimpleNamespace(before_due=lambda: _earliest(pb, loop.before_due),
-                                         after_due=lambda: _earliest(pa, loop.after_due))
-            outputs = types.SimpleNamespace(batch_after_due=batch_after_due, batch_clock=lambda: None,
-                                            after_batch=lambda **_kw: None)
-            self.fast = FastSteps(self.world, host, types.SimpleNamespace(idle=True), outputs)
+        if not fast:
+            self.world.add_step_hook(before=loop.before_step, after=after_hook)
+            return
+        never = lambda: INF  # noqa: E731
+        pb, pa = (plugins.before_due, plugins.after_due) if plugins is not None else (never, never)
+        self.world.add_step_hook(before=loop.before_step, after=after_hook,
+                                 before_due=lambda: _earliest(pb, loop.before_due),
+                                 after_due=lambda: _earliest(pa, loop.after_due, batch_after_due))
+        self.fast = True
 
-    def step(self, n, whole=True):
-        """``n`` steps, in Python or as the node makes them; returns the steps made (fewer with
-        ``whole`` False when a pass ends early, as the node's loop lets it)."""
-        if self.fast is None:
-            self.world.step(n)
-            return n
-        return self.fast.step(n, whole=whole)
+    def step(self, n):
+        """``n`` steps of the World (returns ``n``)."""
+        self.world.step(n)
+        return n

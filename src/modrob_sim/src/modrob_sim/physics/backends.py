@@ -4,25 +4,27 @@ scan in C) and :class:`PureBackend` (the same semantics in Python with PyODE cal
 meshes collide as their bounding boxes). The World picks one at construction and calls it for
 everything that differs; nothing else in the World knows which one runs.
 
-Interface (``world`` is passed in; a backend keeps no reference to its World, so the World's
-finalizer can tear the ODE objects down through the backend). A backend is part of the World:
-it reads the World's own state (spaces, parameters, caches, its per-model entries) and uses
+Interface. A backend is made with the World's ``WorldParts`` (world.py: its ODE world, spaces,
+tables, caches and step settings, which the World keeps current) and keeps no reference to the
+World itself, so the World's finalizer can tear the ODE objects down through the backend; it uses
 only the physics-side interface of Model, Link and Joint (model.py):
 
     native                          True for the C loop
     set_seed(seed)                  ODE's random seed (quickStep's row order) after a reset
-    register_geom(world, info)      a new geom of a model (info: the World's _GeomInfo)
-    update_geom(world, info)        its collision bits / self_collide changed
+    register_geom(info)             a new geom of a model (info: the World's _GeomInfo)
+    update_geom(info)               its collision bits / self_collide changed
     forget_model(entry)             the model (the World's entry for it) left the World
     remove_geom(geom)               free one geom (model removal and teardown)
-    rebuild(world)                  the set of models, joints or the time step changed
-    make_mesh_geom(world, mesh, dynamic, what) -> (geom, pose of the geom in the mesh frame)
-    apply_damping(world)            explicit joint damping for this step
-    step(world, dt) -> contacts     collide + contact joints + quickStep (or dWorldStep); the
+    rebuild(models)                 the set of models, joints or the time step changed
+    make_mesh_geom(mesh, dynamic, what) -> (geom, pose of the geom in the mesh frame)
+    apply_damping()                 explicit joint damping for this step
+    step(dt) -> contacts            collide + contact joints + quickStep (or dWorldStep); the
                                     native one also runs the guard's velocity scan here
-    find_blowups(world) -> [(model, group, reason)]   the guard's scan after a step
-    contacts(world) -> [ContactPoint]                 the last step's contact points
-    overlaps(world, model) -> {(m1, l1, m2, l2): depth}   spawn-overlap check
+    run(n, t, iterations, before_due, after_due, wake, observer) -> Stretch or None
+                                    up to n steps natively (the pure backend: None, never)
+    find_blowups() -> [(model, group, reason)]   the guard's scan after a step
+    contacts() -> [ContactPoint]                 the last step's contact points
+    overlaps(model) -> {(m1, l1, m2, l2): depth}   spawn-overlap check
     close()                         free the backend's own objects
     new_actuator(joint, kind) -> record       an actuator's data (actuators.py)
     actuators_changed(actuators)    the World's list of actuators changed
@@ -40,8 +42,9 @@ from . import actuators as act
 from . import meshes as meshlib
 from . import native as native_mod
 from . import odelib
-from .model import FORCE_CAP
+from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN
 from .transforms import IDENTITY_POSE, dot
+from .world_parts import may_sleep, warn_once
 
 _APPROX1 = ode.ContactApprox1_1 | ode.ContactApprox1_2
 _BASE_MODE = _APPROX1 | ode.ContactSoftERP | ode.ContactSoftCFM
@@ -92,10 +95,52 @@ class MrActuator(ctypes.Structure):
                                         "rel_until", "max_force", "accel", "motor_vel")]
 
 
+class _Mimic(ctypes.Structure):
+    """MrStretchMimic: a mimic joint (Joint.drive_mimic) and its master."""
+    _fields_ = [("joint", ctypes.c_void_p), ("master", ctypes.c_void_p), ("turn", ctypes.POINTER(MrTurn)),
+                ("master_turn", ctypes.POINTER(MrTurn))] + \
+        [(n, ctypes.c_int) for n in ("slider", "master_slider", "has_lower", "has_upper")] + \
+        [(n, ctypes.c_double) for n in ("mult", "offset", "lower", "upper", "child_inertia")]
+
+
+class _Soft(ctypes.Structure):
+    """MrStretchSoft: a revolute joint with limits beyond +-pi (Joint.update_soft_limits)."""
+    _fields_ = [("joint", ctypes.c_void_p), ("turn", ctypes.POINTER(MrTurn)), ("lower", ctypes.c_double),
+                ("upper", ctypes.c_double)]
+
+
+class _Stretch(ctypes.Structure):
+    """MrStretch: the settings and results of mr_run_steps."""
+    _fields_ = [("acts", ctypes.c_void_p), ("nacts", ctypes.c_int), ("ndamp", ctypes.c_int),
+                ("damp_joints", ctypes.c_void_p), ("damp_kinds", ctypes.c_void_p),
+                ("damp_coef", ctypes.c_void_p), ("bodies", ctypes.c_void_p), ("nbodies", ctypes.c_int),
+                ("nturns", ctypes.c_int), ("turns", ctypes.c_void_p),
+                ("guard_max_contacts", ctypes.c_int), ("max_contacts", ctypes.c_int),
+                ("snapshot_interval", ctypes.c_int)] + \
+        [(n, ctypes.c_double)
+         for n in ("vmax2", "wmax2", "dt", "gx", "gy", "gz", "layer", "time", "last_start")] + \
+        [("iterations", ctypes.c_longlong), ("before_due", ctypes.c_double), ("after_due", ctypes.c_double),
+         ("wake", ctypes.c_void_p), ("observer", ctypes.c_void_p), ("observer_user", ctypes.c_void_p),
+         ("ncontacts", ctypes.c_int), ("guard", ctypes.c_int), ("world_step", ctypes.c_int),
+         ("first_bad", ctypes.c_int), ("after", ctypes.c_int),
+         ("nmimic", ctypes.c_int), ("mimics", ctypes.POINTER(_Mimic)), ("nsoft", ctypes.c_int),
+         ("softs", ctypes.POINTER(_Soft))] + \
+        [(n, ctypes.c_int) for n in ("param_vel", "param_fmax", "param_lo_stop", "param_hi_stop")] + \
+        [("mimic_gain", ctypes.c_double), ("mimic_force", ctypes.c_double)]
+
+
+class Stretch(object):
+    """What a native stretch did: ``steps`` made, the ``time`` and ``iterations`` after them,
+    ``after`` (the last step's after-hooks are due), ``guard`` (the guard must look at the last
+    step), ``ncontacts`` of the last step."""
+    __slots__ = ("steps", "time", "iterations", "after", "guard", "ncontacts")
+
+
 class PureBackend(object):
     native = False
 
-    def __init__(self):
+    def __init__(self, parts):
+        self.p = parts
         self.seed = 0
         self.ncontacts = 0
         self.contact_log = []
@@ -149,10 +194,10 @@ class PureBackend(object):
     def set_seed(self, seed):
         self.seed = seed
 
-    def register_geom(self, world, info):
+    def register_geom(self, info):
         pass
 
-    def update_geom(self, world, info):
+    def update_geom(self, info):
         pass
 
     def forget_model(self, entry):
@@ -161,29 +206,40 @@ class PureBackend(object):
     def remove_geom(self, geom):
         pass
 
-    def rebuild(self, world):
+    def rebuild(self, models):
         pass
+
+    def wake(self):
+        pass
+
+    def set_observer(self, fn, user):
+        pass
+
+    @staticmethod
+    def run(n, t, iterations, before_due, after_due, wake=None, observer=None):
+        """No native stretches on the pure-Python path: every step is World._step_once."""
+        return None
 
     def close(self):
         pass
 
-    def make_mesh_geom(self, world, mesh, dynamic, what):
-        world._warn_once("mesh-as-box", "%s: triangle meshes collide as their bounding boxes on the "
-                         "pure-Python path (%s)" % (what, native_mod.REASON or "native loop off for "
-                                                    "this World"))
+    def make_mesh_geom(self, mesh, dynamic, what):
+        warn_once(self.p.warned, "mesh-as-box", "%s: triangle meshes collide as their bounding boxes on "
+                  "the pure-Python path (%s)" % (what, native_mod.REASON or "native loop off for this World"))
         verts, _tris = mesh
         lo, hi = meshlib.bounds(verts)
         size = tuple(max(b - a, 1e-4) for a, b in zip(lo, hi))
         center = tuple(0.5 * (a + b) for a, b in zip(lo, hi))
-        space = world._dyn_space if dynamic else world._static_space
+        space = self.p.dyn_space if dynamic else self.p.static_space
         return ode.GeomBox(space, lengths=size), (center, (0.0, 0.0, 0.0, 1.0))
 
-    def apply_damping(self, world):
-        for j, coefficient in world._damped:
+    def apply_damping(self):
+        for j, coefficient in self.p.damped:
             j.add_damping(coefficient)
 
-    def step(self, world, dt):
-        world._contact_group.empty()
+    def step(self, dt):
+        world = self.p
+        world.contact_group.empty()
         self.ncontacts = 0
         self.contact_log = []
         self.made = []
@@ -191,12 +247,12 @@ class PureBackend(object):
         self._collide(world)
         seed0 = self.seed
         odelib.set_seed(seed0)
-        if world._world_step:
-            world._ode_world.step(dt)
+        if world.world_step:
+            world.ode_world.step(dt)
         elif self.capped:
             self._split_solve(world, dt, seed0)
         else:
-            world._ode_world.quickStep(dt)
+            world.ode_world.quickStep(dt)
         self.seed = odelib.get_seed()
         self._wake_held(world)
         return self.ncontacts
@@ -205,10 +261,10 @@ class PureBackend(object):
         """As the C loop's mr_split_solve (Gazebo's split of contact correction): pass 1 with
         the capped contacts gives the velocities, pass 2 from the same state with the whole
         depths gives the positions."""
-        bodies = [g.body for m in world._dynamic_models for g in m.dynamic_groups]
+        bodies = [g.body for m in world.dynamic_models for g in m.dynamic_groups]
         saved = [(b.getPosition(), b.getQuaternion(), b.getLinearVel(), b.getAngularVel(),
                   b.getForce(), b.getTorque()) for b in bodies]
-        world._ode_world.quickStep(dt)
+        world.ode_world.quickStep(dt)
         velocities = [(b.getLinearVel(), b.getAngularVel()) for b in bodies]
         for b, (p, q, v, w, f, t) in zip(bodies, saved):
             b.setPosition(p)
@@ -217,14 +273,14 @@ class PureBackend(object):
             b.setAngularVel(w)
             b.setForce(f)
             b.setTorque(t)
-        world._contact_group.empty()
+        world.contact_group.empty()
         for c, b1, b2, depth in self.made:
             pos, normal, _d, g1, g2 = c.getContactGeomParams()
             c.setContactGeomParams(pos, normal, depth, g1, g2)
-            j = ode.ContactJoint(world._ode_world, world._contact_group, c)
+            j = ode.ContactJoint(world.ode_world, world.contact_group, c)
             j.attach(b1, b2)
         odelib.set_seed(seed0)
-        world._ode_world.quickStep(dt)
+        world.ode_world.quickStep(dt)
         for b, (v, w) in zip(bodies, velocities):
             b.setLinearVel(v)
             b.setAngularVel(w)
@@ -236,18 +292,19 @@ class PureBackend(object):
             b1, b2 = i1.body, i2.body
             if b1 is None or b2 is None:
                 continue
-            if world.may_sleep(i1.model):
-                if b2.isEnabled() and not world.may_sleep(i2.model):
+            if may_sleep(i1.model, world.params):
+                if b2.isEnabled() and not may_sleep(i2.model, world.params):
                     b1.enable()
-            elif world.may_sleep(i2.model) and b1.isEnabled():
+            elif may_sleep(i2.model, world.params) and b1.isEnabled():
                 b2.enable()
 
-    def find_blowups(self, world):
-        vmax2, wmax2 = world._vmax2, world._wmax2
-        cmax = world._params["guard_max_contacts"]
+    def find_blowups(self):
+        world = self.p
+        vmax2, wmax2 = world.vmax2, world.wmax2
+        cmax = world.params["guard_max_contacts"]
         flagged = []
-        entries = world._entries
-        for m in world._dynamic_models:
+        entries = world.entries
+        for m in world.dynamic_models:
             bad = None
             e = entries[m]
             for g in m.dynamic_groups:
@@ -266,14 +323,15 @@ class PureBackend(object):
                 flagged.append(bad)
         return flagged
 
-    def contacts(self, world):
+    def contacts(self):
         return [(i1, i2, tuple(pos), tuple(normal), depth) for i1, i2, pos, normal, depth in self.contact_log]
 
-    def overlaps(self, world, model):
+    def overlaps(self, model):
+        world = self.p
         found = {}
 
         def cb(_arg, g1, g2):
-            i1, i2 = world._geom_info.get(g1), world._geom_info.get(g2)
+            i1, i2 = world.geom_info.get(g1), world.geom_info.get(g2)
             if i1 is None or i2 is None or i1.model is i2.model:
                 return
             if i1.body is None and i2.body is None:
@@ -287,14 +345,14 @@ class PureBackend(object):
         for geom in model.geoms:
             if isinstance(geom, ode.GeomPlane):
                 continue
-            for sp in (world._static_space, world._dyn_space):
+            for sp in (world.static_space, world.dyn_space):
                 ode.collide2(geom, sp, None, cb)
         return found
 
     # ---- collision (PyODE near callbacks) ---------------------------------------------------
     def _collide(self, w):
-        w._dyn_space.collide(w, self._near)
-        ode.collide2(w._static_space, w._dyn_space, w, self._near_top)
+        w.dyn_space.collide(w, self._near)
+        ode.collide2(w.static_space, w.dyn_space, w, self._near_top)
 
     def _near_top(self, w, g1, g2):
         if g1.isSpace() or g2.isSpace():
@@ -310,10 +368,10 @@ class PureBackend(object):
         with <fdir1> on both sides, that of the smaller mu1; the world's cap of contacts lowered
         by either side's own."""
         key = (s1, s2, static1, static2)
-        pp = w._pair_cache.get(key)
+        pp = w.pair_cache.get(key)
         if pp is not None:
             return pp
-        dt = w.time_step
+        dt = w.dt
         kp = 1.0 / (1.0 / s1.kp + 1.0 / s2.kp)
         kd = s1.kd + s2.kd
         pp = _PairParams()
@@ -326,17 +384,17 @@ class PureBackend(object):
         use2 = any(s2.fdir1) and (not any(s1.fdir1) or s1.mu1 > s2.mu1)
         pp.fdir_side = 2 if use2 else (1 if any(s1.fdir1) else 0)
         pp.fdir = s2.fdir1 if use2 else s1.fdir1
-        pp.max_contacts = min([w._max_contacts] + [s.max_contacts for s in (s1, s2) if s.max_contacts > 0])
+        pp.max_contacts = min([w.max_contacts] + [s.max_contacts for s in (s1, s2) if s.max_contacts > 0])
         sides = [s for s, st in ((s1, static1), (s2, static2)) if not st] or [s1, s2]
-        layer = w._params["contact_surface_layer"]
+        layer = w.params["contact_surface_layer"]
         pp.shift = min(layer if s.min_depth is None else s.min_depth for s in sides)
         max_vel = min(s.max_vel for s in sides)
         pp.cap = max_vel * dt / pp.erp if pp.erp > 0 else float("inf")
-        w._pair_cache[key] = pp
+        w.pair_cache[key] = pp
         return pp
 
     def _near(self, w, g1, g2):
-        info = w._geom_info
+        info = w.geom_info
         i1 = info.get(g1)
         i2 = info.get(g2)
         if i1 is None or i2 is None:
@@ -363,8 +421,8 @@ class PureBackend(object):
         i2.entry.ncontacts += n
         mode = pp.mode
         fdir = None
-        world = w._ode_world
-        group = w._contact_group
+        world = w.ode_world
+        group = w.contact_group
         for k, c in enumerate(contacts):
             pos, normal, depth, _a, _b = c.getContactGeomParams()
             if k == 0 and (pp.fdir_side or pp.isotropic):
@@ -463,6 +521,13 @@ def _given_fdir(geom, fdir, n):
     return (t[0] * k, t[1] * k, t[2] * k)
 
 
+def _declare_run(lib):
+    f = lib.mr_run_steps
+    f.restype = ctypes.c_int
+    f.argtypes = [ctypes.c_void_p, ctypes.POINTER(_Stretch), ctypes.c_int]
+    return f
+
+
 def geom_ptr(geom):
     """The dGeomID of a PyODE geom or a native mesh (for C code that takes geoms)."""
     return geom.ptr if isinstance(geom, NativeMesh) else geom._id()
@@ -472,9 +537,12 @@ class NativeBackend(object):
     """The C hot loop (ctypes, ``native.LIB``) on the World's PyODE world and spaces."""
     native = True
 
-    def __init__(self, nat, ode_world, static_space, dyn_space):
+    def __init__(self, nat, parts):
         self.nat = nat
-        self.ctx = nat.mr_ctx_new(odelib.raw_pointer(ode_world), static_space._id(), dyn_space._id())
+        self.p = parts
+        self._run = _declare_run(nat)
+        self.ctx = nat.mr_ctx_new(odelib.raw_pointer(parts.ode_world), parts.static_space._id(),
+                                  parts.dyn_space._id())
         self._surface_index = {}
         self._model_slots = []
         self._next_uid = 1
@@ -489,6 +557,13 @@ class NativeBackend(object):
         self._nturns = 0
         self._acts = ()
         self._act_array = (ctypes.POINTER(MrActuator) * 1)()
+        self._stretch = _Stretch()
+        self._stretch_ref = ctypes.byref(self._stretch)
+        self._wake = ctypes.c_int(0)        # World.wake, from any thread; mr_run_steps reads it
+        self._stretch.wake = ctypes.addressof(self._wake)
+        self._mimics = (_Mimic * 1)()
+        self._softs = (_Soft * 1)()
+        self.stretch_ok = True              # every mimic and soft-limit joint is one the C loop drives
 
     def set_seed(self, seed):
         self.nat.mr_set_seed(self.ctx, seed)
@@ -528,14 +603,6 @@ class NativeBackend(object):
         if self._nturns:
             self.nat.mr_track_turns(self._turn_array, self._nturns)
 
-    def turn_arrays(self):
-        """(MrTurn pointer array, count) for the C loop's batches (native_batch)."""
-        return self._turn_array, self._nturns
-
-    def actuator_arrays(self):
-        """(MrActuator pointer array, count) for the C loop's batches (native_batch)."""
-        return self._act_array, len(self._acts)
-
     @staticmethod
     def actuator_gains(r):
         return act.PidGains(r.p, r.i, r.d, r.i_max, r.i_min, bool(r.antiwindup))
@@ -564,7 +631,7 @@ class NativeBackend(object):
         for k, c in enumerate(coeffs):
             r.coef[k] = c
 
-    def register_geom(self, world, info):
+    def register_geom(self, info):
         e = info.entry
         if e.uid is None:
             e.uid = self._next_uid
@@ -576,7 +643,7 @@ class NativeBackend(object):
             else:
                 e.cindex = len(self._model_slots)
                 self._model_slots.append(e)
-        self.update_geom(world, info)
+        self.update_geom(info)
 
     def _surface_idx(self, s):
         key = s.key()
@@ -587,7 +654,7 @@ class NativeBackend(object):
             self.nat.mr_set_surface(self.ctx, idx, *key)
         return idx
 
-    def update_geom(self, world, info):
+    def update_geom(self, info):
         e = info.entry
         self.nat.mr_set_geom(self.ctx, geom_ptr(info.geom), e.cindex, e.uid, info.group,
                              1 if info.self_collide else 0, self._surface_idx(info.surface))
@@ -611,16 +678,17 @@ class NativeBackend(object):
             self.nat.mr_ctx_free(self.ctx)
             self.ctx = None
 
-    def rebuild(self, world):
+    def rebuild(self, models):
+        world = self.p
         nat, ctx = self.nat, self.ctx
         nat.mr_clear_adjacency(ctx)
-        for m in world.models.values():
-            e = world._entries[m]
+        for m in models:
+            e = world.entries[m]
             for a, b in e.adjacent:
                 nat.mr_add_adjacent(ctx, e.uid or 0, a, b)
         nat.mr_set_model_count(ctx, len(self._model_slots))
         # the turn counts of the joints that count turns live here, in C memory, from now on
-        unwrap = world._unwrap
+        unwrap = world.unwrap
         turns = {}
         for j in unwrap:
             rec = self._turns.get(j)
@@ -635,52 +703,123 @@ class NativeBackend(object):
             *[ctypes.pointer(turns[j]) for j in unwrap])
         for a in self._acts:
             self._bind_turn(a.record, a.joint)
-        owners = [(m, g) for m in world._dynamic_models for g in m.dynamic_groups]
+        self._arrange_mimics_and_soft(world.mimics, world.soft)
+        owners = [(m, g) for m in world.dynamic_models for g in m.dynamic_groups]
         self._body_owner = owners
         self._body_array = (ctypes.c_void_p * max(1, len(owners)))(
             *[odelib.raw_pointer(g.body) for _, g in owners])
-        damped = world._damped
+        damped = world.damped
         n = len(damped)
         self._damp_arrays = (n, (ctypes.c_void_p * max(1, n))(*[odelib.raw_pointer(j.ode_joint)
                                                                 for j, _ in damped]),
                              (ctypes.c_int * max(1, n))(*[0 if j.is_angular else 1 for j, _ in damped]),
                              (ctypes.c_double * max(1, n))(*[c for _, c in damped]))
 
-    def make_mesh_geom(self, world, mesh, dynamic, what):
+    def _arrange_mimics_and_soft(self, mimics, soft):
+        """The mimic and soft-limit joints for mr_run_steps (after every rebuild)."""
+        ok = all(m.ode_joint is not None and (j.is_angular or j.type == "prismatic")
+                 and (m.is_angular or m.type == "prismatic") for j, m in mimics)
+        self.stretch_ok = ok and all(j.is_angular for j in soft)
+        self._mimics = (_Mimic * max(1, len(mimics)))()
+        self._softs = (_Soft * max(1, len(soft)))()
+        if not self.stretch_ok:
+            return
+
+        def turn(j):
+            rec = self._turns.get(j)
+            return ctypes.pointer(rec) if rec is not None else ctypes.POINTER(MrTurn)()
+        for k, (j, m) in enumerate(mimics):
+            e = self._mimics[k]
+            e.joint, e.master = odelib.raw_pointer(j.ode_joint), odelib.raw_pointer(m.ode_joint)
+            e.slider, e.master_slider = (0 if j.is_angular else 1), (0 if m.is_angular else 1)
+            e.turn, e.master_turn = turn(j), turn(m)
+            e.mult, e.offset = j.mimic[1], j.mimic[2]
+            e.has_lower, e.has_upper = int(j.lower is not None), int(j.upper is not None)
+            e.lower = j.lower if j.lower is not None else 0.0
+            e.upper = j.upper if j.upper is not None else 0.0
+            e.child_inertia = j.child_inertia
+        for k, j in enumerate(soft):
+            e = self._softs[k]
+            e.joint, e.turn = odelib.raw_pointer(j.ode_joint), turn(j)
+            e.lower, e.upper = j.lower, j.upper
+        b = self._stretch
+        b.mimics, b.nmimic = self._mimics, len(mimics)
+        b.softs, b.nsoft = self._softs, len(soft)
+
+    # ---- native stretches (mr_run_steps) ------------------------------------------------------
+    def wake(self):
+        """Any thread: the stretch in progress ends after its current step."""
+        self._wake.value = 1
+
+    def set_observer(self, fn, user):
+        """``fn(user, t)`` (C function addresses, or None) after every step of a stretch."""
+        self._stretch.observer, self._stretch.observer_user = fn, user
+
+    def run(self, n, t, iterations, before_due, after_due):
+        """Up to ``n`` steps in C from time ``t`` (iteration count ``iterations``): none that
+        starts at t' >= ``before_due`` (a before-hook is due, or the World's own Python), a step
+        ending at t' with t' + 1e-12 >= ``after_due`` ends the stretch (``after``); so do a step the
+        guard must look at, the end of a segment actuator's piece and a wake-up. Returns a
+        Stretch, or None when no step was made (the next one is the World's in Python)."""
+        world = self.p
+        b = self._stretch
+        self._wake.value = 0
+        n_damp, dj, dk, dc = self._damp_arrays
+        b.acts, b.nacts = ctypes.addressof(self._act_array), len(self._acts)
+        b.turns, b.nturns = ctypes.addressof(self._turn_array), self._nturns
+        b.ndamp = n_damp
+        b.damp_joints, b.damp_kinds, b.damp_coef = (ctypes.addressof(dj), ctypes.addressof(dk),
+                                                    ctypes.addressof(dc))
+        b.bodies, b.nbodies = ctypes.addressof(self._body_array), len(self._body_owner)
+        params = world.params
+        b.guard_max_contacts = int(params["guard_max_contacts"])
+        b.snapshot_interval = int(params["snapshot_interval"])
+        b.max_contacts = int(world.max_contacts)
+        b.vmax2, b.wmax2 = world.vmax2, world.wmax2
+        b.dt = world.dt
+        b.gx, b.gy, b.gz = world.gravity
+        b.layer = world.layer
+        b.world_step = 1 if world.world_step else 0
+        b.time, b.iterations = t, iterations
+        b.before_due, b.after_due = before_due, after_due
+        b.param_vel, b.param_fmax = odelib.PARAM_VEL, odelib.PARAM_FMAX
+        b.param_lo_stop, b.param_hi_stop = odelib.PARAM_LO_STOP, odelib.PARAM_HI_STOP
+        b.mimic_gain, b.mimic_force = MIMIC_GAIN, MIMIC_COUPLING_FORCE
+        k = self._run(self.ctx, self._stretch_ref, int(n))
+        if k <= 0:
+            return None
+        self.ncontacts = b.ncontacts
+        self._first_bad.value = b.first_bad
+        out = Stretch()
+        out.steps, out.time, out.iterations = k, b.time, b.iterations
+        out.after, out.guard, out.ncontacts = bool(b.after), bool(b.guard), b.ncontacts
+        return out
+
+    def make_mesh_geom(self, mesh, dynamic, what):
         verts, tris = mesh
         return NativeMesh(self.nat, self.ctx, verts, tris, dynamic), IDENTITY_POSE
 
-    def batch_arrays(self):
-        """(damped joint count, their ODE joints, kinds, coefficients, body array, body count) for
-        the C loop's batches (native_batch)."""
-        n, jp, kinds, coef = self._damp_arrays
-        return n, jp, kinds, coef, self._body_array, len(self._body_owner)
-
-    def batch_done(self, ncontacts, first_bad):
-        """After a batch of steps in C (native_batch): its last step's contact count and guard
-        scan, as step() leaves them, for find_blowups and contacts."""
-        self.ncontacts = ncontacts
-        self._first_bad.value = first_bad
-
-    def apply_damping(self, world):
+    def apply_damping(self):
         n, jp, kinds, coef = self._damp_arrays
         if n:
             self.nat.mr_apply_damping(jp, kinds, coef, n)
 
-    def step(self, world, dt):
+    def step(self, dt):
         # one crossing into C per step: collide, quickStep (or dWorldStep), the guard's scan
-        g = world._gravity
+        world = self.p
+        g = world.gravity
         self.ncontacts = self.nat.mr_step_checked(
-            self.ctx, dt, g[0], g[1], g[2], world._layer, world._max_contacts, world._world_step,
-            self._body_array, len(self._body_owner), world._vmax2, world._wmax2, self._first_bad_ref)
+            self.ctx, dt, g[0], g[1], g[2], world.layer, world.max_contacts, world.world_step,
+            self._body_array, len(self._body_owner), world.vmax2, world.wmax2, self._first_bad_ref)
         return self.ncontacts
 
-    def find_blowups(self, world):
+    def find_blowups(self):
         """The guard's scan after a step: the velocity scan already ran in C within step()."""
+        world = self.p
         nat = self.nat
         owners = self._body_owner
         nb = len(owners)
-        vmax2, wmax2 = world._vmax2, world._wmax2
+        vmax2, wmax2 = world.vmax2, world.wmax2
         flagged = []
         i = self._first_bad.value
         if i >= nb:
@@ -692,15 +831,15 @@ class NativeBackend(object):
             while k < nb and owners[k][0] is m:
                 k += 1
             i = nat.mr_check_bodies(self._body_array, k, nb, vmax2, wmax2) if k < nb else -1
-        cmax = world._params["guard_max_contacts"]
+        cmax = world.params["guard_max_contacts"]
         if self.ncontacts > cmax:
-            for m in world._dynamic_models:
-                n = nat.mr_model_contacts(self.ctx, world._entries[m].cindex)
+            for m in world.dynamic_models:
+                n = nat.mr_model_contacts(self.ctx, world.entries[m].cindex)
                 if n > cmax and all(f[0] is not m for f in flagged):
                     flagged.append(contact_explosion(m, n, cmax))
         return flagged
 
-    def contacts(self, world):
+    def contacts(self):
         out = []
         n = self.ncontacts
         if n <= 0:
@@ -708,7 +847,7 @@ class NativeBackend(object):
         gs = (ctypes.c_void_p * (2 * n))()
         vals = (ctypes.c_double * (7 * n))()
         n = self.nat.mr_contact_log(self.ctx, gs, vals, n)
-        by_ptr = {geom_ptr(g): info for g, info in world._geom_info.items()}
+        by_ptr = {geom_ptr(g): info for g, info in self.p.geom_info.items()}
         for k in range(n):
             i1, i2 = by_ptr.get(gs[2 * k]), by_ptr.get(gs[2 * k + 1])
             if i1 is None or i2 is None:
@@ -717,16 +856,17 @@ class NativeBackend(object):
             out.append((i1, i2, tuple(v[0:3]), tuple(v[3:6]), v[6]))
         return out
 
-    def overlaps(self, world, model):
+    def overlaps(self, model):
         """The C collider knows every geom type (also triangle meshes): AABB-overlapping pairs."""
+        world = self.p
         found = {}
-        others = [(g, i) for g, i in world._geom_info.items() if i.model is not model]
+        others = [(g, i) for g, i in world.geom_info.items() if i.model is not model]
         boxes = {}
         for g, _ in others + [(g, None) for g in model.geoms]:
             if not isinstance(g, ode.GeomPlane):
                 boxes[g] = g.getAABB()
         for geom in model.geoms:
-            mine = world._geom_info[geom]
+            mine = world.geom_info[geom]
             for other, info in others:
                 if mine.body is None and info.body is None:
                     continue

@@ -123,12 +123,12 @@ def _make_geom(g, space, kind_size, what):
 def build_model(world, desc, pose, robot_namespace, prepared_meshes):
     """Create the ODE objects of ``desc`` in ``world`` placed at ``pose``. Returns the Model (not
     yet registered in the world). ``prepared_meshes`` maps id(GeometryDesc) -> mesh handle from
-    world._prepare_meshes (already loaded, so nothing here fails on files)."""
+    World's _prepare_meshes (already loaded, so nothing here fails on files)."""
     model = Model(world, desc, robot_namespace)
     try:
         _build(world, model, desc, pose, robot_namespace, prepared_meshes)
     except Exception:
-        world._destroy_model_objects(model)
+        world.destroy_model_objects(model)
         raise
     return model
 
@@ -137,10 +137,10 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
     for jd in desc.joints.values():
         if jd.type == "planar":
             # as Gazebo's URDF -> SDF conversion: no joint is made, the child link moves freely
-            world._warn_once("planar:%s:%s" % (model.name, jd.name),
-                             "model '%s' joint '%s' is planar: as in Gazebo, which converts no joint for "
-                             "it, link '%s' is a free body (nothing keeps it in the plane)"
-                             % (model.name, jd.name, jd.child))
+            world.warn_once("planar:%s:%s" % (model.name, jd.name),
+                            "model '%s' joint '%s' is planar: as in Gazebo, which converts no joint for "
+                            "it, link '%s' is a free body (nothing keeps it in the plane)"
+                            % (model.name, jd.name, jd.child))
     for gd in desc.grippers:
         for ln in gd.gripper_links + (gd.palm_link,):
             if ln not in desc.links or ln == "world":
@@ -224,7 +224,7 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
             com = np.array(pose_mul(root_pose, IDENTITY_POSE)[0])
             inertia = np.eye(3) * 1e-5
         inertia = _floor_inertia(inertia, what)
-        body = ode.Body(world._ode_world)
+        body = ode.Body(world.ode_world)
         m = ode.Mass()
         m.setParameters(mass, 0.0, 0.0, 0.0, inertia[0, 0], inertia[1, 1], inertia[2, 2],
                         inertia[0, 1], inertia[0, 2], inertia[1, 2])
@@ -255,14 +255,14 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
                 if body is not None:
                     raise ModelError("%s: a <plane> collision must be static (in a static model)" % what)
                 world_pose = pose_mul(link._static_pose, gd.origin)
-                geom = world._make_plane(gd.size, world_pose)
-                world._register_geom(geom, model, link, surface, None)
+                geom = world.make_plane(gd.size, world_pose)
+                world.register_geom(geom, model, link, surface, None)
                 link._geoms.append((geom, gd.origin))
                 continue
-            space = world._dyn_space if body is not None else world._static_space
+            space = world.space(dynamic=body is not None)
             origin = gd.origin
             if gd.kind == "mesh":
-                geom, local = world._make_mesh_geom(prepared_meshes[id(gd)], body is not None, what)
+                geom, local = world.make_mesh_geom(prepared_meshes[id(gd)], body is not None, what)
                 if local is not IDENTITY_POSE:
                     origin = pose_mul(gd.origin, local)
             else:
@@ -274,7 +274,7 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
                 geom.setOffsetQuaternion(to_ode_quat(rel[1]))
             else:
                 world.place_static_geom(geom, pose_mul(link._static_pose, origin))
-            world._register_geom(geom, model, link, surface, body)
+            world.register_geom(geom, model, link, surface, body)
             link._geoms.append((geom, origin))
 
     # ---- joints -----------------------------------------------------------------------------
@@ -291,7 +291,7 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
         frame = pose_mul(poses[j.parent], jd.origin)
         axis = quat_rotate(frame[1], jd.axis)
         if j._angular:
-            oj = ode.HingeJoint(world._ode_world)
+            oj = ode.HingeJoint(world.ode_world)
             oj.attach(child._body, parent_body)
             oj.setAnchor(frame[0])
             oj.setAxis(axis)
@@ -304,7 +304,7 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
                     j._soft_limits = True
             j._unwrap = not (j.type == "revolute" and lo is not None and lo > -3.0 and hi < 3.0)
         else:
-            oj = ode.SliderJoint(world._ode_world)
+            oj = ode.SliderJoint(world.ode_world)
             oj.attach(child._body, parent_body)
             oj.setAxis(axis)
             if j.lower is not None:

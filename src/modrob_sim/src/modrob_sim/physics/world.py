@@ -24,6 +24,7 @@ from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN  # noqa: F401 (pu
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, dot, normalized, pose_mul,
                          quat_rotate, to_ode_quat)
 from .urdf_reader import read_urdf
+from .world_parts import WorldParts, may_sleep, warn_once
 
 LOG = logging.getLogger("modrob_sim.physics")
 
@@ -49,6 +50,11 @@ DEFAULT_PARAMS = OrderedDict([
     ("guard_max_contacts", 2000),
     ("snapshot_interval", 50),
 ])
+
+INF = float("inf")
+#: the hooks' due times compare t + 1e-9 >= due; a native stretch ends 2e-9 earlier so that float
+#: rounding never lets it run past a due step (a hook called a step early finds nothing to do)
+DUE_MARGIN = 2e-9
 
 #: restorations of one model, each within a second of the last, after which the guard freezes that
 #: model (a model restored every step of a simulated second at 1 ms); the rest of the world goes on
@@ -100,62 +106,67 @@ class World(object):
                  native=None):
         """``native`` (addition): None = use the C hot loop when it is available, False = the
         pure-Python path, True = require the C loop (SimulationError if it cannot be built)."""
-        self._dt = self._check_dt(time_step)
-        self._gravity = limits.check_gravity(check_vec3(gravity, "World gravity"), "World gravity")
+        # what the World shares with its backend (handed over once; the backend never sees the World)
+        self._p = p = WorldParts()
+        p.dt = self._check_dt(time_step)
+        p.gravity = limits.check_gravity(check_vec3(gravity, "World gravity"), "World gravity")
         try:
             self._seed = int(seed)
         except (TypeError, ValueError):
             raise InputError("World seed must be an integer, got %r" % (seed,))
         self._resolver = resource_resolver
-        self._ode_world = ode.World()
-        self._ode_world.setGravity(self._gravity)
+        self._p.ode_world = ode.World()
+        self._p.ode_world.setGravity(self._p.gravity)
         # auto-disable (used only for free single-body models, see _apply_auto_disable): a body
         # sleeps after 0.2 s below 5 mm/s and 0.01 rad/s, so only bodies at rest or creeping
         # slower than ~0.025 m/s^2 from rest; contacts, wrenches and teleports wake it
-        w = self._ode_world
+        w = self._p.ode_world
         w.setAutoDisableFlag(False)
         w.setAutoDisableLinearThreshold(AUTO_DISABLE_LINEAR)
         w.setAutoDisableAngularThreshold(AUTO_DISABLE_ANGULAR)
         w.setAutoDisableSteps(10)
         w.setAutoDisableTime(AUTO_DISABLE_TIME)
-        self._static_space = ode.HashSpace()
-        self._dyn_space = ode.HashSpace()
-        self._contact_group = ode.JointGroup()
+        self._p.static_space = ode.HashSpace()
+        self._p.dyn_space = ode.HashSpace()
+        self._p.contact_group = ode.JointGroup()
         if native and native_mod.LIB is None:
             raise SimulationError("the native physics loop is not available: %s" % native_mod.REASON)
+        self._p.params = OrderedDict(DEFAULT_PARAMS)
+        self._p.entries = {}       # model -> _ModelEntry
+        self._p.geom_info = {}
+        self._p.warned = set()
+        self._p.pair_cache = {}
         if native_mod.LIB is not None and native is not False:
-            self._backend = NativeBackend(native_mod.LIB, self._ode_world, self._static_space,
-                                          self._dyn_space)
+            self._backend = NativeBackend(native_mod.LIB, self._p)
         else:
-            self._backend = PureBackend()
-        self._params = OrderedDict(DEFAULT_PARAMS)
+            self._backend = PureBackend(self._p)
         self._guard_log = {}     # model -> [last logged t, suppressed, streak, last restore t]
         self._frozen = OrderedDict()  # model name -> (Model, state it is held in, message)
         self.models = OrderedDict()
-        self._entries = {}       # model -> _ModelEntry
-        self._geom_info = {}
         self._hooks = OrderedDict()
         self._next_hook = 1
         self._before = ()
         self._after = ()
+        self._before_dues = ()
+        self._after_dues = ()
         self._effort_joints = []
         self._last_effort_joints = []
         self._actuators = []
         self._wrench_links = _OrderedSet()
         self._events = []
-        self._warned = set()
-        self._pair_cache = {}
         self._used_slots = set()
         self._mesh_cache = {}
         self.time = 0.0
         self.iterations = 0
+        #: (addition) steps made in native stretches, without Python (statistics, tests)
+        self.native_steps = 0
         self._ncontacts = 0
         # Tear the ODE objects down in a safe order when the World goes (or on close()): PyODE
         # objects freed by the cycle collector in arbitrary order crash (a space or world freed
         # before its geoms/bodies). Models refer to the World only weakly, so this runs first.
-        self._finalizer = weakref.finalize(self, _teardown, self.models, self._geom_info, self._backend,
-                                           self._ode_world, self._static_space, self._dyn_space,
-                                           self._contact_group)
+        self._finalizer = weakref.finalize(self, _teardown, self.models, self._p.geom_info, self._backend,
+                                           self._p.ode_world, self._p.static_space, self._p.dyn_space,
+                                           self._p.contact_group)
         self.layout_version = 0
         self._reseed()
         self._apply_params()
@@ -168,22 +179,22 @@ class World(object):
 
     @property
     def time_step(self):
-        return self._dt
+        return self._p.dt
 
     @time_step.setter
     def time_step(self, dt):
-        self._dt = self._check_dt(dt)
-        self._pair_cache.clear()
+        self._p.dt = self._check_dt(dt)
+        self._p.pair_cache.clear()
         self._rebuild_caches()  # the damping bound depends on dt
 
     @property
     def gravity(self):
-        return self._gravity
+        return self._p.gravity
 
     @gravity.setter
     def gravity(self, g):
-        self._gravity = limits.check_gravity(check_vec3(g, "World gravity"), "World gravity")
-        self._ode_world.setGravity(self._gravity)
+        self._p.gravity = limits.check_gravity(check_vec3(g, "World gravity"), "World gravity")
+        self._p.ode_world.setGravity(self._p.gravity)
         for m in self.models.values():
             m.wake()
 
@@ -198,10 +209,10 @@ class World(object):
 
     @property
     def physics_params(self):
-        return dict(self._params)
+        return dict(self._p.params)
 
     def set_physics_params(self, **kw):
-        new = OrderedDict(self._params)
+        new = OrderedDict(self._p.params)
         for k, v in kw.items():
             if k not in new:
                 raise InputError("unknown physics parameter '%s' (known: %s)" % (k, ", ".join(new)))
@@ -229,12 +240,12 @@ class World(object):
                     raise InputError("physics parameter %s must be at least 1" % k)
                 v = int(v)
             new[k] = v
-        self._params = new
+        self._p.params = new
         self._apply_params()
 
     def _apply_params(self):
-        p = self._params
-        w = self._ode_world
+        p = self._p.params
+        w = self._p.ode_world
         w.setQuickStepNumIterations(int(p["iters"]))
         w.setERP(p["erp"])
         w.setCFM(p["cfm"])
@@ -245,19 +256,19 @@ class World(object):
         w.setContactSurfaceLayer(0.0)
         if odelib.AVAILABLE:
             odelib.LIB.dWorldSetQuickStepW(odelib.raw_pointer(w), p["sor"])
-        self._world_step = 1 if p["solver_type"] == "world" else 0
-        self._max_contacts = int(p["max_contacts"])
-        self._layer = float(p["contact_surface_layer"])
-        self._vmax2 = p["guard_max_linear_velocity"] ** 2
-        self._wmax2 = p["guard_max_angular_velocity"] ** 2
-        self._pair_cache.clear()
+        self._p.world_step = 1 if p["solver_type"] == "world" else 0
+        self._p.max_contacts = int(p["max_contacts"])
+        self._p.layer = float(p["contact_surface_layer"])
+        self._p.vmax2 = p["guard_max_linear_velocity"] ** 2
+        self._p.wmax2 = p["guard_max_angular_velocity"] ** 2
+        self._p.pair_cache.clear()
         for m in self.models.values():
             self._apply_auto_disable(m)
 
     def may_sleep(self, model):
         """Whether ``model``'s body may fall asleep: only a free single-body model, and only while the
         world's auto_disable is on."""
-        return bool(self._params["auto_disable"]) and len(model.bodies) == 1 and not model.articulated
+        return may_sleep(model, self._p.params)
 
     def _apply_auto_disable(self, model):
         """Auto-disable (as Gazebo's allow_auto_disable) only for free single-body models: an
@@ -271,6 +282,16 @@ class World(object):
         self._rng = random.Random(self._seed)
         self._backend.set_seed(self._seed & 0xFFFFFFFF)
 
+    def collision_geoms(self):
+        """(addition) [(geom, model name, link name)] of every collision geom, in spawn order (the
+        ray sensors cast against them)."""
+        return [(g, i.model.name, i.link.name) for g, i in self._p.geom_info.items()]
+
+    @property
+    def geom_count(self):
+        """(addition) How many geoms the World's collision tables hold (a refused model leaves none)."""
+        return len(self._p.geom_info)
+
     @property
     def native(self):
         """True when the C hot loop steps this world (addition)."""
@@ -282,17 +303,38 @@ class World(object):
         self._finalizer()
 
     # ---- hooks -------------------------------------------------------------------------------
-    def add_step_hook(self, before=None, after=None):
+    def add_step_hook(self, before=None, after=None, before_due=None, after_due=None):
+        """``before(t, dt)`` before the physics of a step starting at t, ``after(t, dt)`` after
+        that of a step ending at t. ``before_due()`` / ``after_due()`` (optional): the simulated
+        time from which the hook next has work; the World calls it no later than at the first
+        step with t + 1e-9 >= that time (steps natively until then) and may call it earlier.
+        Without one the hook runs at every step. docs/design/sim_core_api.md, "Step hooks and
+        due times"."""
         if before is None and after is None:
             raise InputError("add_step_hook needs before and/or after")
-        for f, n in ((before, "before"), (after, "after")):
+        for f, n in ((before, "before"), (after, "after"), (before_due, "before_due"),
+                     (after_due, "after_due")):
             if f is not None and not callable(f):
                 raise InputError("add_step_hook: %s=%r is not callable" % (n, f))
         handle = self._next_hook
         self._next_hook += 1
-        self._hooks[handle] = (before, after)
+        self._hooks[handle] = (before, after, before_due if before is not None else None,
+                               after_due if after is not None else None)
         self._update_hooks()
         return handle
+
+    def wake(self):
+        """The one World method any thread may call: work was stored for a hook (a ROS callback),
+        so a native stretch in progress ends after its current step and the due times are asked
+        again."""
+        self._backend.wake()
+
+    def set_step_observer(self, fn, user):
+        """A C function ``void fn(void *user, double t)`` (addresses, as ctypes gives them; None:
+        none) that the native backend calls after every step it makes without Python, with the
+        new simulated time (the /gazebo node's /clock through roscpp). The steps made in Python
+        call the hooks instead; the pure-Python backend never calls it."""
+        self._backend.set_observer(fn, user)
 
     @property
     def step_hook_count(self):
@@ -306,8 +348,12 @@ class World(object):
         self._update_hooks()
 
     def _update_hooks(self):
-        self._before = tuple(b for b, _ in self._hooks.values() if b is not None)
-        self._after = tuple(a for _, a in self._hooks.values() if a is not None)
+        hooks = list(self._hooks.values())
+        self._before = tuple(h[0] for h in hooks if h[0] is not None)
+        self._after = tuple(h[1] for h in hooks if h[1] is not None)
+        # a hook without a due function is due at every step
+        self._before_dues = tuple(h[2] or _NOW for h in hooks if h[0] is not None)
+        self._after_dues = tuple(h[3] or _NOW for h in hooks if h[1] is not None)
 
     # ---- actuators ---------------------------------------------------------------------------
     def add_actuator(self, joint, kind, gains=None, effort_limit=None, error=actuators_mod.PLAIN):
@@ -357,10 +403,25 @@ class World(object):
         return tuple(self._actuators)
 
     # ---- models ------------------------------------------------------------------------------
-    def _warn_once(self, key, message):
-        if key not in self._warned:
-            self._warned.add(key)
-            LOG.warning(message)
+    def warn_once(self, key, message):
+        """(physics side) log ``message`` once per ``key`` for this World."""
+        warn_once(self._p.warned, key, message)
+
+    _warn_once = warn_once
+
+    def space(self, dynamic):
+        """(builder) the PyODE space of the moving (``dynamic``) or the static geoms."""
+        return self._p.dyn_space if dynamic else self._p.static_space
+
+    def destroy_model_objects(self, model):
+        """(builder) a model whose building failed: drop every ODE object it made."""
+        self._destroy_model_objects(model)
+
+    def abandon(self):
+        """Leave the ODE objects to the operating system at exit instead of freeing them (a thread
+        that cannot be stopped may still be inside a step: freeing ODE under it would abort the
+        process). The World cannot be used afterwards."""
+        self._finalizer.detach()
 
     def _check_new_name(self, name):
         if not isinstance(name, str) or not name.strip():
@@ -469,9 +530,9 @@ class World(object):
         return model
 
     def _entry(self, model):
-        e = self._entries.get(model)
+        e = self._p.entries.get(model)
         if e is None:
-            e = self._entries[model] = _ModelEntry(model)
+            e = self._p.entries[model] = _ModelEntry(model)
         return e
 
     def _finalize_model(self, model, entry, desc):
@@ -495,11 +556,11 @@ class World(object):
         else:
             cat, col = _ALL_BITS, _ALL_BITS
         for geom in model.geoms:
-            info = self._geom_info[geom]
+            info = self._p.geom_info[geom]
             info.self_collide = info.link.self_collide
             geom.setCategoryBits(cat)
             geom.setCollideBits(col)
-            self._backend.update_geom(self, info)
+            self._backend.update_geom(info)
         adj = set()
         for j in model.joints_in_order:
             if j.type in ("fixed", "floating"):
@@ -522,7 +583,7 @@ class World(object):
         slot = self._entry(model).slot
         self._frozen.pop(name, None)
         self._guard_log.pop(name, None)
-        self._warned = set(k for k in self._warned if not k.startswith("planar:%s:" % name))
+        self._p.warned = set(k for k in self._p.warned if not k.startswith("planar:%s:" % name))
         self._destroy_model_objects(model)
         self._wake_all()  # whatever rested on it must fall
         self._used_slots.discard(slot)
@@ -536,11 +597,11 @@ class World(object):
             for a in gone:
                 a.joint.bind_actuator(None)
             self._backend.actuators_changed(self._actuators)
-        _destroy_objects(model, self._geom_info, self._backend, self._wrench_links)
+        _destroy_objects(model, self._p.geom_info, self._backend, self._wrench_links)
         self._effort_joints = [j for j in self._effort_joints if j.model is not model]
         self._last_effort_joints = [j for j in self._last_effort_joints if j.model is not model]
-        self._contact_group.empty()
-        entry = self._entries.pop(model, None)
+        self._p.contact_group.empty()
+        entry = self._p.entries.pop(model, None)
         if entry is not None:
             self._backend.forget_model(entry)
 
@@ -549,29 +610,30 @@ class World(object):
         # serialised states) compare this number
         self.layout_version += 1
         ms = list(self.models.values())
-        self._dynamic_models = [m for m in ms if m.bodies and m.name not in self._frozen]
+        self._p.dynamic_models = [m for m in ms if m.bodies and m.name not in self._frozen]
         joints = [j for m in ms for j in m.joints_in_order if j.ode_joint is not None]
         # explicit damping, bounded by what the step can take stably: (joint, coefficient)
-        self._damped = [(j, min(j.damping, j.child_inertia / self._dt)) for j in joints
-                        if j.damping > 0.0]
-        self._mimics = [(j, m.joints[j.mimic[0]]) for m in ms for j in m.joints_in_order
-                        if j.mimic is not None and j.ode_joint is not None]
-        self._unwrap = [j for j in joints if j.tracks_turns]
-        self._soft = [j for j in joints if j.has_soft_limits]
+        self._p.damped = [(j, min(j.damping, j.child_inertia / self._p.dt)) for j in joints
+                          if j.damping > 0.0]
+        self._p.mimics = [(j, m.joints[j.mimic[0]]) for m in ms for j in m.joints_in_order
+                          if j.mimic is not None and j.ode_joint is not None]
+        self._p.unwrap = [j for j in joints if j.tracks_turns]
+        self._p.soft = [j for j in joints if j.has_soft_limits]
         self._anti_gravity = [g for m in ms for g in m.dynamic_groups if g.anti_gravity]
-        self._backend.rebuild(self)
+        self._backend.rebuild(list(self.models.values()))
 
-    def _register_geom(self, geom, model, link, surface, body):
+    def register_geom(self, geom, model, link, surface, body):
+        """(builder) ``geom`` of ``link`` of ``model``: collision tables and the backend."""
         model.add_geom(geom)
         info = _GeomInfo(geom, self._entry(model), link, surface, body)
-        self._geom_info[geom] = info
-        self._backend.register_geom(self, info)
+        self._p.geom_info[geom] = info
+        self._backend.register_geom(info)
 
     # ---- physics-side interface (called by Model, Link, Joint and the builder) ----------------
     @property
     def ode_world(self):
         """The PyODE world (for physics-side helpers that add their own ODE joints)."""
-        return self._ode_world
+        return self._p.ode_world
 
     def queue_effort(self, joint):
         """``joint`` has an effort command for the next step."""
@@ -591,10 +653,11 @@ class World(object):
         geom.setPosition(pose[0])
         geom.setQuaternion(to_ode_quat(pose[1]))
 
-    def _make_plane(self, normal, pose):
+    def make_plane(self, normal, pose):
+        """(builder) a static plane geom with ``normal`` in the frame ``pose``."""
         n = normalized(normal)
         nw = quat_rotate(pose[1], n)
-        geom = ode.GeomPlane(self._static_space, nw, dot(nw, pose[0]))
+        geom = ode.GeomPlane(self._p.static_space, nw, dot(nw, pose[0]))
         geom.attribs["local_normal"] = n
         return geom
 
@@ -722,31 +785,70 @@ class World(object):
                 out[id(gd)] = (verts, tris)
         return out
 
-    def _make_mesh_geom(self, mesh, dynamic, what):
+    def make_mesh_geom(self, mesh, dynamic, what):
         """A triangle-mesh geom (native) or, on the pure-Python path (PyODE on Debian has no
         trimesh), its bounding box. Returns (geom, pose of the geom in the mesh frame)."""
-        return self._backend.make_mesh_geom(self, mesh, dynamic, what)
+        return self._backend.make_mesh_geom(mesh, dynamic, what)
 
     # ---- stepping ----------------------------------------------------------------------------
     def step(self, n=1):
-        """n steps: for each, before-hooks(t, dt), forces, collide + ODE quickStep, guard,
-        after-hooks(t + dt, dt)."""
+        """n steps: for each, before-hooks(t, dt), actuators and forces, collide + ODE quickStep,
+        guard, after-hooks(t + dt, dt); on the native backend the steps at which no hook is due
+        run in C, in stretches up to the next due hook (docs/physics.md, "One step")."""
         n = int(n)
         if n < 0:
             raise InputError("step(n): n must not be negative")
-        for _ in range(n):
-            self._step_once()
+        done = 0
+        while done < n:
+            done += self._advance(n - done)
+
+    def _advance(self, n):
+        """At most ``n`` steps: a native stretch up to the first step at which a hook is due or
+        the World needs Python, else one step in Python. Returns the steps made."""
+        t = self.time
+        if self._backend.native and self._stretch_ok():
+            before = _earliest(self._before_dues) - DUE_MARGIN
+            if before > t:
+                after = _earliest(self._after_dues) - DUE_MARGIN
+                r = self._backend.run(n, t, self.iterations, before, after)
+                if r is not None:
+                    self._after_stretch(r)
+                    return r.steps
+        self._step_once()
+        return 1
+
+    def _stretch_ok(self):
+        """The World's own reasons to step in Python: wrenches, partial gravity, a frozen model
+        (held in Python), queued efforts, a mimic or soft-limit joint the C loop cannot drive."""
+        return not (self._wrench_links or self._anti_gravity or self._frozen or self._effort_joints) \
+            and self._backend.stretch_ok
+
+    def _after_stretch(self, r):
+        self.native_steps += r.steps
+        self.time, self.iterations = r.time, r.iterations
+        self._ncontacts = r.ncontacts
+        for j in self._last_effort_joints:      # efforts of the step before: not given again
+            j.effort = 0.0
+        self._last_effort_joints = []
+        if r.guard:
+            self._guard()
+            if self._frozen:
+                self._hold_frozen()
+        if r.after:             # the last step's after-hooks are due
+            t, dt = self.time, self._p.dt
+            for h in self._after:
+                h(t, dt)
 
     def _step_once(self):
-        dt = self._dt
+        dt = self._p.dt
         t = self.time
         for h in self._before:
             h(t, dt)
         self._apply_forces(t, dt)
-        self._ncontacts = self._backend.step(self, dt)
+        self._ncontacts = self._backend.step(dt)
         self.iterations += 1
         self.time = t + dt
-        self._backend.track_turns(self._unwrap)
+        self._backend.track_turns(self._p.unwrap)
         self._guard()
         if self._frozen:
             self._hold_frozen()
@@ -771,17 +873,17 @@ class World(object):
             self._last_effort_joints = []
         if self._actuators:
             self._backend.apply_actuators(self._actuators, t, dt)
-        self._backend.apply_damping(self)
-        for j, m in self._mimics:
+        self._backend.apply_damping()
+        for j, m in self._p.mimics:
             j.drive_mimic(m, dt)
-        for j in self._soft:
+        for j in self._p.soft:
             j.update_soft_limits()
         if self._wrench_links:
             for ln in list(self._wrench_links):
                 if not ln.apply_wrenches(dt):
                     self._wrench_links.discard(ln)
         if self._anti_gravity:
-            g = self._gravity
+            g = self._p.gravity
             for grp in self._anti_gravity:
                 b = grp.body
                 for m, rel in grp.anti_gravity:
@@ -791,14 +893,14 @@ class World(object):
     def _guard(self):
         """The blow-up guard after a step: models whose bodies run away (or explode in contacts)
         go back to their last sane state; every snapshot_interval steps the others are saved."""
-        flagged = self._backend.find_blowups(self)
+        flagged = self._backend.find_blowups()
         for m, g, reason in flagged:
             self._restore_after_blowup(m, g.root.name, reason)
-        if self.iterations % int(self._params["snapshot_interval"]) == 0:
+        if self.iterations % int(self._p.params["snapshot_interval"]) == 0:
             bad = set(id(f[0]) for f in flagged)
-            for m in self._dynamic_models:
+            for m in self._p.dynamic_models:
                 if id(m) not in bad:
-                    self._entries[m].snapshot_state = m.capture_state()
+                    self._p.entries[m].snapshot_state = m.capture_state()
 
     def _restore_after_blowup(self, model, link, reason):
         ev = GuardEvent(model.name, link, reason, self.time)
@@ -818,7 +920,7 @@ class World(object):
             g[1] += 1
         g[2] = g[2] + 1 if 0.0 <= t - g[3] < 1.0 else 1
         g[3] = t
-        entry = self._entries[model]
+        entry = self._p.entries[model]
         state = entry.snapshot_state or entry.spawn_state
         model.restore_state(state, zero_velocity=True)
         if not model.state_finite():
@@ -885,7 +987,7 @@ class World(object):
             if odelib.AVAILABLE:
                 odelib.LIB.dBodySetDynamic(odelib.raw_pointer(b))  # its mass comes back
             b.enable()
-        entry = self._entries.get(model)
+        entry = self._p.entries.get(model)
         if entry is not None:
             entry.ncontacts = 0
             entry.snapshot_state = model.capture_state()
@@ -897,7 +999,7 @@ class World(object):
         """The contact points made in the last step (addition to the contract): a list of
         ContactPoint, at most max_contacts per geom pair, depth as the collider reported it."""
         return [ContactPoint(i1.model.name, i1.link.name, i2.model.name, i2.link.name, pos, normal, depth)
-                for i1, i2, pos, normal, depth in self._backend.contacts(self)]
+                for i1, i2, pos, normal, depth in self._backend.contacts()]
 
     def pop_events(self):
         ev, self._events = self._events, []
@@ -908,14 +1010,14 @@ class World(object):
         guard froze is released)."""
         if model.name in self._frozen and self._frozen[model.name][0] is model:
             self.unfreeze(model.name)
-        entry = self._entries.get(model)
+        entry = self._p.entries.get(model)
         if entry is not None:
             entry.snapshot_state = model.capture_state()
         if model.is_static or model.world_attached:
             self._wake_all()  # sleeping bodies resting on a moved static part must notice
 
     def _wake_all(self):
-        for m in self._dynamic_models:
+        for m in self._p.dynamic_models:
             m.wake()
 
     # ---- reset, digest -----------------------------------------------------------------------
@@ -928,11 +1030,11 @@ class World(object):
 
     def reset_world(self):
         """reset_world: poses and velocities of every model to the spawn state; time kept."""
-        self._contact_group.empty()
+        self._p.contact_group.empty()
         for name in list(self._frozen):
             self.unfreeze(name)
         for m in self.models.values():
-            e = self._entries[m]
+            e = self._p.entries[m]
             m.restore_state(e.spawn_state, zero_velocity=False)
             e.snapshot_state = e.spawn_state
             e.ncontacts = 0
@@ -952,7 +1054,7 @@ class World(object):
 
     # ---- spawn checks ------------------------------------------------------------------------
     def _check_spawn_overlap(self, model, threshold=0.01):
-        found = self._backend.overlaps(self, model)
+        found = self._backend.overlaps(model)
         for (m1, l1, m2, l2), d in sorted(found.items()):
             if d > threshold:
                 LOG.warning("spawn overlap: model '%s' link '%s' penetrates model '%s' link '%s' "
@@ -1013,6 +1115,23 @@ class _OrderedSet(object):
 def _set_auto_disable(body, on):
     if odelib.AVAILABLE:  # PyODE wraps only the world-wide default
         odelib.LIB.dBodySetAutoDisableFlag(odelib.raw_pointer(body), 1 if on else 0)
+
+
+#: a hook with no due function: due now, at every step
+def _NOW():
+    return None
+
+
+def _earliest(dues):
+    """The earliest of the hooks' due times (None from one of them: now, -inf)."""
+    due = INF
+    for f in dues:
+        d = f()
+        if d is None:
+            return -INF
+        if d < due:
+            due = d
+    return due
 
 
 __all__ = ["World", "GuardEvent", "ContactPoint", "DEFAULT_PARAMS", "FORCE_CAP", "SimulationError"]

@@ -95,7 +95,7 @@ class ContactSensor(MountedSensor):
         return m.links.get(link_name) if m is not None else None
 
     def _keep_awake(self, link):
-        body = getattr(link, "_body", None) if link is not None else None
+        body = link.body if link is not None else None
         if body is not None and body not in self._awake:
             world_mod._set_auto_disable(body, False)
             self._awake.add(body)

@@ -26,8 +26,7 @@ NATIVE_AVAILABLE = native.LIB is not None
 
 def world_geoms(world):
     """[(geom, model name, link name)] of every collision geom in the World, in spawn order."""
-    info = getattr(world, "_geom_info", {})
-    return [(g, i.model.name, i.link.name) for g, i in info.items()]
+    return world.collision_geoms()
 
 
 class _GeomCache(object):
@@ -39,8 +38,7 @@ class _GeomCache(object):
         self.entries = []
 
     def current(self):
-        info = getattr(self.world, "_geom_info", {})
-        key = (len(info), tuple(self.world.models))
+        key = (self.world.geom_count, self.world.layout_version)
         if key != self._key:
             self.entries = world_geoms(self.world)
             self._key = key

@@ -23,6 +23,8 @@
 // pending, so messages leave in the order they were handed over whichever entry point took them.
 #include <ros/ros.h>
 
+#include <cmath>
+#include <ctime>
 #include <cstring>
 #include <map>
 #include <mutex>
@@ -230,6 +232,59 @@ void mrp_unadvertise(void* handle) {
   h->pub.shutdown();
   delete h;
 }
+
+// ---- /clock -----------------------------------------------------------------------------------
+// A ticker publishes rosgraph_msgs/Clock on a publisher at simulated times it is given: at every
+// call, or (period > 0) at most once per `period` seconds of the wall clock (CLOCK_MONOTONIC, the
+// clock of Python's time.monotonic), never twice for one simulated time. The World's native
+// stretches call mrp_clock_observe after every step (World.set_step_observer); the node's Python
+// steps call mrp_clock_tick. The messages are deferred (mrp_flush after a stretch sends them in
+// one write). The 8 bytes are rospy's for the Clock that StatePublishers.publish_clock builds.
+struct ClockTicker {
+  Handle* h;
+  double period;
+  double last_wall;
+  double last_t;
+};
+
+void* mrp_clock_new(void* handle, double period) {
+  if (!handle) return nullptr;
+  return new ClockTicker{static_cast<Handle*>(handle), period, -1e9, std::nan("")};
+}
+
+void mrp_clock_free(void* ticker) { delete static_cast<ClockTicker*>(ticker); }
+
+void mrp_clock_set_period(void* ticker, double period) {
+  static_cast<ClockTicker*>(ticker)->period = period;
+}
+
+double mrp_clock_last_t(void* ticker) { return static_cast<ClockTicker*>(ticker)->last_t; }
+
+int mrp_clock_tick(void* ticker, double t) {
+  ClockTicker* c = static_cast<ClockTicker*>(ticker);
+  if (!c || t == c->last_t) return 0;
+  if (c->period > 0.0) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    double now = static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+    if (now - c->last_wall < c->period) return 0;
+    c->last_wall = now;
+  }
+  double secs = static_cast<double>(static_cast<long long>(t));
+  long long nsecs = static_cast<long long>(std::nearbyint((t - secs) * 1e9));   // Python's round()
+  long long whole = static_cast<long long>(secs);
+  if (nsecs >= 1000000000LL) {
+    whole += 1;
+    nsecs -= 1000000000LL;
+  }
+  uint32_t buf[2] = {static_cast<uint32_t>(whole), static_cast<uint32_t>(nsecs)};   // little-endian
+  mrp_publish_deferred(c->h, reinterpret_cast<const uint8_t*>(buf), 8);
+  c->last_t = t;
+  return 1;
+}
+
+// the World's step observer (physics/native: mr_observer_fn)
+void mrp_clock_observe(void* ticker, double t) { mrp_clock_tick(ticker, t); }
 
 void mrp_shutdown() {
   if (!g_nh) return;

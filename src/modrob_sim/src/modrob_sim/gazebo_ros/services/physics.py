@@ -153,6 +153,7 @@ class PhysicsServices(ServiceGroup):
                                            "steps left" % (self.world.time, left, req.steps))
                     n = min(left, STEP_CHUNK)
                     self.world.step(n)
+                    self.sim.outputs.after_pass()       # /clock as it goes, as the loop's passes
                     left -= n
                 self.sim.outputs.on_pause()     # still paused: /clock and the markers as it stands
             resp.iterations = self.world.iterations

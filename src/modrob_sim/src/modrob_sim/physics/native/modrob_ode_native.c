@@ -8,14 +8,16 @@
  *   - collide + quickStep with a per-world ODE random seed, solved twice when a contact's
  *     correction was capped (Gazebo's split of position and velocity correction);
  *   - the velocity part of the blow-up guard;
- *   - triangle meshes (PyODE on Debian is built without trimesh support) in spaces of their own.
- * No Python API: plain C, so it builds with nothing but libode-dev.
+ *   - triangle meshes (PyODE on Debian is built without trimesh support) in spaces of their own;
+ *   - the World's actuators and turn counts, stretches of whole steps between Python hooks, link
+ *     poses and twists into arrays.
+ * No Python API: plain C, so it builds with nothing but libode-dev. Nothing here reads the wall
+ * clock or knows a ROS message.
  */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <ode/ode.h>
 
 #define MR_MAX_GEN 64          /* contacts generated per pair before selection */
@@ -1053,19 +1055,18 @@ void mr_track_turns(MrTurn **turns, int n)
     }
 }
 
-/* ---- batched steps --------------------------------------------------------------------------
- * Several whole steps in one call, for the stretches in which no Python hook is due (the /gazebo
- * node decides that: modrob_sim.physics.native_batch). Each step does what World._step_once
- * does for a world without wrenches, anti-gravity groups, frozen models or queued efforts:
- *   the actuators (mr_apply_actuators), explicit damping, the mimic joints' couplings and the soft
- *   limits' stops (MrBatchMimic, MrBatchSoft), collide + quickStep or dWorldStep with the guard's
- *   velocity scan (mr_step_checked), time and iteration count, the turn counts;
- *   /clock (8 bytes: secs, nsecs, as rospy serialises rosgraph_msgs/Clock) through `publish`, at
- *   every step or throttled to a wall-clock period as StatePublishers.after_step does, also at
- *   a step whose after-hooks are due (`clock_sent` tells them);
- *   the blow-up guard's checks: a step the guard would flag, or a snapshot step, ends the batch
- *   (`guard` = 1) so that the World's Python guard runs for it; so does a step whose after-hooks
- *   are due (`after` = 1: Python runs them). */
+/* ---- native stretches of steps ------------------------------------------------------------
+ * Several whole steps in one call, up to the first step at which a Python hook of the World is due
+ * (World.step decides that from the hooks' due times: docs/design/sim_core_api.md). Each step does
+ * what World._step_once does for a world without wrenches, anti-gravity groups, frozen models or
+ * queued efforts: the actuators (mr_apply_actuators), explicit damping, the mimic joints' couplings
+ * and the soft limits' stops (MrStretchMimic, MrStretchSoft), collide + quickStep or dWorldStep
+ * with the guard's velocity scan (mr_step_checked), time and iteration count, the turn counts, then
+ * the observer (a C function the World was given, e.g. gazebo_ros's /clock: physics knows nothing
+ * of it). A step the guard must look at (a flagged step, a snapshot step) ends the stretch
+ * (`guard` = 1: the World's Python guard runs for it); so does a step whose after-hooks are due
+ * (`after` = 1), the end of a segment actuator's piece (before its step) and a wake-up (`*wake`,
+ * set by World.wake from any thread). */
 
 /* a mimic joint (Joint.drive_mimic) and its master; positions as Joint.position */
 typedef struct {
@@ -1073,16 +1074,17 @@ typedef struct {
     MrTurn *turn, *master_turn;
     int slider, master_slider, has_lower, has_upper;
     double mult, offset, lower, upper, child_inertia;
-} MrBatchMimic;
+} MrStretchMimic;
 
 /* a revolute joint with limits beyond +-pi (Joint.update_soft_limits) */
 typedef struct {
     dJointID joint;
     MrTurn *turn;
     double lower, upper;
-} MrBatchSoft;
+} MrStretchSoft;
 
-typedef int (*mr_publish_fn)(void *handle, const uint8_t *data, uint32_t size);
+/* called after every step of a stretch with the new simulated time */
+typedef void (*mr_observer_fn)(void *user, double t);
 
 typedef struct {
     MrActuator **acts;
@@ -1104,51 +1106,31 @@ typedef struct {
     double last_start;   /* out: the time at which the last step started */
     long long iterations;
     double before_due;   /* no step starts at t >= before_due (a before-hook is due) */
-    double after_due;    /* a step that ends at t with t + 1e-12 >= after_due ends the batch: its
-                          * after-hooks are due (`after`) */
-    void *publish;       /* mr_publish_fn for /clock, or NULL */
-    void *clock_handle;
-    double clock_period; /* > 0: /clock at most once per clock_period s of CLOCK_MONOTONIC */
-    double last_clock;   /* in/out: CLOCK_MONOTONIC of the last /clock (Python's time.monotonic) */
+    double after_due;    /* a step that ends at t with t + 1e-12 >= after_due ends the stretch:
+                          * its after-hooks are due (`after`) */
+    volatile int *wake;  /* non-zero: end the stretch after the step in progress (World.wake) */
+    void *observer;      /* mr_observer_fn, or NULL */
+    void *observer_user;
     int ncontacts;       /* out: contacts of the last step */
     int guard;           /* out: 1 when the World's guard must look at the last step */
     int world_step;      /* as mr_step_checked: 0 quickStep, 1 dWorldStep */
     int first_bad;       /* out: mr_step_checked's guard scan of the last step */
     int after;           /* out: 1 when the last step's after-hooks are due (Python runs them) */
-    double stop_due;     /* a step that starts at t >= stop_due ends the batch once made (Python
-                          * then does what was due at its start from what the step read) */
-    int clock_sent;      /* out: 1 when /clock went out after the last step */
     int nmimic;
-    MrBatchMimic *mimics;
+    MrStretchMimic *mimics;
     int nsoft;
-    MrBatchSoft *softs;
+    MrStretchSoft *softs;
     int param_vel, param_fmax, param_lo_stop, param_hi_stop;   /* odelib.PARAM_* of this libode */
     double mimic_gain, mimic_force;                           /* MIMIC_GAIN, MIMIC_COUPLING_FORCE */
-} MrBatch;
-
-static void mr_batch_clock(MrBatch *b)
-{
-    double t = b->time;
-    uint32_t buf[2];
-    double secs = (double)(long long)t;
-    long long nsecs = (long long)nearbyint((t - secs) * 1e9);
-    long long s = (long long)secs;
-    if (nsecs >= 1000000000LL) {
-        s += 1;
-        nsecs -= 1000000000LL;
-    }
-    buf[0] = (uint32_t)s;          /* little-endian hosts, as rospy's struct '<2I' */
-    buf[1] = (uint32_t)nsecs;
-    ((mr_publish_fn)b->publish)(b->clock_handle, (const uint8_t *)buf, 8);
-}
+} MrStretch;
 
 /* World._apply_forces after the damping: Joint.drive_mimic of every mimic joint, then
  * Joint.update_soft_limits of every joint with limits beyond +-pi */
-static void mr_batch_mimics_and_soft_limits(MrBatch *b)
+static void mr_stretch_mimics_and_soft_limits(MrStretch *b)
 {
     int k;
     for (k = 0; k < b->nmimic; ++k) {
-        const MrBatchMimic *m = &b->mimics[k];
+        const MrStretchMimic *m = &b->mimics[k];
         double q = mr_joint_position(m->joint, m->slider, m->turn);
         double qm = mr_joint_position(m->master, m->master_slider, m->master_turn);
         double v = b->mimic_gain * (qm * m->mult + m->offset - q) / b->dt;
@@ -1162,7 +1144,7 @@ static void mr_batch_mimics_and_soft_limits(MrBatch *b)
         mr_set_param(m->joint, m->slider, b->param_fmax, fmax);
     }
     for (k = 0; k < b->nsoft; ++k) {
-        const MrBatchSoft *u = &b->softs[k];
+        const MrStretchSoft *u = &b->softs[k];
         double turns = MR_TWO_PI * (double)(u->turn ? u->turn->turns : 0);
         double lo = u->lower - turns, hi = u->upper - turns;
         dJointSetHingeParam(u->joint, b->param_lo_stop, lo > -3.141592653589793 ? lo : -dInfinity);
@@ -1171,7 +1153,7 @@ static void mr_batch_mimics_and_soft_limits(MrBatch *b)
 }
 
 /* 1 when a segment actuator's piece does not hold for a step starting at t */
-static int mr_batch_pieces_end(const MrBatch *b, double t)
+static int mr_stretch_pieces_end(const MrStretch *b, double t)
 {
     int k;
     for (k = 0; k < b->nacts; ++k) {
@@ -1182,7 +1164,7 @@ static int mr_batch_pieces_end(const MrBatch *b, double t)
 }
 
 /* Up to n steps; returns the number done (0 when the first step is due for Python). */
-int mr_run_batch(MrCtx *c, MrBatch *b, int n)
+int mr_run_steps(MrCtx *c, MrStretch *b, int n)
 {
     int k;
     b->guard = 0;
@@ -1190,33 +1172,17 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
     for (k = 0; k < n; ++k) {
         double t = b->time, tn = t + b->dt;
         int after = tn + 1e-12 >= b->after_due;
-        if (t >= b->before_due || mr_batch_pieces_end(b, t)) break;
+        if (t >= b->before_due || mr_stretch_pieces_end(b, t) || (b->wake && *b->wake)) break;
         b->last_start = t;
         mr_apply_actuators(b->acts, b->nacts, t, b->dt, b->param_vel, b->param_fmax);
         if (b->ndamp) mr_apply_damping(b->damp_joints, b->damp_kinds, b->damp_coef, b->ndamp);
-        if (b->nmimic || b->nsoft) mr_batch_mimics_and_soft_limits(b);
+        if (b->nmimic || b->nsoft) mr_stretch_mimics_and_soft_limits(b);
         b->ncontacts = mr_step_checked(c, b->dt, b->gx, b->gy, b->gz, b->layer, b->max_contacts, b->world_step,
                                        b->bodies, b->nbodies, b->vmax2, b->wmax2, &b->first_bad);
         b->iterations += 1;
         b->time = tn;
         mr_track_turns(b->turns, b->nturns);
-        b->clock_sent = 0;
-        if (b->publish) {
-            if (b->clock_period > 0.0) {
-                struct timespec ts;
-                double now;
-                clock_gettime(CLOCK_MONOTONIC, &ts);
-                now = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-                if (now - b->last_clock >= b->clock_period) {
-                    b->last_clock = now;
-                    mr_batch_clock(b);
-                    b->clock_sent = 1;
-                }
-            } else {
-                mr_batch_clock(b);
-                b->clock_sent = 1;
-            }
-        }
+        if (b->observer) ((mr_observer_fn)b->observer)(b->observer_user, tn);
         if (b->first_bad >= 0 || b->ncontacts > b->guard_max_contacts ||
             (b->snapshot_interval > 0 && b->iterations % b->snapshot_interval == 0)) {
             b->guard = 1;
@@ -1227,28 +1193,21 @@ int mr_run_batch(MrCtx *c, MrBatch *b, int n)
             b->after = 1;
             return k + 1;
         }
-        if (t >= b->stop_due) return k + 1;
     }
     return k;
 }
 
-/* ---- model and link states (gazebo_msgs/ModelStates, LinkStates) ------------------------------
- * The pose and twist of a link in the world, written as the message's float64s into a serialised
- * message: Link.pose (pose_mul(body pose, T)) and Link.twist (v + w x R(q) T.p, w) of
- * physics/model.py with the same operations in the same order as transforms.py, so the doubles are
- * bit for bit those of the Python properties. A static link (body NULL) has its world pose in
- * `T` (the caller keeps it current) and a zero twist. */
+/* ---- link poses and twists -----------------------------------------------------------------
+ * The pose and twist of links in the world, as Link.pose (pose_mul(body pose, T)) and Link.twist
+ * (v + w x R(q) T.p, w) of physics/model.py compute them, with the same operations in the same
+ * order as transforms.py, so the doubles are bit for bit those of the Python properties: 7 doubles
+ * (x y z qx qy qz qw) per link into `poses`, 6 (v, w) into `twists`. A static link (body NULL) has
+ * its world pose in `T` (the caller keeps it current) and a zero twist. (gazebo_ros's ModelStates
+ * and LinkStates keep their poses and twists in such arrays: it points them into its message.) */
 typedef struct {
     dBodyID body;
     double T[7];         /* link frame in the body frame: x y z qx qy qz qw (static: world pose) */
-    int pose_off;        /* byte offset of the 7 pose doubles in the message */
-    int twist_off;       /* byte offset of the 6 twist doubles */
-} MrStateEntry;
-
-static inline void mr_put(uint8_t *buf, int off, const double *v, int n)
-{
-    memcpy(buf + off, v, (size_t)n * sizeof(double));   /* little-endian hosts, as struct '<d' */
-}
+} MrLinkEntry;
 
 /* transforms.quat_rotate(q = (x, y, z, w), v) */
 static inline void mr_quat_rotate(const double *q, const double *v, double *out)
@@ -1263,16 +1222,15 @@ static inline void mr_quat_rotate(const double *q, const double *v, double *out)
     out[2] = vz + qw * tz + (qx * ty - qy * tx);
 }
 
-void mr_states_write(const MrStateEntry *e, int n, uint8_t *buf)
+/* `poses` and `twists` need not be aligned (a message's bytes): the doubles are copied in */
+void mr_link_poses(const MrLinkEntry *e, int n, void *poses, void *twists)
 {
     int k;
     for (k = 0; k < n; ++k, ++e) {
         double pose[7], twist[6];
         if (!e->body) {
-            mr_put(buf, e->pose_off, e->T, 7);
-            memset(twist, 0, sizeof(twist));
-            mr_put(buf, e->twist_off, twist, 6);
-            continue;
+            memcpy(pose, e->T, 7 * sizeof(double));
+            memset(twist, 0, 6 * sizeof(double));
         } else {
             const dReal *p = dBodyGetPosition(e->body);
             const dReal *qo = dBodyGetQuaternion(e->body);      /* ODE: w x y z */
@@ -1295,15 +1253,8 @@ void mr_states_write(const MrStateEntry *e, int n, uint8_t *buf)
             twist[1] = v[1] + (w[2] * r[0] - w[0] * r[2]);
             twist[2] = v[2] + (w[0] * r[1] - w[1] * r[0]);
             twist[3] = w[0]; twist[4] = w[1]; twist[5] = w[2];
-            mr_put(buf, e->pose_off, pose, 7);
-            mr_put(buf, e->twist_off, twist, 6);
         }
+        memcpy((char *)poses + 7 * sizeof(double) * (size_t)k, pose, sizeof(pose));
+        memcpy((char *)twists + 6 * sizeof(double) * (size_t)k, twist, sizeof(twist));
     }
-}
-
-/* mr_states_write, then the message out through `publish` (mr_publish_fn, roscpp) */
-int mr_states_publish(const MrStateEntry *e, int n, uint8_t *buf, uint32_t size, void *publish, void *handle)
-{
-    mr_states_write(e, n, buf);
-    return ((mr_publish_fn)publish)(handle, buf, size);
 }
