@@ -157,7 +157,7 @@ class NativePublisher(object):
         without rospy's 4-byte length: the states of native_states)."""
         h = self._h
         if h and _state["ok"]:
-            _lib.mrp_publish(h, buf, size)
+            _lib.mrp_publish(h, ctypes.cast(buf, ctypes.c_char_p), size)
 
     def clock_ticker(self, period):
         """A ClockTicker on this (/clock) publisher, or None when roscpp is not running."""
