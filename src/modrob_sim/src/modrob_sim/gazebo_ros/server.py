@@ -224,6 +224,7 @@ class GazeboRosNode(object):
         self.timers.tick(t)
 
     def _before_step(self, t, dt):
+        self.outputs.flush_clock()
         if self._own_sim_time:
             self._set_time(t)
         self.forces.activate_wrenches(t)
@@ -231,6 +232,7 @@ class GazeboRosNode(object):
         self.forces.apply_efforts(t)
 
     def _after_step(self, t, dt):
+        self.outputs.flush_clock()
         self.plugins.after_step(t, dt)
         self.outputs.after_step()
 

@@ -110,10 +110,17 @@ class StatePublishers(object):
         self._next_marker_t = 0.0
         self._last_rtf_log = time.monotonic()
 
+    def flush_clock(self):
+        """The /clock messages of the native steps so far leave now: before anything a hook
+        publishes, so that a subscriber never gets a message stamped after the /clock it has."""
+        if self._ticker is not None:
+            self._clock_pub.flush()
+
     def after_step(self):
         now_t = self.world.time
         if self._ticker is not None:
             self._ticker.tick(now_t)    # at its period, once per time (the observer may have sent it)
+            self._clock_pub.flush()
         elif self._clock_period <= 0.0:
             self.publish_clock()
         else:
