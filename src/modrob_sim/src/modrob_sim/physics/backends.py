@@ -504,7 +504,9 @@ def _select_spread(contacts, k):
 
 
 def _given_fdir(geom, fdir, n):
-    """<fdir1> (collision frame) in the world, projected on the contact plane; None if parallel."""
+    """<fdir1> (collision frame) in the world as Gazebo hands it to ODE: unit length, NOT projected
+    on the contact plane (a wheel's fdir1 turns with it, and its first friction row leans into
+    the normal as it rolls); None when parallel to the normal (ODE's own directions then)."""
     if isinstance(geom, ode.GeomPlane):  # not placeable: its fdir1 is in the world frame
         r = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
     else:
@@ -512,13 +514,12 @@ def _given_fdir(geom, fdir, n):
     f = (r[0] * fdir[0] + r[1] * fdir[1] + r[2] * fdir[2],
          r[3] * fdir[0] + r[4] * fdir[1] + r[5] * fdir[2],
          r[6] * fdir[0] + r[7] * fdir[1] + r[8] * fdir[2])
-    fn = f[0] * n[0] + f[1] * n[1] + f[2] * n[2]
-    t = (f[0] - fn * n[0], f[1] - fn * n[1], f[2] - fn * n[2])
-    t2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
-    if t2 < 1e-12:
+    f2 = f[0] * f[0] + f[1] * f[1] + f[2] * f[2]
+    c = (n[1] * f[2] - n[2] * f[1], n[2] * f[0] - n[0] * f[2], n[0] * f[1] - n[1] * f[0])
+    if not f2 > 0 or c[0] * c[0] + c[1] * c[1] + c[2] * c[2] <= 1e-12 * f2:
         return None
-    k = 1.0 / math.sqrt(t2)
-    return (t[0] * k, t[1] * k, t[2] * k)
+    k = 1.0 / math.sqrt(f2)
+    return (f[0] * k, f[1] * k, f[2] * k)
 
 
 def _declare_run(lib):

@@ -2,7 +2,7 @@
  * PyODE uses. Loaded with ctypes (see native.py); every function here mirrors the Python
  * fallback in world.py, which stays the reference for the semantics:
  *   - near callback with Gazebo contact parameters (min mu, kp/kd -> soft ERP/CFM, maxVel and
- *     minDepth emulated on the contact depth, fdir1 of the smaller mu1, maxContacts), same-model /
+ *     minDepth emulated on the contact depth, fdir1 of the smaller mu1 not projected, maxContacts), same-model /
  *     adjacent-link filtering, a cap of contacts per pair chosen as spread points, friction
  *     direction along the slip;
  *   - collide + quickStep with a per-world ODE random seed, solved twice when a contact's
@@ -445,17 +445,23 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
         int use2 = s2->has_fdir && (!s1->has_fdir || s1->mu1 > s2->mu1);
         const MrSurface *sf = use2 ? s2 : s1;
         dGeomID og = use2 ? o2 : o1;
-        double fx = sf->fdir[0], fy = sf->fdir[1], fz = sf->fdir[2], fn, f2;
+        double fx = sf->fdir[0], fy = sf->fdir[1], fz = sf->fdir[2], fn, f2, cx, cy, cz;
         if (dGeomGetClass(og) != dPlaneClass) {  /* a plane is not placeable: its fdir is in the world */
             const dReal *R = dGeomGetRotation(og);
             fx = R[0] * sf->fdir[0] + R[1] * sf->fdir[1] + R[2] * sf->fdir[2];
             fy = R[4] * sf->fdir[0] + R[5] * sf->fdir[1] + R[6] * sf->fdir[2];
             fz = R[8] * sf->fdir[0] + R[9] * sf->fdir[1] + R[10] * sf->fdir[2];
         }
-        fn = fx * g0->normal[0] + fy * g0->normal[1] + fz * g0->normal[2];
-        fx -= fn * g0->normal[0]; fy -= fn * g0->normal[1]; fz -= fn * g0->normal[2];
-        f2 = fx * fx + fy * fy + fz * fz;
-        if (f2 > 1e-12) {
+        /* as Gazebo hands it to ODE: not projected on the contact plane (a wheel's fdir1 turns
+         * with it, so its first friction row leans into the normal as it rolls); ODE's own plane
+         * directions when it is parallel to the normal, as Gazebo's ODE fork falls back */
+        fn = fx * fx + fy * fy + fz * fz;
+        cx = g0->normal[1] * fz - g0->normal[2] * fy;
+        cy = g0->normal[2] * fx - g0->normal[0] * fz;
+        cz = g0->normal[0] * fy - g0->normal[1] * fx;
+        f2 = cx * cx + cy * cy + cz * cz;
+        if (fn > 0 && f2 > 1e-12 * fn) {
+            f2 = fn;
             double k = 1.0 / sqrt(f2);
             fdir[0] = fx * k; fdir[1] = fy * k; fdir[2] = fz * k;
             has_fdir = 1;
