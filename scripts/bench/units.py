@@ -6,7 +6,7 @@ process, its own ROS master on a free port), so that units can run side by side 
 
 A unit measures our figure AND its peer in the same process and run, so that a busy machine hits
 both alike; run.py takes the median, min and max over repetitions and the ratio per repetition.
-Units: physics_core, node, sensor_arm, bulbs_one, bulbs_two, startup, rss, kdl_fk.
+Units: physics_core, node, sensor_arm, mobile, bulbs_one, bulbs_two, startup, rss, kdl_fk.
 """
 import argparse
 import json
@@ -569,7 +569,87 @@ def unit_kdl_fk(_args):
             "max_diff_m": diff}
 
 
-UNITS = {"physics_core": unit_physics_core, "node": unit_node,
+# ---- a TurtleBot3-class robot driving (issue 35) -----------------------------------------------------
+MOBILE_URDF = os.path.join(ROOT, "src/modrob_sim/test/fixtures/drives/diff_bot.urdf")
+
+
+def mobile_robot_urdf(plugins):
+    """Our TurtleBot3-style robot (360-ray lidar at 5 Hz, IMU at 200 Hz, diff drive); without its
+    <plugin> elements for the reference."""
+    import re
+    with open(MOBILE_URDF) as f:
+        text = f.read()
+    return text if plugins else re.sub(r"<plugin\b.*?</plugin>", "", text, flags=re.S)
+
+
+def run_mobile_once(seconds, plugins):
+    """The /gazebo node (real_time_factor 0) with the robot driving a circle (0.2 m/s, 0.4 rad/s),
+    /scan, /imu and /odom subscribed: simulated s per wall s over ``seconds``."""
+    import rospy
+    from gazebo_msgs.srv import GetWorldProperties, SpawnModel
+    from geometry_msgs.msg import Pose, Quaternion, Twist
+    from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import Imu, LaserScan
+    from std_srvs.srv import Empty
+    node = start_node()
+    try:
+        g = "/gazebo/"
+        rospy.wait_for_service(g + "spawn_urdf_model", timeout=60)
+        if not rospy.ServiceProxy(g + "spawn_urdf_model", SpawnModel)(
+                "bot", mobile_robot_urdf(plugins), "", Pose(orientation=Quaternion(0, 0, 0, 1)), "").success:
+            raise RuntimeError("spawning the mobile robot failed")
+        counts = {"scan": 0, "imu": 0, "odom": 0}
+
+        def counter(key):
+            def cb(_msg):
+                counts[key] += 1
+            return cb
+        subs = [rospy.Subscriber("/scan", LaserScan, counter("scan"), queue_size=10),
+                rospy.Subscriber("/imu", Imu, counter("imu"), queue_size=100),
+                rospy.Subscriber("/odom", Odometry, counter("odom"), queue_size=10)]
+        cmd = rospy.Publisher("/cmd_vel", Twist, queue_size=1, latch=True)
+        twist = Twist()
+        twist.linear.x, twist.angular.z = 0.2, 0.4
+        deadline = time.time() + 20
+        waiting = [cmd] + subs if plugins else []
+        while time.time() < deadline and any(s.get_num_connections() == 0 for s in waiting):
+            time.sleep(0.05)
+        cmd.publish(twist)
+        world = rospy.ServiceProxy(g + "get_world_properties", GetWorldProperties)
+        rospy.ServiceProxy(g + "unpause_physics", Empty)()
+        time.sleep(0.5)
+        t0, w0, c0 = world().sim_time, time.perf_counter(), cpu_seconds(node.pid)
+        n0 = dict(counts)
+        time.sleep(seconds)
+        t1, w1, c1 = world().sim_time, time.perf_counter(), cpu_seconds(node.pid)
+        rospy.ServiceProxy(g + "pause_physics", Empty)()
+        for s in subs + [cmd]:
+            s.unregister()
+        sim, wall = t1 - t0, w1 - w0
+        return {"rtf": sim / wall, "sim_per_cpu": sim / max(1e-9, c1 - c0), "cpu_load": (c1 - c0) / wall,
+                "rates": {k: (counts[k] - n0[k]) / sim for k in counts}}
+    finally:
+        node.terminate()
+        try:
+            node.wait(10)
+        except subprocess.TimeoutExpired:
+            node.kill()
+
+
+def unit_mobile(args):
+    """Ours: the robot with its plugins; the peer: the same robot without them (the physics and the
+    node alone), one after the other on the same master."""
+    import rospy
+    master = Master()
+    try:
+        rospy.init_node("bench_mobile", anonymous=True, disable_signals=True)
+        seconds = args.seconds or 5.0
+        return {"ours": run_mobile_once(seconds, True), "reference": run_mobile_once(seconds, False)}
+    finally:
+        master.close()
+
+
+UNITS = {"physics_core": unit_physics_core, "node": unit_node, "mobile": unit_mobile,
          "bulbs_one": lambda a: unit_bulbs("one_robot", a),
          "bulbs_two": lambda a: unit_bulbs("two_robots", a),
          "startup": unit_startup, "rss": unit_rss, "kdl_fk": unit_kdl_fk, "sensor_arm": unit_sensor_arm}
