@@ -21,7 +21,8 @@ from sim_helpers import Gazebo, Latest, wait_for  # noqa: E402
 def graph():
     master = rosgraph.Master("/sim_gazebo_ros_network_test")
     state = master.getSystemState()
-    pubs = {t for t, nodes in state[0] if "/gazebo" in nodes}
+    # the node's topics: its own and those its roscpp publishers register (~native_publishing)
+    pubs = {t for t, nodes in state[0] if "/gazebo" in nodes or "/gazebo_roscpp" in nodes}
     services = {s for s, nodes in state[2] if "/gazebo" in nodes}
     return pubs, services
 
