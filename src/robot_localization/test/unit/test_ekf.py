@@ -86,7 +86,10 @@ def test_twenty_metres_with_noisy_odometry_and_imu_stay_within_five_centimetres(
 def test_the_same_seed_gives_the_same_estimate():
     a = run_drive(ODOM_AND_IMU_YAW, 7, 5.0)[3].state
     b = run_drive(ODOM_AND_IMU_YAW, 7, 5.0)[3].state
-    assert np.array_equal(a, b)
+    # equal to rounding: numpy's BLAS may take another summation order for arrays placed
+    # differently in memory (seen in the full suite: the same digits, not the same bits)
+    assert np.allclose(a, b, rtol=0.0, atol=1e-12)
+    assert not np.allclose(a, run_drive(ODOM_AND_IMU_YAW, 8, 5.0)[3].state, rtol=0.0, atol=1e-6)
 
 
 def test_prediction_follows_an_arc_and_a_climb():
