@@ -355,3 +355,66 @@ def test_tricycle_drives_straight_and_turns_on_its_steering_angle():
         assert turned == pytest.approx(3.0 * 0.2 * math.sin(0.3) / 0.5, rel=0.1)
     finally:
         b.close()
+
+
+def ramp_pose(angle, along=1.0, up=0.001):
+    """base_footprint on a ramp tilted by ``angle`` about y (descending towards +x, its top through
+    the origin), ``along`` metres up the slope (clear of the ground plane), facing uphill."""
+    from modrob_sim.physics.transforms import quat_from_axis_angle, quat_mul
+    n = (math.sin(angle), 0.0, math.cos(angle))
+    q = quat_mul(quat_from_axis_angle((0.0, 1.0, 0.0), angle), quat_from_axis_angle((0.0, 0.0, 1.0), math.pi))
+    return ((-along * math.cos(angle) + up * n[0], 0.0, along * math.sin(angle) + up * n[2]), q)
+
+
+@pytest.fixture
+def ramp_bot():
+    bots = []
+
+    def make(angle, fdir1=True):
+        import importlib.util
+        spec = importlib.util.spec_from_file_location(
+            "physics_helpers", os.path.join(os.path.dirname(FIX), "physics", "physics_helpers.py"))
+        helpers = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(helpers)
+        b = Bot("diff_bot.urdf", "libgazebo_ros_diff_drive.so", DiffDrive)
+        bots.append(b)
+        b.world.remove_model("bot")
+        b.world.add_urdf("ramp", helpers.ramp(angle, 1.0))
+        text = fixture("diff_bot.urdf")
+        if not fdir1:
+            text = text.replace("<fdir1>1 0 0</fdir1>", "")
+        b.model = b.world.add_urdf("bot", text, pose=ramp_pose(angle))
+        b.host.load(b.model)
+        b.world.step(500)
+        return b
+    yield make
+    for b in bots:
+        b.close()
+
+
+def test_the_wheel_motors_hold_the_robot_on_a_slope_and_drive_it_up(ramp_bot):
+    """On a 10 degree ramp the stopped wheels' motors hold the robot (it does not roll down); at
+    0.1 m/s it climbs 0.3 m in 3 s, along the slope. The wheels without fdir1: with Gazebo's rule a
+    fdir1 that turns with the wheel makes the traction depend on the wheel's angle, and this robot
+    then spins its wheels on the slope (the next test)."""
+    angle = math.radians(10.0)
+    b = ramp_bot(angle, fdir1=False)
+    (p0, _q) = b.model.pose
+    b.world.step(2000)
+    assert math.dist(p0, b.model.pose[0]) < 0.003
+    distance, _turned = b.drive((0.1, 0.0), 3.0)
+    (p1, _q) = b.model.pose
+    assert p1[2] - p0[2] == pytest.approx(math.sin(angle) * 0.3, rel=0.1)      # uphill
+    assert math.dist(p0, p1) == pytest.approx(0.3, rel=0.05)
+
+
+def test_with_gazebos_fdir1_rule_the_wheels_spin_on_a_slope(ramp_bot):
+    """The same robot with fdir1 1 0 0 on its wheels, as TurtleBot3's: the first friction row turns
+    with the wheel (not projected on the ground, as Gazebo hands it to ODE), the traction falls
+    away at some wheel angles and the wheels spin: it climbs far less than commanded."""
+    angle = math.radians(10.0)
+    b = ramp_bot(angle)
+    (p0, _q) = b.model.pose
+    b.drive((0.1, 0.0), 3.0)
+    assert math.dist(p0, b.model.pose[0]) < 0.2
+    assert b.model.joints["wheel_left_joint"].velocity * 0.033 > 0.09
