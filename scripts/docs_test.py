@@ -45,6 +45,13 @@ DEFAULT_TIMEOUT = 120.0  # wall seconds: generous, a shared 2-core machine can b
 STOP_GRACE = 20.0  # wall seconds for a Ctrl-C'd launch to end before SIGTERM
 
 
+def _ctrl_c_ends():
+    """In a block's process, before it runs: Ctrl-C (SIGINT) does what it does in a reader's shell.
+    A test run started as a background job (CI scripts, nohup ... &) inherits SIGINT ignored, and
+    an ignored signal stays ignored across exec: the block would then outlive the Ctrl-C."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 class Block(object):
     def __init__(self, doc, line, lang, text, marker, indent):
         self.doc, self.line, self.lang, self.text = doc, line, lang, text
@@ -262,7 +269,7 @@ class Session(object):
             proc = subprocess.Popen(["bash", "-c", "source scripts/env.sh && " + run, path],
                                     cwd=ROOT, env=env,
                                     stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT,
-                                    start_new_session=True)
+                                    start_new_session=True, preexec_fn=_ctrl_c_ends)
         self.groups.append(proc.pid)
         self.group_of[proc.pid] = block
         self.procs.append(proc)
