@@ -4,10 +4,13 @@ Gazebo's ROS paths plugin asks every package for ``<export><gazebo_ros .../></ex
 ``plugin_path`` to Gazebo's plugin path, ``gazebo_model_path`` to its model path (``model://``) and
 ``gazebo_media_path`` to its resource path (``worlds/...``, ``file://media/...``), each with
 ``${prefix}`` replaced by the package's folder. This module reads the same exports, plus the
-simulator's own registry of Python plugin modules::
+simulator's own registry of Python plugin modules, and of the ros_control hardware
+(``robotSimType``) and controller types that packages add (modrob_sim.ros_control.extensions)::
 
     <export>
       <modrob_sim filename="libmy_gripper.so" module="my_pkg.gripper_plugin"/>
+      <modrob_sim robot_sim_type="my_pkg/MyRobotHWSim" module="my_pkg.hw_sim"/>
+      <modrob_sim controller_type="my_pkg/MyController" module="my_pkg.my_controller"/>
       <gazebo_ros gazebo_model_path="${prefix}/models" plugin_path="${prefix}/lib"/>
     </export>
 
@@ -29,7 +32,10 @@ from modrob_sim.gazebo_ros.plugins import plugin_key
 
 LOG = logging.getLogger("modrob_sim.gazebo_ros.plugins")
 
-#: one ``<export><modrob_sim filename=... module=.../>`` entry
+#: the kinds of ros_control types a ``<modrob_sim>`` export may name instead of a plugin file
+TYPE_KINDS = ("robot_sim_type", "controller_type")
+
+#: one ``<export><modrob_sim filename=... module=.../>`` entry (filename: or the type's name)
 PluginExport = collections.namedtuple("PluginExport", "filename module package package_dir")
 
 
@@ -37,6 +43,7 @@ class PackageExports(object):
     """The exports of every package ``rospack`` finds (``rospack`` injectable for tests).
 
     plugin_exports(filename)   the PluginExport entries naming that plugin file
+    type_exports(kind, name)   the same for a 'robot_sim_type' or 'controller_type' name
     plugin_paths, model_paths, media_paths   folders, in ROS_PACKAGE_PATH order, existing ones only
     exported_plugins()         sorted plugin file names exported by some package
     """
@@ -46,6 +53,7 @@ class PackageExports(object):
         self._lock = threading.Lock()
         self._scanned = False
         self._plugins = {}
+        self._types = {}        # (kind, type name) -> [PluginExport]
         self._paths = {"plugin_path": [], "gazebo_model_path": [], "gazebo_media_path": []}
         self.package_count = 0
 
@@ -74,6 +82,17 @@ class PackageExports(object):
             self._scanned = True
 
     def _read_plugin_export(self, pkg, pkg_dir, attrs):
+        for kind in TYPE_KINDS:
+            if attrs.get(kind):
+                module = attrs.get("module", "").strip()
+                if not module:
+                    LOG.warning("package '%s': <export><modrob_sim %s=\"%s\"/> needs "
+                                "module=\"<pkg>.<module>\" (the Python module that registers it); ignored",
+                                pkg, kind, attrs[kind])
+                else:
+                    self._types.setdefault((kind, attrs[kind].strip()), []).append(
+                        PluginExport(attrs[kind].strip(), module, pkg, pkg_dir))
+                return
         # "filename" as in <plugin filename=...>; "plugin" is read too, but catkin_lint takes an
         # export with a plugin attribute for a pluginlib description file and refuses it
         filename = (attrs.get("filename") or attrs.get("plugin") or "").strip()
@@ -101,6 +120,10 @@ class PackageExports(object):
     def plugin_exports(self, filename):
         self._scan()
         return list(self._plugins.get(plugin_key(filename), ()))
+
+    def type_exports(self, kind, name):
+        self._scan()
+        return list(self._types.get((kind, name), ()))
 
     def exported_plugins(self):
         self._scan()

@@ -5,7 +5,7 @@ Controller states: 'initialized' after load, 'running' after start, 'stopped' af
 Switches take effect at once (also while the simulation is paused), not at the next update.
 """
 from modrob_sim.errors import ControllerError
-from modrob_sim.ros_control import gain_check
+from modrob_sim.ros_control import extensions, gain_check
 from modrob_sim.ros_control.controllers import CONTROLLER_TYPES
 from modrob_sim.ros_control.params import Params, join
 
@@ -28,7 +28,7 @@ class ControllerManager(object):
 
     # -- queries ---------------------------------------------------------------------------
     def list_types(self):
-        return sorted(self.types)
+        return sorted(set(self.types) | set(extensions.registered_controller_types()))
 
     def list_controllers(self):
         return list(self.controllers.values())
@@ -54,7 +54,7 @@ class ControllerManager(object):
             raise ControllerError("Could not load controller '%s' because its type is %r, not a type name "
                                   "(parameter %s/type, e.g. effort_controllers/JointPositionController)"
                                   % (name, type_, ns))
-        cls = self.types.get(type_)
+        cls = self.types.get(type_) or extensions.controller_type(type_)
         if cls is None:
             raise ControllerError("Could not load controller '%s' because controller type '%s' does not "
                                   "exist "

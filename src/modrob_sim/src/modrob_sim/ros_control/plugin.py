@@ -22,6 +22,7 @@ from controller_manager_msgs.srv import (ListControllers, ListControllersRespons
 from modrob_sim.errors import LoopStoppedError, ModrobError
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
+from modrob_sim.ros_control import extensions
 from modrob_sim.ros_control.control_loop import ControlLoop
 from modrob_sim.ros_control.hardware import RobotHWSim
 from modrob_sim.ros_control.manager import BEST_EFFORT, ControllerManager
@@ -51,9 +52,12 @@ class GazeboRosControlPlugin(ModelPlugin):
         self.config = cfg
         self.model_name = model.name
         self.namespace = cfg.robot_namespace
+        make_hw = None
         if cfg.sim_type != DEFAULT_SIM_TYPE:
-            rospy.logwarn("model '%s': robotSimType '%s' is not available here; using %s"
-                          % (model.name, cfg.sim_type, DEFAULT_SIM_TYPE))
+            make_hw, why = extensions.robot_sim_type(cfg.sim_type)
+            if make_hw is None:
+                rospy.logwarn("model '%s': robotSimType '%s' is not available here (%s); using %s"
+                              % (model.name, cfg.sim_type, why, DEFAULT_SIM_TYPE))
         pid_ns, pid_values = None, None
         for ns in cfg.pid_gains_namespaces():
             values = _get_param(ns)
@@ -61,10 +65,14 @@ class GazeboRosControlPlugin(ModelPlugin):
                 pid_ns, pid_values = ns, values
                 break
         transmissions = parse_transmissions(model.source_xml)
-        self.hw = RobotHWSim(model.joints, transmissions,
-                             Params(pid_values, pid_ns) if pid_ns else None,
-                             warn=lambda m: rospy.logwarn("model '%s': %s" % (model.name, m)),
-                             world=context.world)
+        pid_gains = Params(pid_values, pid_ns) if pid_ns else None
+
+        def warn(text):
+            rospy.logwarn("model '%s': %s" % (model.name, text))
+        if make_hw is not None:
+            self.hw = make_hw(self, model, transmissions, pid_gains, warn)
+        else:
+            self.hw = RobotHWSim(model.joints, transmissions, pid_gains, warn=warn, world=context.world)
         for note in self.hw.notes:
             rospy.loginfo("model '%s': %s" % (model.name, note))
         self.manager = ControllerManager(self.hw, self.namespace,

@@ -575,6 +575,10 @@ def adapter_for(plugin, controller):
     from modrob_sim.ros_control.controllers.joint_state import JointStateController
     from modrob_sim.ros_control.controllers.joint_trajectory import JointTrajectoryControllerBase
     from modrob_sim.ros_control.controllers.mobile_base import MobileBaseController
+    from modrob_sim.ros_control.extensions import adapter_factory
+    registered = adapter_factory(controller.TYPE)
+    if registered is not None:
+        return registered(plugin, controller)
     if isinstance(controller, JointStateController):
         return JointStateAdapter(plugin, controller)
     if isinstance(controller, MobileBaseController):
