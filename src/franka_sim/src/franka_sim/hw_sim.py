@@ -11,7 +11,7 @@ What it adds to gazebo_ros_control's DefaultRobotHWSim:
   <joint>``, the effort clamped to the joint's limit;
 - an arm joint that no running controller commands holds the position it had when its last
   controller stopped (at start: the spawn pose), with the position gains, as the robot does in
-  its idle mode;
+  its idle mode (a position PID actuator of the World, at every physics step);
 - gravity is compensated, as the robot's own controller does: the arm's moving links (everything
   below ``<arm_id>_joint1``) are simulated without gravity, which for a fixed base is the same as
   adding the gravity torque g(q) to every arm joint, and holds at every physics step; loads the
@@ -22,6 +22,7 @@ What it adds to gazebo_ros_control's DefaultRobotHWSim:
 Finger joints are effort-driven (by the franka_gazebo/FrankaGripperSim controller).
 """
 from modrob_sim.errors import ControllerError
+from modrob_sim.physics import actuators
 from modrob_sim.ros_control.hardware import RobotHWSim
 from modrob_sim.ros_control.params import Params
 from modrob_sim.ros_control.pid import Pid, PidGains
@@ -52,12 +53,9 @@ def arm_link_subtree(model_joints, arm_id):
 
 
 class FrankaHWSim(RobotHWSim):
-    #: every update in Python (the idle hold's PID): ros_control.native_control stays out
-    NATIVE = False
-
-    def __init__(self, model, transmissions, arm_id, motion_generators=None, warn=None):
+    def __init__(self, model, transmissions, arm_id, motion_generators=None, warn=None, world=None):
         """``motion_generators``: Params of the ``motion_generators`` namespace (position/velocity
-        gains per joint). ``warn(text)`` as RobotHWSim's."""
+        gains per joint). ``warn(text)``, ``world`` as RobotHWSim's."""
         warn = warn or (lambda text: None)
         self.arm_id = arm_id
         names = [arm_id + s for s in ARM_SUFFIXES + FINGER_SUFFIXES]
@@ -74,7 +72,7 @@ class FrankaHWSim(RobotHWSim):
                      "'%s': FrankaHWSim ignores it" % (tr.joints[0].name, tr.name, arm_id))
                 continue
             simple.append(tr)
-        super(FrankaHWSim, self).__init__(model.joints, simple, None, warn=warn)
+        super(FrankaHWSim, self).__init__(model.joints, simple, None, warn=warn, world=world)
         self.arm = [arm_id + s for s in ARM_SUFFIXES if arm_id + s in self.joints]
         missing = [arm_id + s for s in ARM_SUFFIXES if arm_id + s not in self.joints]
         if missing:
@@ -82,10 +80,13 @@ class FrankaHWSim(RobotHWSim):
                                   "needs its 7 arm joints (is arm_id right? it is read from the "
                                   "parameter arm_id)" % (arm_id, ", ".join(missing)))
         gains = motion_generators or Params({}, "motion_generators")
-        self.position_pid, self.velocity_pid = {}, {}
+        self.position_pid, self.velocity_pid, self._pid_source = {}, {}, {}
         for name in self.arm:
-            self.position_pid[name] = self._pid(gains, "position", name)
-            self.velocity_pid[name] = self._pid(gains, "velocity", name)
+            for kind, table in (("position", self.position_pid), ("velocity", self.velocity_pid)):
+                ns = gains.child(kind).child("gains")
+                table[name] = Pid(PidGains.from_params(ns.child(name))) if ns.has(name) else None
+                self._pid_source[table[name]] = ns.path(name)
+            self._use_generator(self.joints[name])
         for name, res in self.joints.items():
             if name not in self.arm and EFFORT in res.interfaces:
                 res.select(EFFORT)      # fingers: effort, from the gripper controller
@@ -93,6 +94,7 @@ class FrankaHWSim(RobotHWSim):
         self.stop_position = {}
         self.initialized = False
         self.on_initialized = None    # called once, at the first read (the ROS side publishes it)
+        self._hold_pending = True     # the next write takes the idle joints' actuators to hold them
         self.model = model
         self.gravity_free_links = []
         for link_name in arm_link_subtree(model.joints, arm_id):
@@ -101,14 +103,19 @@ class FrankaHWSim(RobotHWSim):
                 link.gravity_enabled = False
                 self.gravity_free_links.append(link_name)
 
-    @staticmethod
-    def _pid(gains, kind, joint):
-        ns = gains.child(kind).child("gains")
-        if not ns.has(joint):
-            return None
-        return Pid(PidGains.from_params(ns.child(joint)))
+    def _use_generator(self, res):
+        """The motion generator's PID of the joint's active interface (position or velocity)."""
+        pid = self.position_pid[res.name] if res.interface == POSITION else \
+            self.velocity_pid[res.name] if res.interface == VELOCITY else None
+        if pid is not None:
+            pid.reset()
+            res.set_pid(pid, self._pid_source[pid])     # its parameters, live-tunable at that path
 
     # ---- ros_control ------------------------------------------------------------------------
+    @property
+    def needs_every_update(self):
+        return self._hold_pending or super(FrankaHWSim, self).needs_every_update
+
     def do_switch(self, start, stop):
         for c in stop:
             for _iface, joints in c.claimed_resources:
@@ -116,8 +123,7 @@ class FrankaHWSim(RobotHWSim):
                     if j in self.claimed:
                         self.claimed.discard(j)
                         self.stop_position[j] = self.joints[j].position
-                        if self.position_pid[j] is not None:
-                            self.position_pid[j].reset()
+                        self._hold_pending = True
         super(FrankaHWSim, self).do_switch(start, stop)
         for c in start:
             for cpp_name, joints in c.claimed_resources:
@@ -125,21 +131,20 @@ class FrankaHWSim(RobotHWSim):
                 for j in joints:
                     if j not in self.arm or iface is None:
                         continue
-                    res = self.joints[j]
-                    self.claimed.add(j)
-                    pid = self.position_pid[j] if iface == POSITION else \
-                        self.velocity_pid[j] if iface == VELOCITY else None
-                    if iface in (POSITION, VELOCITY) and pid is None:
+                    if iface in (POSITION, VELOCITY) and \
+                            (self.position_pid if iface == POSITION else self.velocity_pid)[j] is None:
                         raise ControllerError("FrankaHWSim: joint %s has no motion_generators/%s/gains/%s "
                                               "(p, i, d) for its %s interface (franka_gazebo's "
                                               "franka_hw_sim.yaml sets them)"
                                               % (j, "position" if iface == POSITION else "velocity", j,
                                                  iface))
-                    if pid is not None:
-                        pid.reset()
-                        res.set_pid(pid, "motion_generators")
+                    res = self.joints[j]
+                    self.claimed.add(j)
                     res.command = res.position if iface == POSITION else 0.0
                     res._prev_position_cmd = None
+                    self._use_generator(res)
+                    if res.owner is self:      # the idle hold lets go
+                        res.release()
 
     def read(self):
         super(FrankaHWSim, self).read()
@@ -150,25 +155,31 @@ class FrankaHWSim(RobotHWSim):
             if self.on_initialized is not None:
                 self.on_initialized()
 
-    def write_joint(self, res, dt):
-        name = res.name
-        if name in self.position_pid and name not in self.claimed:
-            pid = self.position_pid[name]
-            if pid is None:
-                res.sim.set_effort(0.0)
-                return
-            error = res.position_error(self.stop_position.get(name, res.position))
-            res.sim.set_effort(res.clamp_effort(pid.compute(error, dt)))
-            return
-        super(FrankaHWSim, self).write_joint(res, dt)
+    def write(self, dt, t=0.0):
+        if self._hold_pending:
+            # franka's idle mode: an arm joint no controller commands holds its stop position
+            # with the position generator's gains (the World's actuator, at every step)
+            for j in self.arm:
+                res, pid = self.joints[j], self.position_pid[j]
+                if j in self.claimed or pid is None:
+                    continue
+                if res.owner is not self:
+                    res.actuate(actuators.POSITION_PID, pid.gains, res.position_rule, owner=self)
+                res.actuator.command = self.stop_position.get(j, res.position)
+            self._hold_pending = False
+        super(FrankaHWSim, self).write(dt, t)
 
     def reset_commands(self):
+        for j in self.arm:
+            if self.joints[j].owner is self:
+                self.joints[j].owner = None
         super(FrankaHWSim, self).reset_commands()
         for j in self.arm:
             self.stop_position[j] = self.joints[j].position
             for pid in (self.position_pid[j], self.velocity_pid[j]):
                 if pid is not None:
                     pid.reset()
+        self._hold_pending = True
 
     def resource_names(self, cpp_interface):
         """The resources of a franka_hw interface (``<arm_id>_robot``, ``<arm_id>_model``)."""

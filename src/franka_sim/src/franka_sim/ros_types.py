@@ -60,7 +60,8 @@ def make_hw(plugin, model, transmissions, pid_gains, warn):
         rospy.loginfo("model '%s': FrankaHWSim uses arm_id '%s' from %s"
                       % (model.name, arm_id, join(ns, "arm_id")))
     mg_ns = join(ns, "motion_generators")
-    hw = FrankaHWSim(model, transmissions, arm_id, Params(_param(mg_ns, {}), mg_ns), warn=warn)
+    hw = FrankaHWSim(model, transmissions, arm_id, Params(_param(mg_ns, {}), mg_ns), warn=warn,
+                     world=plugin.context.world)
     publisher = plugin.context.advertise(join(ns, "initialized"), Bool, queue_size=1, latch=True)
     publisher.publish(Bool(data=False))
     hw.on_initialized = lambda: publisher.publish(Bool(data=True))

@@ -29,7 +29,7 @@ def arm():
     urdf = doc.toxml()
     world = World(time_step=0.001)
     model = world.add_urdf("panda", urdf, joint_positions=START)
-    hw = FrankaHWSim(model, parse_transmissions(urdf), "panda", motion_generators())
+    hw = FrankaHWSim(model, parse_transmissions(urdf), "panda", motion_generators(), world=world)
     return world, model, hw
 
 
@@ -54,6 +54,7 @@ def test_arm_links_lose_gravity_and_the_idle_arm_holds(arm):
     hw.on_initialized = lambda: fired.append(True)
     run(world, hw, 1000)
     assert fired == [True]
+    assert all(hw.joints[j].owner is hw for j in hw.arm)     # held by the World's actuators
     for name, q in START.items():
         assert hw.joints[name].position == pytest.approx(q, abs=1e-3)
 
@@ -64,6 +65,7 @@ def test_position_interface_runs_the_position_generator(arm):
     joints = ["panda_joint%d" % i for i in range(1, 8)]
     hw.do_switch([Claim(POSITION, joints)], [])
     assert hw.joints["panda_joint1"].pid is hw.position_pid["panda_joint1"]
+    assert hw.joints["panda_joint1"].owner is None       # the idle hold let go
     hw.joints["panda_joint1"].command = 0.5
     run(world, hw, 2000)
     assert hw.joints["panda_joint1"].position == pytest.approx(0.5, abs=0.01)
