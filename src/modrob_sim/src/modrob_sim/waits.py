@@ -65,12 +65,15 @@ class GraphWait(object):
     master!") when they run before the master of a ``roslaunch ... &`` is up, and ``rosservice``
     has no ``wait``; this is the missing piece between a backgrounded launch and the next command.
     ``master`` is a ``rosgraph.Master``; ``subscribe(topic, callback)`` makes a subscription (in a
-    node, after the master is up) and returns it.
+    node, after the master is up) and returns it; ``bus_info(node)`` is that node's getBusInfo
+    connections (ROS's slave API: ``[id, peer, direction, transport, topic, connected, ...]``),
+    for the topics waited on until a subscriber of theirs is connected (``--subscribed``).
     """
 
-    def __init__(self, master, subscribe):
+    def __init__(self, master, subscribe, bus_info=None):
         self.master = master
         self.subscribe = subscribe
+        self.bus_info = bus_info or self._bus_info
         self.subscriptions = {}
         self.received = set()
 
@@ -101,6 +104,34 @@ class GraphWait(object):
             left.append(name)
         return left
 
+    def unsubscribed(self, topics):
+        """The ``topics`` no node subscribes to with a live connection yet:
+        registered at the master and connected to a publisher, so that what is published next
+        reaches it (a plot started in the background before a step is commanded)."""
+        try:
+            _publishers, subscribers, _services = self.master.getSystemState()
+        except Exception:  # noqa: B902 - the master went away (launch ended): not there
+            return list(topics)
+        nodes = dict(subscribers)
+        left = []
+        for topic in topics:
+            if not any(self._connected(node, topic) for node in nodes.get(topic, ())):
+                left.append(topic)
+        return left
+
+    def _connected(self, node, topic):
+        try:
+            connections = self.bus_info(node)
+        except Exception:  # noqa: B902 - a node that went away or does not answer yet: not connected
+            return False
+        return any(c[4] == topic and c[2] == "i" and (len(c) < 6 or c[5]) for c in connections)
+
+    def _bus_info(self, node):
+        import xmlrpc.client
+        code, _msg, connections = xmlrpc.client.ServerProxy(self.master.lookupNode(node)).getBusInfo(
+            self.master.caller_id)
+        return connections if code == 1 else []
+
     def kind(self, name):
         return "topic" if name in self.subscriptions else "service or topic"
 
@@ -110,8 +141,9 @@ class GraphWait(object):
         self.subscriptions.clear()
 
 
-def wait_for_graph(names, timeout, log=print):
-    """The command line's body: wait up to ``timeout`` wall seconds for the master and ``names``.
+def wait_for_graph(names, timeout, log=print, subscribed=()):
+    """The command line's body: wait up to ``timeout`` wall seconds for the master, ``names`` and
+    a connected subscriber on each topic of ``subscribed``.
     Returns 0 when all are there, 1 (after saying which are missing and why) otherwise."""
     import rosgraph
     start = time.monotonic()
@@ -133,7 +165,15 @@ def wait_for_graph(names, timeout, log=print):
                 "`rosservice list` and `rostopic list` show what there is)"
                 % (timeout, ", ".join("%s (%s)" % (n, graph.kind(n)) for n in left)))
             return 1
-    log("wait_for: %s up after %.1f s" % (", ".join([uri] + list(names)), time.monotonic() - start))
+    if subscribed:  # after graph.close(): this node's own subscriptions are gone
+        _poll(lambda: not graph.unsubscribed(subscribed), start + timeout)
+        left = graph.unsubscribed(subscribed)
+        if left:
+            log("wait_for: nobody subscribes to %s with a connection after %.0f s (`rostopic info TOPIC` "
+                "shows its publishers and subscribers)" % (", ".join(left), timeout))
+            return 1
+    log("wait_for: %s up after %.1f s" % (", ".join([uri] + list(names) + ["subscriber of %s" % t for t in subscribed]),
+                                          time.monotonic() - start))
     return 0
 
 

@@ -97,3 +97,26 @@ def test_wait_for_graph_says_when_there_is_no_master(monkeypatch):
     assert waits.wait_for_graph(["/clock"], 0.3, log=said.append) == 1
     assert time.monotonic() - start >= 0.3
     assert "no ROS master at http://localhost:1" in said[0] and "roslaunch" in said[0]
+
+
+def test_subscribed_needs_a_subscriber_connected_to_the_topic():
+    master = FakeMaster()
+    info = {}
+    graph = waits.GraphWait(master, None, bus_info=lambda node: info[node])
+    topic = "/ptrz/pan_position_controller/state"
+    assert graph.unsubscribed([topic]) == [topic]  # no master
+    master.up = True
+    master.state = ([(topic, ["/gazebo"])], [], [])
+    assert graph.unsubscribed([topic]) == [topic]  # published, nobody subscribes
+    master.state = ([(topic, ["/gazebo"])], [(topic, ["/rqt_plot_1"]), ("/clock", ["/rec"])], [])
+    info["/rec"] = [[1, "/gazebo", "i", "TCPROS", "/clock", True, ""]]
+    info["/rqt_plot_1"] = []
+    assert graph.unsubscribed([topic]) == [topic]  # registered, not connected yet
+    info["/rqt_plot_1"] = [[2, "/gazebo", "i", "TCPROS", topic, False, ""]]
+    assert graph.unsubscribed([topic]) == [topic]  # connection not up
+    info["/rqt_plot_1"] = [[2, "/gazebo", "o", "TCPROS", topic, True, ""]]
+    assert graph.unsubscribed([topic]) == [topic]  # an outgoing one is not a subscription
+    del info["/rqt_plot_1"]
+    assert graph.unsubscribed([topic]) == [topic]  # a node that does not answer
+    info["/rqt_plot_1"] = [[2, "/gazebo", "i", "TCPROS", topic, True, ""]]
+    assert graph.unsubscribed([topic, "/clock"]) == []
