@@ -9,6 +9,7 @@ its controllers (names, or YAML files that are first put on the parameter server
 """
 import argparse
 import os
+import socket
 import sys
 import time
 
@@ -144,39 +145,7 @@ def spawner_main(argv=None):
     controllers = expand_controllers(args.controllers)
     loaded = []
 
-    def shutdown():
-        rospy.loginfo("Shutting down spawner. Stopping and unloading controllers...")
-        t0 = time.monotonic()
-        try:
-            for k in ("switch_controller", "unload_controller"):
-                name = rospy.resolve_name(client.names[k])
-                if not _service_registered(name):
-                    # the simulator went down with us (roslaunch stops every node at once): waiting
-                    # --shutdown-timeout for it would only keep roslaunch (and this process) around
-                    rospy.loginfo("Controller Spawner: %s is no longer offered (the simulator has "
-                                  "stopped): nothing to stop or unload" % name)
-                    return
-                rospy.wait_for_service(name, timeout=args.shutdown_timeout)
-            # BEST_EFFORT: a controller the simulator already stopped (its model deleted, or another
-            # spawner) is not an error at tear-down
-            client.switch_controller([], loaded, BEST_EFFORT, False, 0.0)
-            for name in reversed(loaded):
-                if client.unload_controller(name).ok:
-                    rospy.loginfo("Unloaded %s" % name)
-                else:
-                    rospy.logwarn("Could not unload %s (the simulator's log says why)" % name)
-        except (rospy.ServiceException, rospy.ROSException) as exc:
-            if not all(_service_registered(rospy.resolve_name(client.names[k]))
-                       for k in ("switch_controller", "unload_controller")):
-                # the simulator stopped between the look above and the request: the usual end of a
-                # launch (roslaunch stops every node at once), and its controllers went with it
-                rospy.loginfo("Controller Spawner: the controller_manager went away with the simulator, "
-                              "and its controllers with it")
-                return
-            rospy.logwarn("Controller Spawner couldn't reach controller_manager to take down "
-                          "controllers (%s) after %.1f s" % (exc, time.monotonic() - t0))
-
-    rospy.on_shutdown(shutdown)
+    rospy.on_shutdown(lambda: take_down(client, loaded, args.shutdown_timeout))
     try:
         for name in controllers:
             rospy.loginfo("Loading controller: %s" % name)
@@ -204,6 +173,56 @@ def spawner_main(argv=None):
     stop_following_clock()
     rospy.spin()
     return 0
+
+
+# a request to a simulator that is shutting down itself can be accepted and never answered (its
+# listening socket still open, its service threads gone): each one is bounded so that the spawner
+# ends before roslaunch escalates to SIGTERM (15 s after Ctrl-C)
+SHUTDOWN_REQUEST_TIMEOUT = 4.0  # wall seconds
+GONE_WAIT = 3.0  # wall seconds for a simulator that did not answer to leave the master
+
+
+def take_down(client, loaded, shutdown_timeout, registered=None):
+    """The spawner's shutdown: stop and unload the controllers it ``loaded`` through ``client``
+    (a ManagerClient), quietly when the simulator stopped first (the usual end of a launch:
+    roslaunch stops every node at once). ``registered(name)`` tells whether the master still
+    lists a service (the master by default)."""
+    registered = registered or _service_registered
+    rospy.loginfo("Shutting down spawner. Stopping and unloading controllers...")
+    t0 = time.monotonic()
+    names = [rospy.resolve_name(client.names[k]) for k in ("switch_controller", "unload_controller")]
+    socket.setdefaulttimeout(min(shutdown_timeout, SHUTDOWN_REQUEST_TIMEOUT))
+    try:
+        for name in names:
+            if not registered(name):
+                # the simulator went down with us: waiting --shutdown-timeout for it would only keep
+                # roslaunch (and this process) around
+                rospy.loginfo("Controller Spawner: %s is no longer offered (the simulator has "
+                              "stopped): nothing to stop or unload" % name)
+                return
+            rospy.wait_for_service(name, timeout=shutdown_timeout)
+        # BEST_EFFORT: a controller the simulator already stopped (its model deleted, or another
+        # spawner) is not an error at tear-down
+        client.switch_controller([], loaded, BEST_EFFORT, False, 0.0)
+        for name in reversed(loaded):
+            if client.unload_controller(name).ok:
+                rospy.loginfo("Unloaded %s" % name)
+            else:
+                rospy.logwarn("Could not unload %s (the simulator's log says why)" % name)
+    except (rospy.ServiceException, rospy.ROSException) as exc:
+        end = time.monotonic() + GONE_WAIT
+        while all(registered(n) for n in names) and time.monotonic() < end:
+            time.sleep(0.05)
+        if not all(registered(n) for n in names):
+            # the simulator stopped between the look above and the request, or while it was asked:
+            # its controllers went with it
+            rospy.loginfo("Controller Spawner: the controller_manager went away with the simulator, "
+                          "and its controllers with it")
+            return
+        rospy.logwarn("Controller Spawner couldn't reach controller_manager to take down "
+                      "controllers (%s) after %.1f s" % (exc, time.monotonic() - t0))
+    finally:
+        socket.setdefaulttimeout(None)
 
 
 def _service_registered(name):
