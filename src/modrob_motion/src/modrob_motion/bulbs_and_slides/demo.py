@@ -230,7 +230,10 @@ def node_main():
         sc.stream_stats(result)
         sc.release()        # motion_publisher (and so motion_terminal) drives the arms again
     except ModrobError as exc:
-        rospy.logerr("bulbs_and_slides: %s", exc)
+        if rospy.is_shutdown():     # Ctrl-C, or the launch ending: the user stopped it, nothing broke
+            rospy.logwarn("bulbs_and_slides: stopped before the end (%s): no RESULT", exc)
+        else:
+            rospy.logerr("bulbs_and_slides: %s", exc)
         return 1
     (rospy.loginfo if result.success else rospy.logerr)(result.line(scenario))
     path = rospy.get_param("~result_file", "")
