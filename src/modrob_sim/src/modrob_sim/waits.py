@@ -172,8 +172,8 @@ def wait_for_graph(names, timeout, log=print, subscribed=()):
             log("wait_for: nobody subscribes to %s with a connection after %.0f s (`rostopic info TOPIC` "
                 "shows its publishers and subscribers)" % (", ".join(left), timeout))
             return 1
-    log("wait_for: %s up after %.1f s" % (", ".join([uri] + list(names) + ["subscriber of %s" % t for t in subscribed]),
-                                          time.monotonic() - start))
+    there = [uri] + list(names) + ["subscriber of %s" % t for t in subscribed]
+    log("wait_for: %s up after %.1f s" % (", ".join(there), time.monotonic() - start))
     return 0
 
 
