@@ -286,8 +286,8 @@ def test_deferred_messages_arrive_complete_in_order_and_latch_the_last(master):
 
 def test_the_clock_ticks_in_the_after_hook_and_flushes_after_a_pass():
     """StatePublishers gives the World the ticker's observer, ticks /clock in its after-step hook
-    (the ticker sends it once per time: the observer may have sent the step's already) and flushes
-    after the loop's pass, before the scene."""
+    (the ticker sends it once per time: the observer may have sent the step's already) and sends it
+    at once, before anything the step publishes; after the loop's pass it flushes before the scene."""
     import types
     from modrob_sim.gazebo_ros.state_publishers import StatePublishers
     calls = []
@@ -319,6 +319,6 @@ def test_the_clock_ticks_in_the_after_hook_and_flushes_after_a_pass():
     out._state_period = out._marker_period = 0.01
     out.after_step()
     out.after_pass()
-    assert calls == [("ticker", 0.0), ("observer", 1234, 5678), ("tick", 1.5), ("scene", 1.5), ("flush",),
-                     ("scene", 1.5)]
+    assert calls == [("ticker", 0.0), ("observer", 1234, 5678), ("tick", 1.5), ("flush",), ("scene", 1.5),
+                     ("flush",), ("scene", 1.5)]
     assert out.after_due() == pytest.approx(10.0 - 0.0005)       # /clock needs no Python step
