@@ -108,16 +108,16 @@ class GraphWait(object):
         """The ``topics`` no node subscribes to with a live connection yet:
         registered at the master and connected to a publisher, so that what is published next
         reaches it (a plot started in the background before a step is commanded)."""
+        return [topic for topic in topics if not self.connected_subscribers(topic)]
+
+    def connected_subscribers(self, topic):
+        """The nodes subscribed to ``topic`` with a live connection to a publisher of it (whichever
+        node publishes it: /gazebo's topics may come from its roscpp side, /gazebo_roscpp)."""
         try:
             _publishers, subscribers, _services = self.master.getSystemState()
         except Exception:  # noqa: B902 - the master went away (launch ended): not there
-            return list(topics)
-        nodes = dict(subscribers)
-        left = []
-        for topic in topics:
-            if not any(self._connected(node, topic) for node in nodes.get(topic, ())):
-                left.append(topic)
-        return left
+            return []
+        return [node for node in dict(subscribers).get(topic, ()) if self._connected(node, topic)]
 
     def _connected(self, node, topic):
         try:

@@ -12,7 +12,6 @@ import subprocess
 import tempfile
 import time
 import unittest
-import xmlrpc.client
 
 import rosbag
 import rosgraph
@@ -23,6 +22,7 @@ from std_msgs.msg import Float64
 
 from rqt_plot.series import read_csv
 
+from modrob_sim.waits import GraphWait
 from modrob_viz.render.xvfb import Xvfb
 
 CTRL = "/ptrz/pan_position_controller"
@@ -34,11 +34,11 @@ def key(t):
     return round(t, 6)
 
 
-def connected_to(topic, publisher="/gazebo"):
-    """Nodes ``publisher`` has a live connection to on ``topic`` (its getBusInfo)."""
-    uri = rosgraph.Master("/plot_step_check").lookupNode(publisher)
-    _code, _msg, info = xmlrpc.client.ServerProxy(uri).getBusInfo("/plot_step_check")
-    return [c[1] for c in info if c[2] == "o" and c[4] == topic]
+def connected_to(topic):
+    """Nodes subscribed to ``topic`` with a live connection to its publisher (wherever /gazebo
+    publishes it from: rospy or its roscpp side)."""
+    graph = GraphWait(rosgraph.Master("/plot_step_check"), subscribe=None)
+    return graph.connected_subscribers(topic)
 
 
 def wait(pred, timeout, what):
