@@ -3,15 +3,17 @@
 
 Tier 1: pytest over every package's ``test/unit/`` and ``scripts/test/`` (pure libraries; tests
 that need a master start their own on a free port). Tier 2: every package's ``test/*.test``
-through ``rostest``, each on its own free master port so that runs cannot collide, then the docs
-test (``scripts/docs_test.py``: the code blocks of README.md and docs/*.md).
+through ``rostest``, each on its own free master port so that runs cannot collide, and the docs
+test (``scripts/docs_test.py``: the code blocks of README.md and docs/*.md), two at a time.
 
     run_tests.py                   both tiers
     run_tests.py --tier 1          unit tests only
     run_tests.py -k sim            only packages / .test files whose path contains 'sim'
     run_tests.py --tier 2 -k docs  only the docs test
+    run_tests.py --tier 2 -j 1     rostests one after another
 """
 import argparse
+import concurrent.futures
 import glob
 import os
 import socket
@@ -81,74 +83,52 @@ def run_unit(pattern):
     return passed, failed, skipped, xfailed
 
 
-def run_rostests(pattern, timeout):
+def rostest_files(pattern):
     # -k matches the path inside the workspace (not the folder the workspace is in)
-    files = sorted(f for f in glob.glob(os.path.join(ROOT, "src", "*", "test", "*.test"))
-                   if pattern in os.path.relpath(f, ROOT))
-    total = [0, 0, 0, 0]
-    if not files:
-        print("[tests] tier 2: no .test files matched")
-        return tuple(total)
-    print("[tests] tier 2: %d rostest files" % len(files), flush=True)
-    failures = []
-    for i, path in enumerate(files, 1):
-        pkg = os.path.basename(os.path.dirname(os.path.dirname(path)))
-        name = os.path.splitext(os.path.basename(path))[0]
-        outdir = os.path.join(RESULTS, "rostest", pkg)
-        os.makedirs(outdir, exist_ok=True)
-        port = free_port()
-        env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % port,
-                   ROS_HOME=os.path.join(RESULTS, "ros_home"))
-        logfile = os.path.join(outdir, name + ".log")
-        start = time.time()
-        # rostest starts its master on a free port of its own (port 0); ROS_MASTER_URI is set to
-        # an unused port as well so that nothing can fall back to a master of the user's.
-        cmd = ["rostest", "--results-base-dir", outdir, path]
-        with open(logfile, "w") as log:
-            try:
-                rc = subprocess.call(cmd, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT,
-                                     timeout=timeout)
-            except subprocess.TimeoutExpired:
-                rc = "timeout after %d s" % timeout
-        fresh = [x for x in glob.glob(os.path.join(outdir, "**", "*.xml"), recursive=True)
-                 if os.path.getmtime(x) >= start]
-        # rosunit-*.xml hold the test cases of each test node; rostest-*.xml is a summary with
-        # one entry per node (it fails a node that crashed before writing its own results).
-        p = f = s = 0
-        for x in fresh:
-            if os.path.basename(x).startswith("rosunit-"):
-                a, b, c, _ = junit_counts(x)
-                p, f, s = p + a, f + b, s + c
-        summary_failed = sum(junit_counts(x)[1] for x in fresh
-                             if os.path.basename(x).startswith("rostest-"))
-        f = max(f, summary_failed)
-        if rc != 0 and f == 0:
-            f = 1
-        if p + f == 0:
-            f = 1  # a .test that ran no test is a failure
-        total[0] += p
-        total[1] += f
-        total[2] += s
-        status = "ok" if f == 0 else "FAILED (rc=%s, log: %s)" % (rc, os.path.relpath(logfile, ROOT))
-        print("[tests] [%d/%d] %s/%s: %d passed, %d failed in %.0f s  %s"
-              % (i, len(files), pkg, name, p, f, time.time() - start, status), flush=True)
-        if f:
-            failures.append(logfile)
-    for logfile in failures:
-        print("---- last lines of %s" % os.path.relpath(logfile, ROOT))
-        with open(logfile, errors="replace") as fh:
-            print("".join(fh.readlines()[-40:]))
-    return tuple(total)
+    return sorted(f for f in glob.glob(os.path.join(ROOT, "src", "*", "test", "*.test"))
+                  if pattern in os.path.relpath(f, ROOT))
 
 
-def run_docs(pattern, timeout):
+def run_rostest(path, timeout):
+    """One .test file through rostest on its own master: (passed, failed, skipped, logfile, seconds)."""
+    pkg = os.path.basename(os.path.dirname(os.path.dirname(path)))
+    name = os.path.splitext(os.path.basename(path))[0]
+    outdir = os.path.join(RESULTS, "rostest", pkg, name)     # its own: files may run at once
+    os.makedirs(outdir, exist_ok=True)
+    env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % free_port(),
+               ROS_HOME=os.path.join(RESULTS, "ros_home"))
+    logfile = os.path.join(RESULTS, "rostest", pkg, name + ".log")
+    start = time.time()
+    # rostest starts its master on a free port of its own (port 0); ROS_MASTER_URI is set to
+    # an unused port as well so that nothing can fall back to a master of the user's.
+    cmd = ["rostest", "--results-base-dir", outdir, path]
+    with open(logfile, "w") as log:
+        try:
+            rc = subprocess.call(cmd, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT,
+                                 timeout=timeout)
+        except subprocess.TimeoutExpired:
+            rc = "timeout after %d s" % timeout
+    results = glob.glob(os.path.join(outdir, "**", "*.xml"), recursive=True)
+    # rosunit-*.xml hold the test cases of each test node; rostest-*.xml is a summary with
+    # one entry per node (it fails a node that crashed before writing its own results).
+    p = f = s = 0
+    for x in results:
+        if os.path.basename(x).startswith("rosunit-"):
+            a, b, c, _ = junit_counts(x)
+            p, f, s = p + a, f + b, s + c
+    f = max(f, sum(junit_counts(x)[1] for x in results if os.path.basename(x).startswith("rostest-")))
+    if rc != 0 and f == 0:
+        f = 1
+    if p + f == 0:
+        f = 1  # a .test that ran no test is a failure
+    return p, f, s, rc, logfile, time.time() - start
+
+
+def run_docs(timeout):
     """The docs test (scripts/docs_test.py): every shell and Python block of README.md and docs/*.md
-    is run or marked as not run; it runs with `-k docs` or with no pattern."""
-    if pattern not in "scripts/docs_test.py":
-        return 0, 0, 0, 0
+    is run or marked as not run. (passed, failed, 0, rc, logfile, seconds)"""
     xml = os.path.join(RESULTS, "docs.xml")
     logfile = os.path.join(RESULTS, "docs.log")
-    print("[tests] tier 2: the docs' code blocks (scripts/docs_test.py)", flush=True)
     start = time.time()
     with open(logfile, "w") as log:
         try:
@@ -159,13 +139,47 @@ def run_docs(pattern, timeout):
     passed, failed, _, _ = junit_counts(xml)
     if rc != 0 and failed == 0:
         failed = 1
-    status = "ok" if not failed else "FAILED (rc=%s, log: %s)" % (rc, os.path.relpath(logfile, ROOT))
-    print("[tests] docs: %d passed, %d failed in %.0f s  %s" % (passed, failed, time.time() - start, status),
-          flush=True)
-    if failed:
+    return passed, failed, 0, rc, logfile, time.time() - start
+
+
+def run_tier2(pattern, timeout, jobs):
+    """Every matching .test file and (with no pattern or one in its path) the docs test, ``jobs``
+    at a time: most of a rostest's wall time is a master, nodes starting and simulated time
+    passing, so two share this 2-core machine well. The docs test, the longest, starts first."""
+    work = [("docs", None)] if pattern in "scripts/docs_test.py" else []
+    work += [("%s/%s" % (os.path.basename(os.path.dirname(os.path.dirname(f))),
+                         os.path.splitext(os.path.basename(f))[0]), f) for f in rostest_files(pattern)]
+    total = [0, 0, 0, 0]
+    if not work:
+        print("[tests] tier 2: no .test files matched")
+        return tuple(total)
+    print("[tests] tier 2: %d rostest files%s, %d at a time"
+          % (len(work) - (work[0][0] == "docs"), " and the docs' code blocks (scripts/docs_test.py)"
+             if work[0][0] == "docs" else "", jobs), flush=True)
+    failures = []
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        running = {pool.submit(run_docs if path is None else run_rostest,
+                               *((timeout,) if path is None else (path, timeout))): label
+                   for label, path in work}
+        for i, done in enumerate(concurrent.futures.as_completed(running), 1):
+            label = running[done]
+            p, f, s, rc, logfile, seconds = done.result()
+            total[0] += p
+            total[1] += f
+            total[2] += s
+            status = "ok" if f == 0 else "FAILED (rc=%s, log: %s)" % (rc, os.path.relpath(logfile, ROOT))
+            print("[tests] [%d/%d] %s: %d passed, %d failed in %.0f s  %s"
+                  % (i, len(work), label, p, f, seconds, status), flush=True)
+            if f:
+                failures.append(logfile)
+    for logfile in failures:
+        print("---- last lines of %s" % os.path.relpath(logfile, ROOT))
         with open(logfile, errors="replace") as fh:
-            print("".join(line for line in fh if not line.startswith("       |"))[-6000:])
-    return passed, failed, 0, 0
+            if logfile.endswith("docs.log"):
+                print("".join(line for line in fh if not line.startswith("       |"))[-6000:])
+            else:
+                print("".join(fh.readlines()[-40:]))
+    return tuple(total)
 
 
 def main():
@@ -173,6 +187,8 @@ def main():
     ap.add_argument("--tier", type=int, choices=(1, 2), help="run only this tier")
     ap.add_argument("-k", dest="pattern", default="", help="only paths containing this string")
     ap.add_argument("--timeout", type=int, default=900, help="seconds per rostest file (default 900)")
+    ap.add_argument("-j", "--jobs", type=int, default=int(os.environ.get("MODROB_TEST_JOBS", "2")),
+                    help="tier 2 files run at once (default 2, or $MODROB_TEST_JOBS)")
     args = ap.parse_args()
     os.makedirs(RESULTS, exist_ok=True)
     print("[tests] results and logs: %s" % os.path.relpath(RESULTS, ROOT))
@@ -181,8 +197,7 @@ def main():
     if args.tier in (None, 1):
         parts.append(run_unit(args.pattern))
     if args.tier in (None, 2):
-        parts.append(run_rostests(args.pattern, args.timeout))
-        parts.append(run_docs(args.pattern, args.timeout))
+        parts.append(run_tier2(args.pattern, args.timeout, max(1, args.jobs)))
     for part in parts:
         for i, v in enumerate(part):
             totals[i] += v
