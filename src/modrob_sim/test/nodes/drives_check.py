@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """rostest node: a mobile robot driven through /cmd_vel on the /gazebo node (drives_*.test).
-``drives_check.py diff_bot|skid_bot``: the robot rests level at its wheel radius, 0.1 m/s for 5
-simulated seconds moves it 0.5 m, /odom agrees with ground truth (/gazebo/model_states) within
-2 % of the distance, the odom -> base -> wheel tf chain is complete; the diff bot's /scan and
-/imu publish in their frames."""
+``drives_check.py diff_bot|skid_bot|planar_bot|trike_bot``: the robot rests level at its wheel
+radius, 0.1 m/s for 5 simulated seconds moves it 0.5 m, /odom agrees with ground truth
+(/gazebo/model_states) within 2 % of the distance, the odom -> base -> wheel tf chain is
+complete; the diff bot's /scan and /imu publish in their frames; the planar base stops by itself
+its cmdTimeout after the last command; the tricycle's wheel joint states publish."""
 import math
 import os
 import sys
@@ -23,7 +24,9 @@ from sim_helpers import Latest, wait_for  # noqa: E402
 ROBOT = sys.argv[1] if len(sys.argv) > 1 and not sys.argv[1].startswith("_") else "diff_bot"
 # rest height of the root link, base frame of /odom, a wheel link at the end of the tf chain
 SPEC = {"diff_bot": (-0.001, "base_footprint", "wheel_left_link"),
-        "skid_bot": (0.129, "base_link", "front_left_wheel_link")}
+        "skid_bot": (0.129, "base_link", "front_left_wheel_link"),
+        "planar_bot": (-0.001, "base_footprint", "base_footprint"),
+        "trike_bot": (-0.001, "base_link", "front_wheel")}
 
 
 def yaw_of(q):
@@ -53,6 +56,8 @@ class DrivesCheck(unittest.TestCase):
         self.assertTrue(wait_for(lambda: rospy.Time.now() >= end, 120.0), "simulated time stands still")
 
     def send(self, v, w):
+        """One command (none of the fixtures' drives needs it repeated: planar_bot's cmdTimeout
+        is longer than a drive here)."""
         t = Twist()
         t.linear.x, t.angular.z = v, w
         self.cmd.publish(t)
@@ -119,6 +124,27 @@ class DrivesCheck(unittest.TestCase):
         self.assertEqual(imus.get().header.frame_id, "imu_link")
         self.assertAlmostEqual(imus.get().linear_acceleration.z, 9.81, delta=0.3)
         self.assertEqual(sorted(joints.get().name), ["wheel_left_joint", "wheel_right_joint"])
+
+    @unittest.skipUnless(ROBOT == "planar_bot", "the planar base has a cmdTimeout")
+    def test_5_planar_base_stops_its_cmd_timeout_after_the_last_command(self):
+        """One command of 0.1 m/s sideways: the base moves for cmdTimeout (8 s), then stops by
+        itself: 0.8 m on /odom (the distance, not when readings arrive, measures the time)."""
+        before = self.odom.get().pose.pose.position.y
+        t = Twist()
+        t.linear.y = 0.1
+        self.cmd.publish(t)
+        self.assertTrue(wait_for(lambda: self.odom.get().twist.twist.linear.y > 0.05, 60.0),
+                        "it does not move")
+        self.assertTrue(wait_for(lambda: abs(self.odom.get().twist.twist.linear.y) < 1e-3, 120.0),
+                        "it does not stop by itself")
+        self.assertAlmostEqual(self.odom.get().pose.pose.position.y - before, 0.8, delta=0.015)
+
+    @unittest.skipUnless(ROBOT == "trike_bot", "the tricycle publishes its wheels' joint states")
+    def test_6_tricycle_wheel_joint_states(self):
+        joints = Latest("/joint_states", JointState)
+        self.assertTrue(wait_for(lambda: joints.count > 1, 60.0))
+        self.assertEqual(sorted(joints.get().name), ["front_steering_joint", "front_wheel_joint",
+                                                     "left_wheel_joint", "right_wheel_joint"])
 
 
 if __name__ == "__main__":

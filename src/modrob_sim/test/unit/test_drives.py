@@ -319,9 +319,10 @@ def test_joint_state_publisher_names_a_missing_joint():
 
 def test_planar_move_moves_the_base_holonomically_and_times_out():
     """linear.x, linear.y and angular.z move the base in its heading; 0.5 s after the last
-    command (cmdTimeout) it stops."""
+    command (cmdTimeout, shortened here from the fixture's 8 s) it stops."""
     from modrob_sim.drives.planar_move import PlanarMove
-    b = Bot("planar_bot.urdf", "libgazebo_ros_planar_move.so", PlanarMove, command=(0.0, 0.0, 0.0))
+    b = Bot("planar_bot.urdf", "libgazebo_ros_planar_move.so", PlanarMove, command=(0.0, 0.0, 0.0),
+            edit=lambda text: text.replace("<cmdTimeout>8.0</cmdTimeout>", "<cmdTimeout>0.5</cmdTimeout>"))
     try:
         b.world.step(200)
         b.extra = (b.world.time,)          # when the command came
