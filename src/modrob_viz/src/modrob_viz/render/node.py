@@ -285,8 +285,9 @@ class CameraRendererNode(object):
         info = CameraInfo()
         info.header.frame_id = frame
         info.width, info.height = intr.width, intr.height
-        info.K = pinhole.k_matrix(intr)
-        info.P = pinhole.p_matrix(intr)
+        drawn = pinhole.rviz_intrinsics(intr)
+        info.K = pinhole.k_matrix(drawn)
+        info.P = pinhole.p_matrix(drawn)
         info.R = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
         info.distortion_model = "plumb_bob"
         info.D = [0.0] * 5

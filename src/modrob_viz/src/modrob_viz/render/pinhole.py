@@ -70,6 +70,14 @@ def from_matrices(width, height, K=None, P=None):
     return Intrinsics(w, h, float(fx), float(fy), float(cx), float(cy))
 
 
+def rviz_intrinsics(i):
+    """The intrinsics to give RViz's Camera display for an image with intrinsics ``i``: RViz puts
+    the principal point at (cx, cy) in coordinates whose origin is the top-left pixel's corner,
+    ROS (CameraInfo, image_geometry) at the top-left pixel's centre, half a pixel apart. Given
+    (cx + 0.5, cy + 0.5), RViz draws a point where ``project(i, point)`` puts it."""
+    return i._replace(cx=i.cx + 0.5, cy=i.cy + 0.5)
+
+
 def k_matrix(i):
     return [i.fx, 0.0, i.cx, 0.0, i.fy, i.cy, 0.0, 0.0, 1.0]
 

@@ -25,7 +25,8 @@ class BallFinder(object):
         return cv2.morphologyEx(m, cv2.MORPH_OPEN, self.kernel)
 
     def find(self, rgb):
-        """Detection (centroid u, v in pixels with 0.5 at a pixel's centre, area in px) or None."""
+        """Detection (centroid u, v in pixels, whole numbers at pixel centres as in ROS's CameraInfo,
+        area in px) or None."""
         m = self.mask(rgb)
         n, labels, stats, centroids = cv2.connectedComponentsWithStats(m, 8)
         if n <= 1:
@@ -35,4 +36,4 @@ class BallFinder(object):
         if area < self.min_area:
             return None
         cu, cv_ = centroids[best]
-        return Detection(float(cu) + 0.5, float(cv_) + 0.5, area)
+        return Detection(float(cu), float(cv_), area)

@@ -12,7 +12,7 @@ BALL = (230, 0, 190)
 def render(pose, intr, ball_centre, ball_radius, noise=0.0, rng=None):
     """RGB uint8 image (height x width x 3) of the ball on the floor seen from ``pose``."""
     rot, t = pose
-    us, vs = np.meshgrid(np.arange(intr.width) + 0.5, np.arange(intr.height) + 0.5)
+    us, vs = np.meshgrid(np.arange(intr.width), np.arange(intr.height))     # pixel centres (ROS)
     d_cam = np.stack([np.ones_like(us), -(us - intr.cx) / intr.fx, -(vs - intr.cy) / intr.fy], axis=-1)
     d = d_cam.dot(rot.T)
     d /= np.linalg.norm(d, axis=-1, keepdims=True)
