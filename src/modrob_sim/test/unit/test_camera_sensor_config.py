@@ -55,3 +55,56 @@ def test_camera_info_follows_gazebo_formula():
 def test_bad_sensors_name_the_problem(bad, match):
     with pytest.raises(ModelError, match=match):
         _parse(bad)
+
+
+# ---- depth cameras (TurtleBot3 waffle's realsense_R200 block, in our own words) -------------------
+DEPTH = """<sensor type="depth" name="depth_cam"><update_rate>20</update_rate>
+  <camera><horizontal_fov>1.2</horizontal_fov>
+    <image><width>320</width><height>240</height><format>R8G8B8</format></image>
+    <depth_camera/><clip><near>0.05</near><far>50</far></clip></camera>
+  <plugin name="camera_controller" filename="libgazebo_ros_openni_kinect.so">
+    <cameraName>cam</cameraName><frameName>cam_optical</frameName>
+    %s
+  </plugin></sensor>"""
+
+
+def _parse_depth(extra="<baseline>0.1</baseline>", filename="libgazebo_ros_openni_kinect.so"):
+    s = ET.fromstring(DEPTH % extra)
+    return sensor_config.parse_depth(s, s.find("plugin"), "cam_link", "bot", "", filename)
+
+
+def test_depth_camera_defaults_as_gazebo_plugins():
+    c = _parse_depth()
+    assert (c.image_topic, c.info_topic) == ("ir/image_raw", "ir/camera_info")
+    d = c.depth
+    topics = (d.depth_image_topic, d.depth_info_topic, d.points_topic)
+    assert topics == ("depth/image_raw", "depth/camera_info", "points")
+    assert (d.cutoff, d.cutoff_max, d.depth16) == (0.4, 5.0, False)
+    assert (c.width, c.height, c.near, c.far, c.update_rate) == (320, 240, 0.05, 50.0, 20.0)
+    plain = _parse_depth(filename="libgazebo_ros_depth_camera.so")
+    assert plain.depth.cutoff_max == math.inf       # the depth_camera plugin has no upper cutoff
+
+
+def test_depth_camera_parameters():
+    c = _parse_depth("<imageTopicName>rgb/image_raw</imageTopicName><pointCloudTopicName>depth/points"
+                     "</pointCloudTopicName><pointCloudCutoff>0.2</pointCloudCutoff><pointCloudCutoffMax>8"
+                     "</pointCloudCutoffMax><useDepth16UC1Format>true</useDepth16UC1Format>")
+    assert c.image_topic == "rgb/image_raw" and c.depth.points_topic == "depth/points"
+    assert (c.depth.cutoff, c.depth.cutoff_max, c.depth.depth16) == (0.2, 8.0, True)
+    assert sensor_config.topic(c, c.depth.points_topic) == "/cam/depth/points"
+
+
+@pytest.mark.parametrize("extra,match", [
+    ("<pointCloudCutoff>6</pointCloudCutoff>", "pointCloudCutoff"),
+    ("<useDepth16UC1Format>maybe</useDepth16UC1Format>", "useDepth16UC1Format"),
+    ("<baseline>x</baseline>", "baseline"),
+])
+def test_bad_depth_parameters_named(extra, match):
+    with pytest.raises(ModelError, match=match):
+        _parse_depth(extra)
+
+
+def test_depth_plugin_needs_a_depth_sensor():
+    s = ET.fromstring(SENSOR)
+    with pytest.raises(ModelError, match=r'libgazebo_ros_openni_kinect.so needs <sensor type="depth">'):
+        sensor_config.parse_depth(s, s.find("plugin"), "l", "m")

@@ -13,8 +13,17 @@
 // The render window can be wider than the image: RViz makes every render window's width even (an
 // image 321 px wide is drawn in a 322 px window whose last column the panel clips), so the copy
 // takes the image's columns from each row of the render.
+//
+// Depth: with "Capture Depth" on, the depth buffer of each render is read too (glReadPixels,
+// GL_DEPTH_COMPONENT as floats, right after the colour) and turned into metres along the optical
+// axis with the near and far planes that render was drawn with: the depth camera's depth image.
+// A pixel where nothing was drawn (depth buffer at the far plane) reads +inf.
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <vector>
+
+#include <GL/gl.h>
 
 #include <OgrePixelFormat.h>
 #include <OgreRenderTarget.h>
@@ -44,6 +53,8 @@ public:
     far_property_->setMin(1e-3f);
     capture_property_ = new rviz::BoolProperty("Capture Pixels", false,
                                                "Copy every render into memory for camera_renderer.", this);
+    depth_property_ = new rviz::BoolProperty("Capture Depth", false,
+                                             "Also copy every render's depth (metres) for camera_renderer.", this);
   }
 
   void postRenderTargetUpdate(const Ogre::RenderTargetEvent& evt) override
@@ -58,6 +69,10 @@ public:
       pixels_.resize(static_cast<size_t>(w) * h * 3);
       Ogre::PixelBox box(w, h, 1, Ogre::PF_BYTE_RGB, pixels_.data());
       evt.source->copyContentsToMemory(Ogre::Box(0, 0, w, h), box, Ogre::RenderTarget::FB_AUTO);
+      if (depth_property_->getBool() && drawn_far_ > drawn_near_ && drawn_near_ > 0.0)
+        readDepth(w, h);
+      else
+        depth_.clear();
       width_ = w;
       height_ = h;
       ++serial_;
@@ -77,6 +92,20 @@ public:
     const size_t row = static_cast<size_t>(width) * 3, stride = static_cast<size_t>(width_) * 3;
     for (size_t y = 0; y < height_; ++y)
       std::memcpy(out + y * row, pixels_.data() + y * stride, row);
+    return static_cast<long>(serial_);
+  }
+
+  // the depth (m) of the last captured render, like copyPixels; -1 also when it has no depth
+  long copyDepth(float* out, int width, int height) const
+  {
+    if (serial_ == 0)
+      return 0;
+    if (depth_.size() != static_cast<size_t>(width_) * height_ || width <= 0 || height <= 0 ||
+        static_cast<int>(height_) != height ||
+        (static_cast<int>(width_) != width && static_cast<int>(width_) != width + 1))
+      return -1;
+    for (size_t y = 0; y < height_; ++y)
+      std::memcpy(out + y * width, depth_.data() + y * width_, sizeof(float) * width);
     return static_cast<long>(serial_);
   }
 
@@ -133,6 +162,7 @@ public:
   {
     rviz::CameraDisplay::preRenderTargetUpdate(evt);
     noteRender();
+    drawn_near_ = drawn_far_ = 0.0;  // set below when this render has our planes
     if (!render_panel_ || !render_panel_->getCamera())
       return;
     Ogre::Camera* camera = render_panel_->getCamera();
@@ -146,13 +176,42 @@ public:
     m[2][2] = -(f + n) / (f - n);
     m[2][3] = -2.0 * f * n / (f - n);
     camera->setCustomProjectionMatrix(true, m);
+    drawn_near_ = n;
+    drawn_far_ = f;
   }
 
 private:
+  // The window's depth buffer (the render's context is current here), bottom row first in GL, as
+  // metres along the optical axis, top row first: window depth d in [0, 1] is the projection's
+  // z_ndc = 2 d - 1, and z = 2 f n / ((f + n) - z_ndc (f - n)).
+  void readDepth(unsigned int w, unsigned int h)
+  {
+    raw_depth_.resize(static_cast<size_t>(w) * h);
+    depth_.resize(raw_depth_.size());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, raw_depth_.data());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    const double n = drawn_near_, f = drawn_far_;
+    const float inf = std::numeric_limits<float>::infinity();
+    for (size_t y = 0; y < h; ++y)
+    {
+      const float* src = raw_depth_.data() + (h - 1 - y) * w;
+      float* dst = depth_.data() + y * w;
+      for (size_t x = 0; x < w; ++x)
+      {
+        const double d = src[x];
+        dst[x] = d >= 1.0 ? inf : static_cast<float>(2.0 * f * n / ((f + n) - (2.0 * d - 1.0) * (f - n)));
+      }
+    }
+  }
+
   rviz::FloatProperty* near_property_;
   rviz::FloatProperty* far_property_;
   rviz::BoolProperty* capture_property_;
+  rviz::BoolProperty* depth_property_;
   std::vector<unsigned char> pixels_;
+  std::vector<float> raw_depth_, depth_;
+  double drawn_near_ = 0.0, drawn_far_ = 0.0;
   unsigned int width_ = 0, height_ = 0;
   unsigned long serial_ = 0;
   unsigned long renders_ = 0;
@@ -202,6 +261,15 @@ long modrob_viz_clip_camera_copy(void* display, unsigned char* out, int width, i
 {
   auto* d = dynamic_cast<modrob_viz::ClipCameraDisplay*>(static_cast<rviz::Display*>(display));
   return d ? d->copyPixels(out, width, height) : -1;
+}
+
+// copy the depth of the last captured render (metres along the optical axis, +inf where nothing
+// was drawn; width * height floats, top row first) into out; returns its serial (the same as its
+// pixels'), 0 if there is none yet, -1 if not a ClipCamera, the size differs or it has no depth
+long modrob_viz_clip_camera_copy_depth(void* display, float* out, int width, int height)
+{
+  auto* d = dynamic_cast<modrob_viz::ClipCameraDisplay*>(static_cast<rviz::Display*>(display));
+  return d ? d->copyDepth(out, width, height) : -1;
 }
 }
 

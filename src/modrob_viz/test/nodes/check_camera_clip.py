@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""rostest: test/fixtures/camera_clip.world seen by camera_renderer. Both cameras at (0, 0, 1) look
-along +x (hfov 1.0 rad, 320x240); green box 0.3 m ahead (left of centre), red box 2 m ahead (centre),
-blue box 4 m ahead (right, lower). clip_cam (near 0.5, far 3) must show only the red box, wide_cam (near
-0.02, far 300) all three, each where the pinhole model puts it."""
+"""rostest: test/fixtures/camera_clip.world seen through the renderer the simulator runs. Both
+cameras at (0, 0, 1) look along +x (hfov 1.0 rad, 320x240); green box 0.3 m ahead (left of
+centre), red box 2 m ahead (centre), blue box 4 m ahead (right, lower). clip_cam (near 0.5, far 3)
+must show only the red box, wide_cam (near 0.02, far 300) all three, each where the pinhole model
+puts it."""
 import math
 import time
 import unittest

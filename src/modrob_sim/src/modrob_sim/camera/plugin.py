@@ -3,10 +3,14 @@
 For a ``<sensor type="camera">`` it publishes the sensor's optical frame in tf (through the scene
 publisher: ``gazebo/<model>/<link>/<sensor>``), its Gazebo intrinsics (f = width / (2 tan(hfov/2)),
 principal point (w+1)/2, (h+1)/2) on a latched internal CameraInfo topic, and registers the camera
-under ``/gazebo/camera_sensors/<model>__<sensor>`` so that the ``camera_renderer`` node (a separate
-process: the simulation never waits for it) renders and publishes
-``<robotNamespace>/<cameraName>/<imageTopicName>`` and ``.../<cameraInfoTopicName>`` at the
-update rate, stamped with sim time.
+under ``/gazebo/camera_sensors/<model>__<sensor>`` so that the camera renderer (a separate process
+that the node runs while a camera is subscribed: renderer_process; the simulation never waits for
+it) renders and publishes ``<robotNamespace>/<cameraName>/<imageTopicName>`` and
+``.../<cameraInfoTopicName>`` at the update rate, stamped with sim time.
+
+Depth cameras (``<sensor type="depth">``): ``libgazebo_ros_openni_kinect.so`` and
+``libgazebo_ros_depth_camera.so`` register the same way with their depth image, depth CameraInfo
+and point cloud topics (sensor_config.parse_depth); the renderer draws them from its depth buffer.
 
 Zoom while running: ``<robotNamespace>/<cameraName>/set_hfov`` (std_msgs/Float64, rad) or the
 service ``.../set_camera_info`` (sensor_msgs/SetCameraInfo; hfov from K[0] and the width).
@@ -14,19 +18,26 @@ service ``.../set_camera_info`` (sensor_msgs/SetCameraInfo; hfov from K[0] and t
 import math
 import re
 
+import roslib.packages
+import rospkg
 import rospy
-from sensor_msgs.msg import CameraInfo
+from sensor_msgs.msg import CameraInfo, Image, PointCloud2
 from sensor_msgs.srv import SetCameraInfo, SetCameraInfoResponse
 from std_msgs.msg import Float64
 
 from modrob_sim.camera import sensor_config
+from modrob_sim.camera.renderer_process import RendererProcess, check_display
 from modrob_sim.camera.scene import ScenePublisher
+from modrob_sim.gazebo_ros.package_exports import PackageExports
 from modrob_sim.gazebo_ros import transforms as tf
 from modrob_sim.gazebo_ros.plugin_base import SensorPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
 
 FILENAME = "libgazebo_ros_camera.so"
 MIN_HFOV, MAX_HFOV = 0.01, 3.1
+#: a camera's output topics (keys of its registration) and their types
+OUTPUTS = (("image", Image), ("camera_info_out", CameraInfo), ("depth_image", Image),
+           ("depth_camera_info", CameraInfo), ("points", PointCloud2))
 
 
 def intrinsics(width, height, hfov):
@@ -48,13 +59,47 @@ def camera_info(cfg, hfov, frame_id):
     return info
 
 
+def _find_executable(package, name):
+    try:
+        found = roslib.packages.find_node(package, name)
+    except rospkg.ResourceNotFound:
+        return None
+    return found[0] if found else None
+
+
+def renderer_process(node_name):
+    """The node's RendererProcess (made on first use from the node's ``~render_cameras``,
+    ``~render_display`` and ``~render_idle_stop``; stopped with the node)."""
+    def make():
+        enabled = bool(rospy.get_param(node_name + "/render_cameras", True))
+        display = rospy.get_param(node_name + "/render_display", "")
+        try:
+            check_display(display)
+        except ValueError as err:
+            rospy.logerr("%s; the renderer draws on its private Xvfb", err)
+            display = ""
+        proc = RendererProcess(node_name, PackageExports(), _find_executable,
+                               enabled=enabled, display=display,
+                               idle_stop=float(rospy.get_param(node_name + "/render_idle_stop", 10.0)))
+        if not enabled:
+            rospy.loginfo("%s: ~render_cameras is false: the camera sensors' images come from a renderer "
+                          "you run yourself (rosrun modrob_viz camera_renderer _sensors_param:=%s)",
+                          node_name, proc.sensors_param)
+        rospy.on_shutdown(proc.shutdown)
+        return proc
+    return RendererProcess.for_node(node_name, make)
+
+
 class GazeboRosCameraPlugin(SensorPlugin):
     """No per-step work (no ``sense``: no due time): the renderer renders at the update rate from
     the published frame."""
 
+    def _parse(self, spec, model_name, namespace):
+        return sensor_config.parse(spec.sensor, spec.element, spec.link, model_name, namespace)
+
     def load(self, model, spec, context):
-        cfg = sensor_config.parse(spec.sensor, spec.element, spec.link, model.name,
-                                  spec.robot_namespace or getattr(context, "robot_namespace", "") or "")
+        namespace = spec.robot_namespace or getattr(context, "robot_namespace", "") or ""
+        cfg = self._parse(spec, model.name, namespace)
         if cfg.link is None or cfg.link not in model.links:
             raise sensor_config.ModelError("model '%s' sensor '%s': its link %r is not in the model"
                                            % (model.name, cfg.sensor_name, cfg.link))
@@ -67,25 +112,40 @@ class GazeboRosCameraPlugin(SensorPlugin):
         sensor_pose = ((x, y, z), tf.quat_from_rpy(r, p, yw))
         optical = ((0.0, 0.0, 0.0), tf.quat_from_rpy(*sensor_config.OPTICAL_RPY))
         self.scene.add_frame(self.frame, model.name, cfg.link, tf.compose(sensor_pose, optical))
-        base = (context.node_name or "/gazebo").rstrip("/") + "/camera_sensors"
-        self.param = "%s/%s" % (base, self.key)
+        self.renderer = renderer_process(context.node_name or "/gazebo")
+        self.param = "%s/%s" % (self.renderer.sensors_param, self.key)
         self.info_topic = self.param + "/camera_info"
         self._info_pub = rospy.Publisher(self.info_topic, CameraInfo, queue_size=1, latch=True)
         self._publish_intrinsics()
-        rospy.set_param(self.param, {
+        registration = {
             "name": sensor_config.topic(cfg, "").strip("/") or self.key,
             "camera_info": self.info_topic, "frame": self.frame, "header_frame": cfg.frame_name,
             "image": sensor_config.topic(cfg, cfg.image_topic),
             "camera_info_out": sensor_config.topic(cfg, cfg.info_topic),
             "rate": cfg.update_rate, "format": cfg.format, "noise_mean": cfg.noise_mean,
             "noise_stddev": cfg.noise_stddev, "hack_baseline": cfg.hack_baseline,
-            "clip_near": cfg.near, "clip_far": cfg.far})
+            "clip_near": cfg.near, "clip_far": cfg.far}
+        if cfg.depth is not None:
+            d = cfg.depth
+            registration.update(
+                depth_image=sensor_config.topic(cfg, d.depth_image_topic),
+                depth_camera_info=sensor_config.topic(cfg, d.depth_info_topic),
+                points=sensor_config.topic(cfg, d.points_topic),
+                depth_format="16UC1" if d.depth16 else "32FC1", point_cloud_cutoff=d.cutoff)
+            if math.isfinite(d.cutoff_max):
+                registration["point_cloud_cutoff_max"] = d.cutoff_max
+        rospy.set_param(self.param, registration)
+        # advertised here too, as gzserver does: rostopic subscribes only to an advertised topic, and
+        # these silent publishers count the subscribers (the renderer's publish the images)
+        self._outputs = [rospy.Publisher(registration[k], cls, queue_size=1) for k, cls in OUTPUTS
+                         if k in registration]
+        self.renderer.register(self.key, self._outputs)
         self._zoom_sub = rospy.Subscriber(sensor_config.topic(cfg, "set_hfov"), Float64, self._on_hfov,
                                           queue_size=1)
         self._zoom_srv = rospy.Service(sensor_config.topic(cfg, "set_camera_info"), SetCameraInfo,
                                        self._srv_set_info)
         rospy.loginfo("model '%s': camera '%s' on link '%s' -> %s (%dx%d, hfov %.3f rad, %.1f Hz; "
-                      "images from the camera_renderer node)", model.name, cfg.sensor_name, cfg.link,
+                      "rendered while subscribed)", model.name, cfg.sensor_name, cfg.link,
                       sensor_config.topic(cfg, cfg.image_topic), cfg.width, cfg.height, cfg.hfov,
                       cfg.update_rate)
 
@@ -119,6 +179,9 @@ class GazeboRosCameraPlugin(SensorPlugin):
         return SetCameraInfoResponse(not err, err or "hfov %.4f rad" % self.hfov)
 
     def shutdown(self):
+        self.renderer.unregister(self.key)
+        for pub in self._outputs:
+            pub.unregister()
         self._zoom_sub.unregister()
         self._zoom_srv.shutdown()
         self._info_pub.unregister()
@@ -129,4 +192,22 @@ class GazeboRosCameraPlugin(SensorPlugin):
             pass
 
 
+class GazeboRosOpenniKinectPlugin(GazeboRosCameraPlugin):
+    """``libgazebo_ros_openni_kinect.so``: a depth camera (rgb, depth image, points)."""
+
+    filename = "libgazebo_ros_openni_kinect.so"
+
+    def _parse(self, spec, model_name, namespace):
+        return sensor_config.parse_depth(spec.sensor, spec.element, spec.link, model_name, namespace,
+                                         self.filename)
+
+
+class GazeboRosDepthCameraPlugin(GazeboRosOpenniKinectPlugin):
+    """``libgazebo_ros_depth_camera.so``: the same without an upper point cloud cutoff."""
+
+    filename = "libgazebo_ros_depth_camera.so"
+
+
 register_plugin(FILENAME, GazeboRosCameraPlugin)
+register_plugin(GazeboRosOpenniKinectPlugin.filename, GazeboRosOpenniKinectPlugin)
+register_plugin(GazeboRosDepthCameraPlugin.filename, GazeboRosDepthCameraPlugin)

@@ -8,6 +8,13 @@ Plugin: ``cameraName`` (""), ``imageTopicName`` (image_raw), ``cameraInfoTopicNa
 (0), ``robotNamespace``; ``distortionK1..K3``, ``distortionT1``, ``distortionT2``, ``CxPrime``,
 ``Cx``, ``Cy``, ``focalLength``, ``borderCrop``, ``alwaysOn`` are accepted (the image itself is
 rendered undistorted; the k/t values go into CameraInfo's D).
+
+Depth cameras (``<sensor type="depth">``, :func:`parse_depth`): ``libgazebo_ros_openni_kinect.so``
+and ``libgazebo_ros_depth_camera.so`` take the camera's keys with the image topics defaulting to
+``ir/image_raw`` and ``ir/camera_info``, and ``depthImageTopicName`` (depth/image_raw),
+``depthImageCameraInfoTopicName`` (depth/camera_info), ``pointCloudTopicName`` (points),
+``pointCloudCutoff`` (0.4 m), ``pointCloudCutoffMax`` (5 m; the openni_kinect plugin only: the
+depth_camera plugin has no upper cutoff), ``useDepth16UC1Format`` (false), ``baseline`` (accepted).
 """
 import collections
 import math
@@ -17,9 +24,14 @@ from modrob_sim.errors import ModelError
 CameraSensorConfig = collections.namedtuple(
     "CameraSensorConfig",
     "sensor_name link pose update_rate hfov width height format near far noise_mean noise_stddev "
-    "camera_name image_topic info_topic frame_name hack_baseline distortion robot_namespace")
+    "camera_name image_topic info_topic frame_name hack_baseline distortion robot_namespace depth")
+CameraSensorConfig.__new__.__defaults__ = (None,)
 
 FORMATS = ("R8G8B8", "B8G8R8", "L8", "RGB_INT8", "BGR_INT8")
+
+#: a depth camera's own outputs (``CameraSensorConfig.depth``; None for a plain camera)
+DepthConfig = collections.namedtuple(
+    "DepthConfig", "depth_image_topic depth_info_topic points_topic cutoff cutoff_max depth16")
 DEFAULT_RATE = 30.0      # Hz, when neither the sensor nor the plugin gives one (Gazebo: unlimited)
 
 
@@ -57,17 +69,19 @@ def _pose(text, where):
     return v
 
 
-def parse(sensor, plugin, link, model_name, spawn_namespace=""):
+def parse(sensor, plugin, link, model_name, spawn_namespace="", filename="libgazebo_ros_camera.so",
+          types=("camera", "wideanglecamera"), image_topic="image_raw", info_topic="camera_info"):
     """CameraSensorConfig from the <sensor> and <plugin> Elements, or ModelError naming the model,
-    the sensor and the element."""
+    the sensor and the element. ``filename``, ``types`` and the topic defaults are those of the
+    plugin read (parse_depth for the depth cameras)."""
     sname = sensor.get("name", "camera") if sensor is not None else "camera"
     where = "model '%s' sensor '%s'" % (model_name, sname)
     if sensor is None:
-        raise ModelError("%s: libgazebo_ros_camera.so must be inside a <sensor type=\"camera\">" % where)
+        raise ModelError("%s: %s must be inside a <sensor type=\"%s\">" % (where, filename, types[0]))
     stype = sensor.get("type", "")
-    if stype not in ("camera", "wideanglecamera"):
-        raise ModelError("%s: libgazebo_ros_camera.so needs <sensor type=\"camera\">, not type=%r"
-                         % (where, stype))
+    if stype not in types:
+        raise ModelError("%s: %s needs <sensor type=\"%s\">, not type=%r"
+                         % (where, filename, types[0], stype))
     cam = sensor.find("camera")
     hfov = _float(cam, "horizontal_fov", 1.047, where)
     if not 0.01 <= hfov <= 3.1:
@@ -110,11 +124,48 @@ def parse(sensor, plugin, link, model_name, spawn_namespace=""):
         sensor_name=sname, link=link, pose=_pose(_text(sensor, "pose"), where), update_rate=rate, hfov=hfov,
         width=int(width), height=int(height), format=fmt, near=near, far=far, noise_mean=mean,
         noise_stddev=stddev, camera_name=_text(plugin, "cameraName", ""),
-        image_topic=_text(plugin, "imageTopicName", "image_raw"),
-        info_topic=_text(plugin, "cameraInfoTopicName", "camera_info"),
+        image_topic=_text(plugin, "imageTopicName", image_topic),
+        info_topic=_text(plugin, "cameraInfoTopicName", info_topic),
         frame_name=_text(plugin, "frameName", "world"),
         hack_baseline=_float(plugin, "hackBaseline", 0.0, where_p),
         distortion=distortion, robot_namespace=ns.strip("/"))
+
+
+DEPTH_PLUGINS = {"libgazebo_ros_openni_kinect.so": 5.0, "libgazebo_ros_depth_camera.so": math.inf}
+
+
+def _bool(elem, path, default, where):
+    text = _text(elem, path)
+    if text is None:
+        return default
+    if text.lower() in ("1", "true"):
+        return True
+    if text.lower() in ("0", "false"):
+        return False
+    raise ModelError("%s: <%s> must be true or false, got %r" % (where, path, text))
+
+
+def parse_depth(sensor, plugin, link, model_name, spawn_namespace="",
+                filename="libgazebo_ros_openni_kinect.so"):
+    """CameraSensorConfig (with ``depth``) of a ``<sensor type="depth">`` and its openni_kinect or
+    depth_camera plugin, with those plugins' defaults; ModelError naming what is wrong."""
+    cfg = parse(sensor, plugin, link, model_name, spawn_namespace, filename, types=("depth",),
+                image_topic="ir/image_raw", info_topic="ir/camera_info")
+    where = "model '%s' sensor '%s' plugin %s" % (model_name, cfg.sensor_name, filename)
+    cutoff = _float(plugin, "pointCloudCutoff", 0.4, where)
+    cutoff_max = DEPTH_PLUGINS[filename]
+    if math.isfinite(cutoff_max):
+        cutoff_max = _float(plugin, "pointCloudCutoffMax", cutoff_max, where)
+    if cutoff < 0 or not cutoff < cutoff_max:
+        raise ModelError("%s: <pointCloudCutoff> %g must be >= 0 and below <pointCloudCutoffMax> %g"
+                         % (where, cutoff, cutoff_max))
+    _float(plugin, "baseline", 0.0, where)
+    return cfg._replace(depth=DepthConfig(
+        depth_image_topic=_text(plugin, "depthImageTopicName", "depth/image_raw"),
+        depth_info_topic=_text(plugin, "depthImageCameraInfoTopicName", "depth/camera_info"),
+        points_topic=_text(plugin, "pointCloudTopicName", "points"),
+        cutoff=cutoff, cutoff_max=cutoff_max,
+        depth16=_bool(plugin, "useDepth16UC1Format", False, where)))
 
 
 def topic(cfg, name):

@@ -11,8 +11,12 @@ simulator's own registry of Python plugin modules, and of the ros_control hardwa
       <modrob_sim filename="libmy_gripper.so" module="my_pkg.gripper_plugin"/>
       <modrob_sim robot_sim_type="my_pkg/MyRobotHWSim" module="my_pkg.hw_sim"/>
       <modrob_sim controller_type="my_pkg/MyController" module="my_pkg.my_controller"/>
+      <modrob_sim camera_renderer="my_renderer"/>
       <gazebo_ros gazebo_model_path="${prefix}/models" plugin_path="${prefix}/lib"/>
     </export>
+
+``camera_renderer`` names an executable of the package that renders the camera sensors
+(modrob_sim.camera.renderer_process).
 
 Gazebo only asks packages that depend on ``gazebo_ros``; here every package is asked (a Gazebo
 project's package.xml still names gazebo_ros, which this machine does not have).
@@ -37,6 +41,8 @@ TYPE_KINDS = ("robot_sim_type", "controller_type")
 
 #: one ``<export><modrob_sim filename=... module=.../>`` entry (filename: or the type's name)
 PluginExport = collections.namedtuple("PluginExport", "filename module package package_dir")
+#: one ``<export><modrob_sim camera_renderer=.../>`` entry: an executable of ``package``
+RendererExport = collections.namedtuple("RendererExport", "executable package")
 
 
 class PackageExports(object):
@@ -46,6 +52,7 @@ class PackageExports(object):
     type_exports(kind, name)   the same for a 'robot_sim_type' or 'controller_type' name
     plugin_paths, model_paths, media_paths   folders, in ROS_PACKAGE_PATH order, existing ones only
     exported_plugins()         sorted plugin file names exported by some package
+    camera_renderers()         the RendererExport entries, in package name order
     """
 
     def __init__(self, rospack=None):
@@ -54,6 +61,7 @@ class PackageExports(object):
         self._scanned = False
         self._plugins = {}
         self._types = {}        # (kind, type name) -> [PluginExport]
+        self._renderers = []
         self._paths = {"plugin_path": [], "gazebo_model_path": [], "gazebo_media_path": []}
         self.package_count = 0
 
@@ -72,7 +80,9 @@ class PackageExports(object):
                                 pkg, exc)
                     continue
                 for exp in manifest.exports:
-                    if exp.tag == "modrob_sim":
+                    if exp.tag == "modrob_sim" and "camera_renderer" in exp.attrs:
+                        self._read_renderer_export(pkg, exp.attrs)
+                    elif exp.tag == "modrob_sim":
                         self._read_plugin_export(pkg, pkg_dir, exp.attrs)
                     elif exp.tag == "gazebo_ros":
                         for attr, value in exp.attrs.items():
@@ -106,6 +116,14 @@ class PackageExports(object):
         self._plugins.setdefault(plugin_key(filename), []).append(
             PluginExport(filename, module, pkg, pkg_dir))
 
+    def _read_renderer_export(self, pkg, attrs):
+        executable = attrs.get("camera_renderer", "").strip()
+        if not executable or "/" in executable:
+            LOG.warning("package '%s': <export><modrob_sim camera_renderer=\"%s\"/> needs the name of an "
+                        "executable of the package (such as camera_renderer); ignored", pkg, executable)
+            return
+        self._renderers.append(RendererExport(executable, pkg))
+
     def _add_path(self, pkg, attr, value):
         for entry in value.split(os.pathsep):
             entry = entry.strip()
@@ -128,6 +146,10 @@ class PackageExports(object):
     def exported_plugins(self):
         self._scan()
         return sorted(e.filename for entries in self._plugins.values() for e in entries)
+
+    def camera_renderers(self):
+        self._scan()
+        return list(self._renderers)
 
     def import_module(self, export):
         """Import the module of a PluginExport; None, or the error's text (see

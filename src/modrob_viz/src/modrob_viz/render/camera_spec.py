@@ -16,12 +16,21 @@ A camera is a dict (from the ``~cameras`` parameter, or from a simulator camera 
     format        rgb8 | bgr8 | mono8, or Gazebo's R8G8B8 | B8G8R8 | L8 (default rgb8)
     noise_mean noise_stddev   Gazebo's gaussian image noise, in units of full scale (0..1)
     hack_baseline  Gazebo's hackBaseline [m]: P[3] = -fx * baseline
+    clip_near clip_far  nothing nearer or farther (m) is drawn (0.01, 100)
+
+A depth camera (Gazebo's depth sensor) has any of these output topics besides its image:
+
+    depth_image        sensor_msgs/Image of the depth along the optical axis (depth.py)
+    depth_camera_info  its CameraInfo, stamped like each depth image
+    points             sensor_msgs/PointCloud2, xyz + rgb, in header_frame
+    depth_format       32FC1 (metres, default) | 16UC1 (millimetres)
+    point_cloud_cutoff point_cloud_cutoff_max   depths kept (m): cutoff < depth < max (0, inf)
 """
 import math
 import re
 
 from modrob_viz.errors import ConfigError
-from modrob_viz.render import pinhole
+from modrob_viz.render import depth, pinhole
 
 FORMATS = {"rgb8": "rgb8", "bgr8": "bgr8", "mono8": "mono8",
            "R8G8B8": "rgb8", "B8G8R8": "bgr8", "L8": "mono8", "RGB_INT8": "rgb8", "BGR_INT8": "bgr8"}
@@ -80,6 +89,20 @@ def parse(spec, default_rate, where="camera"):
     if not 0 < out["clip_near"] < out["clip_far"]:
         raise ConfigError("%s: clip needs 0 < clip_near < clip_far, got %r and %r"
                           % (where, out["clip_near"], out["clip_far"]))
+    for key in ("depth_image", "depth_camera_info", "points"):
+        out[key] = str(spec.get(key, "") or "")
+    out["depth_format"] = str(spec.get("depth_format", "32FC1"))
+    if out["depth_format"] not in depth.DEPTH_FORMATS:
+        raise ConfigError("%s: depth_format %r is not supported; use one of %s"
+                          % (where, out["depth_format"], ", ".join(depth.DEPTH_FORMATS)))
+    out["point_cloud_cutoff"] = _num(spec, "point_cloud_cutoff", 0.0, where)
+    cmax = spec.get("point_cloud_cutoff_max")
+    out["point_cloud_cutoff_max"] = (float("inf") if cmax in (None, "", "inf") or cmax == float("inf")
+                                     else _num(spec, "point_cloud_cutoff_max", 0.0, where))
+    if not out["point_cloud_cutoff"] < out["point_cloud_cutoff_max"]:
+        raise ConfigError("%s: point_cloud_cutoff %r must be below point_cloud_cutoff_max %r"
+                          % (where, out["point_cloud_cutoff"], out["point_cloud_cutoff_max"]))
+    out["depth"] = bool(out["depth_image"] or out["depth_camera_info"] or out["points"])
     out["intrinsics"] = None
     if not out["camera_info"]:
         if "width" not in spec or "fx" not in spec and "hfov" not in spec:

@@ -13,10 +13,15 @@ camera and the objects move. The next batch starts only when the last one is gra
 one frame manager time). When nothing moves (only static frames), images are stamped with the
 time of the grab.
 
+A camera is drawn only while one of its output topics has a subscriber (or it records), like a
+Gazebo camera sensor: one nobody listens to has its RViz display disabled and costs nothing; with
+no camera wanted the loop slows down (``IDLE_TICK``).
+
 Callbacks only store the latest CameraInfo and the scene's frames; a Qt timer in the main thread
 does all the work (RViz is not thread-safe). Problems with one camera (no intrinsics, zero-size
 CameraInfo, frame missing from tf) are logged once with what to do, and only that camera waits.
 """
+import collections
 import os
 import threading
 import time
@@ -25,18 +30,31 @@ import numpy as np
 import rospy
 import tf2_ros
 from python_qt_binding.QtCore import QTimer
-from sensor_msgs.msg import CameraInfo, Image
+from sensor_msgs.msg import CameraInfo, Image, PointCloud2, PointField
 from std_srvs.srv import Trigger, TriggerResponse
 from visualization_msgs.msg import Marker, MarkerArray
 
 from modrob_msgs.errors import ModrobError
 from modrob_viz.errors import ConfigError
-from modrob_viz.render import camera_spec, pinhole, scene_sync
+from modrob_viz.render import camera_spec, depth, pinhole, scene_sync
 from modrob_viz.render.video import VideoRecorder, save_png
 
 #: s a camera given to RViz may take to come up before it is given again (RViz resets its displays
 #: when the time jumps back, and a CameraInfo sent before that, or before RViz subscribed, is lost)
 SHOW_AGAIN = 2.0
+TICK, IDLE_TICK = 2, 50     # ms between two passes of the loop: some camera wanted / none
+#: s of wall time a camera stays drawn after its last subscriber left (a client that takes one
+#: message at a time, such as rospy.wait_for_message in a loop, does not switch it off and on)
+KEEP_ACTIVE = 2.0
+
+
+def _image(stamp, frame_id, arr, encoding, step):
+    msg = Image()
+    msg.header.stamp, msg.header.frame_id = stamp, frame_id
+    msg.height, msg.width = arr.shape[0], arr.shape[1]
+    msg.encoding, msg.is_bigendian, msg.step = encoding, 0, step
+    msg.data = arr.tobytes()
+    return msg
 
 
 class _Camera(object):
@@ -54,6 +72,14 @@ class _Camera(object):
         self.pub_image = rospy.Publisher(spec["image"], Image, queue_size=1)
         self.pub_info = rospy.Publisher(spec["camera_info_out"], CameraInfo, queue_size=1) \
             if spec["camera_info_out"] else None
+        # a depth camera's outputs (None when not asked for)
+        self.pub_depth = rospy.Publisher(spec["depth_image"], Image, queue_size=1) \
+            if spec["depth_image"] else None
+        self.pub_depth_info = rospy.Publisher(spec["depth_camera_info"], CameraInfo, queue_size=1) \
+            if spec["depth_camera_info"] else None
+        self.pub_points = rospy.Publisher(spec["points"], PointCloud2, queue_size=1) \
+            if spec["points"] else None
+        self.rays = None            # (intrinsics, pixel rays) of the last point cloud
         prefix = rospy.get_name() + "/" + spec["id"]
         self.pub_blank = rospy.Publisher(prefix + "/image", Image, queue_size=1, latch=True)
         self.pub_rviz_info = rospy.Publisher(prefix + "/camera_info", CameraInfo, queue_size=1, latch=True)
@@ -63,9 +89,20 @@ class _Camera(object):
         # frame in flight: (RViz image count, intrinsics, frame, RViz's render count of the camera
         # when the placeholder was sent, None without the ClipCamera plugin)
         self.pending = None
+        self.active = True          # its RViz display is enabled (drawn)
+        self.wanted_at = None       # monotonic s it was last wanted
+
+    def outputs(self):
+        """The publishers a subscriber of which makes the camera wanted."""
+        return [p for p in (self.pub_image, self.pub_info, self.pub_depth, self.pub_depth_info,
+                            self.pub_points) if p is not None]
+
+    def wanted(self):
+        return self.recorder is not None or any(p.get_num_connections() > 0 for p in self.outputs())
 
     def close(self):
-        for p in (self.pub_image, self.pub_info, self.pub_blank, self.pub_rviz_info, self.sub):
+        for p in (self.pub_image, self.pub_info, self.pub_depth, self.pub_depth_info, self.pub_points,
+                  self.pub_blank, self.pub_rviz_info, self.sub):
             if p is not None:
                 p.unregister()
         if self.recorder is not None:
@@ -73,7 +110,7 @@ class _Camera(object):
 
 
 class CameraRendererNode(object):
-    def __init__(self, scene, cameras, rate, fixed_frame="world", sensors_param="/gazebo/camera_sensors",
+    def __init__(self, scene, cameras, rate, fixed_frame="world", sensors_param="",
                  output_dir="/tmp/modrob_viz/cameras", record=(), video_fps=None, seed=0,
                  background=(178, 178, 178), scene_max_lag=1.0):
         """``scene_max_lag`` (s): a scene frame whose tf is that much older than the newest is
@@ -121,7 +158,8 @@ class CameraRendererNode(object):
             self._start_recording(None if record == ["all"] else record)
         self.timer = QTimer()
         self.timer.timeout.connect(self._tick)
-        self.timer.start(2)
+        self.idle_frames = 0        # camera frames not drawn: nobody subscribed
+        self.timer.start(TICK)
         rospy.on_shutdown(self._on_shutdown)
 
     # ---- the scene's frames ----------------------------------------------------------------------
@@ -225,19 +263,21 @@ class CameraRendererNode(object):
                 specs[key] = "bad"
                 continue
             specs[key] = spec
+        # two sensors of one name (or a name ~cameras uses): their keys (model__sensor) are unique
+        ids = collections.Counter(v["id"] for v in specs.values() if isinstance(v, dict))
         for key, spec in specs.items():
-            old = self._sensor_specs.get(key)
-            if spec == "bad" or old == spec:
-                continue
-            if isinstance(old, dict):
+            if isinstance(spec, dict) and (ids[spec["id"]] > 1 or spec["id"] in self.static_ids):
+                spec["id"] = camera_spec.internal_name(key)
+        for key, old in self._sensor_specs.items():     # removed or changed ones first
+            if isinstance(old, dict) and specs.get(key) != old:
                 self._remove(old["id"])
+        for key, spec in specs.items():
+            if spec == "bad" or self._sensor_specs.get(key) == spec:
+                continue
             if spec["id"] in self.static_ids:
                 rospy.logerr("camera sensor %s: id %s is already used by ~cameras", key, spec["id"])
                 continue
             self._add(spec)
-        for key, old in self._sensor_specs.items():
-            if key not in specs and isinstance(old, dict):
-                self._remove(old["id"])
         self._sensor_specs = specs
 
     def _problem(self, cam, text):
@@ -300,6 +340,9 @@ class CameraRendererNode(object):
         cam.pub_blank.publish(blank)
         self.scene.resize_camera(cam.spec["id"], intr.width, intr.height)
         self.scene.set_clip(cam.spec["id"], cam.spec["clip_near"], cam.spec["clip_far"])
+        if cam.spec["depth"] and not self.scene.set_depth(cam.spec["id"], True):
+            self._problem(cam, "no depth: the ClipCamera rviz plugin with pixels read from OpenGL is "
+                               "needed (build the workspace; ~pixels gl)")
         if not self.scene.fits(cam.spec["id"]):
             sw, sh = self.scene.screen_size()
             self._problem(cam, "does not fit on the X screen (%dx%d) beside the other cameras: "
@@ -329,6 +372,7 @@ class CameraRendererNode(object):
             self._poll_sensors()
         with self.lock:
             cams = list(self.cams.values())
+        self._activate(cams)
         if self.batch is not None:
             self._collect(cams, now)
             if self.batch is not None:
@@ -342,7 +386,10 @@ class CameraRendererNode(object):
             if now < cam.next_t - 0.5 / cam.spec["rate"]:
                 continue
             cam.next_t = max(cam.next_t + 1.0 / cam.spec["rate"], now - 0.5 / cam.spec["rate"])
-            ready = self._ready(cam)
+            ready = self._ready(cam)        # says what keeps it from rendering, also when idle
+            if not cam.active:
+                self.idle_frames += 1
+                continue
             if ready is None:
                 continue
             frame, intr = ready
@@ -365,6 +412,28 @@ class CameraRendererNode(object):
             due.append((cam, frame, intr))
         if due:
             self._start_batch(due, now)
+
+    def _activate(self, cams):
+        """Enable the RViz display of each camera somebody subscribes to (or did within
+        KEEP_ACTIVE), disable the others (a disabled display is not rendered); the loop slows down
+        when none is wanted."""
+        wanted_any = False
+        now = time.monotonic()
+        for cam in cams:
+            if cam.wanted():
+                cam.wanted_at = now
+            wanted = cam.wanted_at is not None and now - cam.wanted_at < KEEP_ACTIVE
+            wanted_any = wanted_any or wanted
+            if wanted == cam.active or (not wanted and cam.pending is not None):
+                continue                # a frame in flight is finished first
+            cam.active = wanted
+            self.scene.set_active(cam.spec["id"], wanted)
+            if wanted:
+                cam.shown = None        # RViz forgot its CameraInfo: give it again
+                cam.rviz_ready = False
+        interval = TICK if wanted_any else IDLE_TICK
+        if self.timer.interval() != interval:
+            self.timer.setInterval(interval)
 
     def _start_batch(self, due, now):
         """Set RViz's scene time to T and send each camera's placeholder stamped T: RViz's Camera
@@ -444,8 +513,10 @@ class CameraRendererNode(object):
             if good:
                 cam.pending = None
                 rgb = self.scene.grab(cam.spec["id"])
+                dep = self.scene.grab_depth(cam.spec["id"]) if cam.spec["depth"] else None
                 if rgb is not None:
-                    self._publish(cam, rgb, intr, frame, stamp if not stamp.is_zero() else rospy.Time.now())
+                    self._publish(cam, rgb, intr, frame, stamp if not stamp.is_zero() else rospy.Time.now(),
+                                  dep)
                 continue
             if now - since > 1.0:           # dropped (e.g. tf at T never reached RViz): start again
                 cam.pending = None
@@ -467,22 +538,20 @@ class CameraRendererNode(object):
             self.batch = None
             self.batch_time += now - since
 
-    def _publish(self, cam, rgb, intr, frame, stamp):
+    def _publish(self, cam, rgb, intr, frame, stamp, dep=None):
         spec = cam.spec
         rgb = camera_spec.apply_noise(rgb, spec["noise_mean"], spec["noise_stddev"], self.rng)
         cam.last_rgb = rgb
         cam.frames += 1
         info_frame = cam.info.header.frame_id if cam.info is not None else ""
         header_frame = spec["header_frame"] or info_frame or frame
-        arr, encoding, step = camera_spec.convert(rgb, spec["format"])
-        msg = Image()
-        msg.header.stamp, msg.header.frame_id = stamp, header_frame
-        msg.height, msg.width = arr.shape[0], arr.shape[1]
-        msg.encoding, msg.is_bigendian, msg.step = encoding, 0, step
-        msg.data = arr.tobytes()
-        cam.pub_image.publish(msg)
+        if cam.pub_image.get_num_connections() > 0 or cam.recorder is not None:
+            arr, encoding, step = camera_spec.convert(rgb, spec["format"])
+            cam.pub_image.publish(_image(stamp, header_frame, arr, encoding, step))
         if cam.pub_info is not None:
             cam.pub_info.publish(self._out_info(cam, intr, stamp, header_frame))
+        if dep is not None:
+            self._publish_depth(cam, rgb, dep, intr, stamp, header_frame)
         with self.rec_lock:     # the recording services run in rospy's threads
             if cam.recorder is not None:
                 try:
@@ -490,6 +559,33 @@ class CameraRendererNode(object):
                 except ConfigError as err:
                     rospy.logerr("camera '%s': recording stopped: %s", spec["name"], err)
                     cam.recorder = None
+
+    def _publish_depth(self, cam, rgb, dep, intr, stamp, header_frame):
+        """The depth image, its CameraInfo and the point cloud of one render (each only when
+        someone subscribes to it)."""
+        spec = cam.spec
+        kept = depth.masked(dep, spec["point_cloud_cutoff"], spec["point_cloud_cutoff_max"])
+        if cam.pub_depth is not None and cam.pub_depth.get_num_connections() > 0:
+            arr, encoding, step = depth.depth_image(kept, spec["depth_format"])
+            cam.pub_depth.publish(_image(stamp, header_frame, arr, encoding, step))
+        if cam.pub_depth_info is not None and cam.pub_depth_info.get_num_connections() > 0:
+            cam.pub_depth_info.publish(self._out_info(cam, intr, stamp, header_frame))
+        if cam.pub_points is not None and cam.pub_points.get_num_connections() > 0:
+            if cam.rays is None or cam.rays[0] != intr:
+                cam.rays = (intr, depth.pixel_rays(intr.width, intr.height, intr.fx, intr.fy,
+                                                   intr.cx, intr.cy))
+            points, dense = depth.point_cloud(kept, rgb, cam.rays[1])
+            msg = PointCloud2()
+            msg.header.stamp, msg.header.frame_id = stamp, header_frame
+            msg.height, msg.width = kept.shape
+            msg.fields = [PointField(name, offset, PointField.FLOAT32, 1)
+                          for name, offset in (("x", 0), ("y", 4), ("z", 8), ("rgb", 16))]
+            msg.is_bigendian = False
+            msg.point_step = depth.POINT_STEP
+            msg.row_step = depth.POINT_STEP * msg.width
+            msg.is_dense = dense
+            msg.data = points.tobytes()
+            cam.pub_points.publish(msg)
 
     # ---- services --------------------------------------------------------------------------------
     def _srv_save_frame(self, _req):
@@ -545,11 +641,13 @@ class CameraRendererNode(object):
         return TriggerResponse(bool(done), " ".join(done) or "nothing was recording")
 
     def close(self):
-        print("camera_renderer: %d batches of frames (%.0f ms each on average, %d frames dropped); "
+        print("camera_renderer: %d batches of frames (%.0f ms each on average, %d frames dropped, %d not "
+              "drawn: nobody subscribed); "
               "RViz's time set to a batch's again %d times, placeholders sent again %d times (RViz's "
               "tf was behind); %d batches waited for RViz's tf to reach their time, %d of them 1 s and were "
               "drawn anyway; cameras given to RViz again %d times"
-              % (self.batches, 1000.0 * self.batch_time / max(1, self.batches), self.dropped, self.resyncs,
+              % (self.batches, 1000.0 * self.batch_time / max(1, self.batches), self.dropped,
+                 self.idle_frames, self.resyncs,
                  self.redraws, self.tf_waits, self.tf_waits_expired, self.shown_again), flush=True)
         self._on_shutdown()
 

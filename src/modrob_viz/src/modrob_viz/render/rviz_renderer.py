@@ -160,6 +160,7 @@ class RvizScene(object):
         self.max_cameras = max_cameras
         self.clip_supported = None  # the ClipCamera plugin loaded (set by _make_display)
         self._copy = None           # the plugin's pixel copy function (set by _make_display)
+        self._copy_depth = None     # the plugin's depth copy function (set by _make_display)
         self._drawn = None          # the plugin's report of the last render (set by _make_display)
         self._can_transform = None  # the plugin's look-up in RViz's tf buffer (set by _make_display)
         self._pool = [self._make_display(i) for i in range(max_cameras)]
@@ -239,6 +240,9 @@ class RvizScene(object):
         ptr = _address(disp) if self.pixels == "gl" and _has_prop(disp, "Capture Pixels") else None
         if ptr is not None and self._copy is None:
             self._copy = _pixel_reader()
+            self._copy_depth = _plugin_function(
+                "modrob_viz_clip_camera_copy_depth", ctypes.c_long,
+                [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_int, ctypes.c_int])
         clip = _address(disp) if _has_prop(disp, "Capture Pixels") else None
         if clip is not None and self._drawn is None:
             self._drawn = _plugin_function("modrob_viz_clip_camera_drawn", ctypes.c_long,
@@ -312,11 +316,39 @@ class RvizScene(object):
     def fits(self, name):
         return self.cameras[name].get("fits", False)
 
+    def set_depth(self, name, on):
+        """Read each render's depth too (False when the ClipCamera plugin cannot: no depth)."""
+        cam = self.cameras[name]
+        if cam["ptr"] is None or self._copy_depth is None or not _has_prop(cam["display"], "Capture Depth"):
+            return False
+        cam["display"].subProp("Capture Depth").setValue(bool(on))
+        return True
+
+    def grab_depth(self, name):
+        """float32 (height, width) metres along the optical axis (inf: nothing drawn) of the render
+        :meth:`grab` gave last, or None."""
+        cam = self.cameras.get(name)
+        if cam is None or cam["size"] is None or cam["ptr"] is None or self._copy_depth is None:
+            return None
+        w, h = cam["size"]
+        out = np.empty((h, w), np.float32)
+        serial = self._copy_depth(cam["ptr"], out.ctypes.data, w, h)
+        return out if serial > 0 else None
+
+    def set_active(self, name, active):
+        """Enable or disable the camera's display: a disabled one is not rendered (and forgets its
+        image and CameraInfo, which the renderer gives again when it is enabled)."""
+        cam = self.cameras.get(name)
+        if cam is not None:
+            cam["display"].setEnabled(bool(active))
+
     def remove_camera(self, name):
         cam = self.cameras.pop(name, None)
         if cam is None:
             return
         cam["display"].setEnabled(False)
+        if _has_prop(cam["display"], "Capture Depth"):
+            cam["display"].subProp("Capture Depth").setValue(False)
         cam["dock"].hide()
         cam["size"] = None
         cam["panel"].setMinimumSize(0, 0)
