@@ -1,7 +1,11 @@
 #!/usr/bin/env python3
 """rostest camera_auto.test: the simulator runs the camera renderer only while a camera is
-subscribed. Camera 0.5 m up at the origin looking along +x (hfov 1.0 rad, 160x120); red box of
-0.4 m centred at (2, 0, 0.5)."""
+subscribed, and a depth camera's outputs are exact to the geometry.
+
+A depth camera (libgazebo_ros_openni_kinect.so, TurtleBot3 waffle's topic names) 0.5 m up at the
+origin looking along +x (hfov 1.0 rad, 160x120); a red box of 0.4 m centred at (2, 0, 0.5): its
+face is the plane x = 1.8 m. The tests run in name order on one simulator and one renderer start
+(a renderer's start-up is most of a camera test's time)."""
 import math
 import time
 import unittest
@@ -13,11 +17,17 @@ import rospy
 import rostest
 import rostopic
 from rosgraph_msgs.msg import Clock
-from sensor_msgs.msg import CameraInfo, Image
+from sensor_msgs.msg import CameraInfo, Image, PointCloud2
 
 RENDERER = "/gazebo_camera_renderer"
 W, H, HFOV = 160, 120, 1.0
 F = W / (2.0 * math.tan(HFOV / 2.0))
+CX, CY = (W + 1) / 2.0, (H + 1) / 2.0
+FACE, CAMERA_Z, HALF = 1.8, 0.5, 0.2
+FRAME = "camera_depth_optical_frame"
+TOPICS = (("/camera/rgb/image_raw", Image), ("/camera/rgb/camera_info", CameraInfo),
+          ("/camera/depth/image_raw", Image), ("/camera/depth/camera_info", CameraInfo),
+          ("/camera/depth/points", PointCloud2))
 
 
 def renderer_running():
@@ -39,35 +49,70 @@ def wait_for(cond, timeout, what):
     raise AssertionError("no %s within %.0f s" % (what, timeout))
 
 
+class Latest(object):
+    def __init__(self, topic, cls):
+        self.msg = None
+        self.sub = rospy.Subscriber(topic, cls, self._store, queue_size=1, buff_size=2 ** 24)
+
+    def _store(self, msg):
+        self.msg = msg
+
+    def wait(self, cond=lambda m: True, timeout=90.0):
+        found = []
+
+        def ready():
+            m = self.msg
+            if m is not None and cond(m):
+                found.append(m)
+            return bool(found)
+        wait_for(ready, timeout, "suitable message on %s" % self.sub.name)
+        return found[0]
+
+
 def red_pixels(msg):
     a = np.frombuffer(msg.data, np.uint8).reshape(msg.height, msg.width, 3).astype(int)
     return np.nonzero((a[..., 0] > 100) & (a[..., 1] < 60) & (a[..., 2] < 60))
 
 
+def depth_array(msg):
+    return np.frombuffer(msg.data, "<f4").reshape(msg.height, msg.width)
+
+
+def cloud_array(msg):
+    dt = np.dtype({"names": ["x", "y", "z", "rgb"], "formats": ["<f4", "<f4", "<f4", "<u4"],
+                   "offsets": [0, 4, 8, 16], "itemsize": msg.point_step})
+    return np.frombuffer(msg.data, dt).reshape(msg.height, msg.width)
+
+
+def to_world(x, y, z):
+    """The camera's optical frame (z along world +x, x along world -y, y along world -z) in the world."""
+    return z, -x, CAMERA_Z - y
+
+
 class CameraAuto(unittest.TestCase):
-    def test_renderer_runs_while_subscribed(self):
-        # the box and the camera spawned, and 3 s of simulated time with nobody subscribed
+    subs = {}
+
+    def test_1_nothing_runs_while_unsubscribed(self):
+        # the box and the camera spawned, and 2 s of simulated time with nobody subscribed
         wait_for(lambda: rospy.get_param("/gazebo/camera_sensors", {}), 60.0, "camera sensor registered")
         t0 = rospy.wait_for_message("/clock", Clock, 30.0).clock.to_sec()
-        wait_for(lambda: rospy.get_time() > t0 + 3.0, 60.0, "3 s of simulated time")
+        wait_for(lambda: rospy.get_time() > t0 + 2.0, 60.0, "2 s of simulated time")
         self.assertFalse(renderer_running(), "a renderer runs although nobody subscribes to a camera")
         # advertised all the same (by /gazebo, as gzserver does): rostopic echo/hz can subscribe
-        for topic, kind in (("/camera/rgb/image_raw", "sensor_msgs/Image"),
-                            ("/camera/rgb/camera_info", "sensor_msgs/CameraInfo")):
-            self.assertEqual(rostopic.get_topic_type(topic)[0], kind)
+        for topic, cls in TOPICS:
+            self.assertEqual(rostopic.get_topic_type(topic)[0], cls._type, topic)
 
-        frames = []
-        sub = rospy.Subscriber("/camera/rgb/image_raw", Image, frames.append, queue_size=1)
-        wait_for(lambda: frames and len(red_pixels(frames[-1])[0]) > 0, 90.0, "image showing the red box")
+    def test_2_subscribed_the_box_is_where_the_camera_info_puts_it(self):
+        for topic, cls in TOPICS:
+            CameraAuto.subs[topic] = Latest(topic, cls)
+        msg = self.subs["/camera/rgb/image_raw"].wait(lambda m: len(red_pixels(m)[0]) > 0)
         self.assertTrue(renderer_running())
-        msg = frames[-1]
-        self.assertEqual((msg.width, msg.height, msg.encoding), (W, H, "rgb8"))
-        self.assertEqual(msg.header.frame_id, "camera_rgb_optical_frame")
-        info = rospy.wait_for_message("/camera/rgb/camera_info", CameraInfo, 30.0)
+        self.assertEqual((msg.width, msg.height, msg.encoding, msg.header.frame_id), (W, H, "rgb8", FRAME))
+        info = self.subs["/camera/rgb/camera_info"].wait()
         self.assertAlmostEqual(info.K[0], F, places=3)
         rows, cols = red_pixels(msg)
         # the face at x = 1.8 spans 0.4 m: F * 0.4 / 1.8 px, centred on the principal point
-        size = F * 0.4 / 1.8
+        size = F * 2 * HALF / FACE
         rospy.loginfo("red box: %d px, columns %d..%d, rows %d..%d (predicted %.1f px wide)",
                       len(rows), cols.min(), cols.max(), rows.min(), rows.max(), size)
         self.assertAlmostEqual(cols.max() - cols.min() + 1, size, delta=3)
@@ -76,7 +121,54 @@ class CameraAuto(unittest.TestCase):
         self.assertAlmostEqual(cols.mean(), info.K[2], delta=0.75)
         self.assertAlmostEqual(rows.mean(), info.K[5], delta=0.75)
 
-        sub.unregister()
+    def test_3_depth_image_reads_the_face_distance(self):
+        centre = (H // 2, W // 2)
+        d = self.subs["/camera/depth/image_raw"].wait(lambda m: np.isfinite(depth_array(m)[centre]))
+        self.assertEqual((d.width, d.height, d.encoding, d.header.frame_id), (W, H, "32FC1", FRAME))
+        a = depth_array(d)
+        face = a[H // 2 - 10:H // 2 + 10, W // 2 - 10:W // 2 + 10]       # inside the face (~32 px)
+        rospy.loginfo("depth on the face: %.4f..%.4f m (expected %.3f)", face.min(), face.max(), FACE)
+        self.assertTrue(np.all(np.abs(face - FACE) <= 0.01), "depth on the face %s..%s, not %.3f +- 0.01"
+                        % (face.min(), face.max(), FACE))
+        self.assertTrue(np.isnan(a[0, 0]), "the sky (nothing drawn) must be NaN beyond the cutoff")
+        info = self.subs["/camera/depth/camera_info"].wait()
+        self.assertAlmostEqual(info.K[0], F, places=3)
+        self.assertEqual(info.header.frame_id, FRAME)
+
+    def test_4_cloud_points_land_on_the_face_and_the_ground(self):
+        centre = (H // 2, W // 2)
+        msg = self.subs["/camera/depth/points"].wait(lambda m: np.isfinite(cloud_array(m)["z"][centre]))
+        c = cloud_array(msg)
+        self.assertEqual((msg.width, msg.height, msg.header.frame_id), (W, H, FRAME))
+        self.assertEqual([f.name for f in msg.fields], ["x", "y", "z", "rgb"])
+        self.assertFalse(msg.is_dense)
+        face = c[H // 2 - 10:H // 2 + 10, W // 2 - 10:W // 2 + 10]
+        wx, wy, wz = to_world(face["x"], face["y"], face["z"])
+        self.assertTrue(np.all(np.abs(wx - FACE) <= 0.01),
+                        "cloud x on the face %s..%s" % (wx.min(), wx.max()))
+        self.assertTrue(np.all(np.abs(wy) <= HALF + 0.01) and np.all(np.abs(wz - CAMERA_Z) <= HALF + 0.01))
+        # the centre pixel's point: where the pinhole model puts the pixel on the face
+        v, u = centre
+        p = c[v, u]
+        self.assertAlmostEqual(float(p["x"]), (u - CX) * FACE / F, delta=0.01)
+        self.assertAlmostEqual(float(p["y"]), (v - CY) * FACE / F, delta=0.01)
+        red = (int(p["rgb"]) >> 16) & 255, (int(p["rgb"]) >> 8) & 255, int(p["rgb"]) & 255
+        self.assertTrue(red[0] > 100 and red[1] < 60 and red[2] < 60,
+                        "the face's points are red: %s" % (red,))
+        # the bottom rows see the ground: world height 0
+        ground = c[H - 3:, :]
+        g = ground["z"][np.isfinite(ground["z"])]
+        self.assertGreater(g.size, W, "the bottom rows should see the ground plane")
+        _wx, _wy, gz = to_world(ground["x"], ground["y"], ground["z"])
+        gz = gz[np.isfinite(gz)]
+        rospy.loginfo("ground points: height %.4f..%.4f m", gz.min(), gz.max())
+        self.assertTrue(np.all(np.abs(gz) <= 0.01),
+                        "ground points at %s..%s, not 0 +- 0.01" % (gz.min(), gz.max()))
+
+    def test_5_renderer_stops_after_the_last_subscriber_left(self):
+        self.assertTrue(self.subs, "test_2 subscribed nothing")
+        for latest in self.subs.values():
+            latest.sub.unregister()
         wait_for(lambda: not renderer_running(), 30.0, "renderer stopped after the last subscriber left")
 
 

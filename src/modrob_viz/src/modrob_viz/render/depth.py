@@ -12,9 +12,9 @@
   cutoffs (then ``is_dense`` false). A pixel (u, v) at depth z is the optical-frame point
   ((u - cx) z / fx, (v - cy) z / fy, z) with the camera's CameraInfo intrinsics (pixel centres at
   whole numbers, as ROS's image_geometry has them), so depth_image_proc makes the same cloud from
-  the depth image and the CameraInfo; a pixel that saw nothing is a NaN point. The colour of each point is the rgb image's pixel, packed as
-  PCL and RViz read it (0x00RRGGBB in a little-endian uint32; Gazebo's plugins put red in the low
-  byte, which RViz shows as blue).
+  the depth image and the CameraInfo; a pixel that saw nothing is a NaN point. The colour of
+  each point is the rgb image's pixel, packed as PCL and RViz read it (0x00RRGGBB in a
+  little-endian uint32; Gazebo's plugins put red in the low byte, which RViz shows as blue).
 """
 import numpy as np
 
