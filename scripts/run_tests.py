@@ -2,15 +2,17 @@
 """Run the workspace's tests and print one combined closing line ``N passed, N failed``.
 
 Tier 1: pytest over every package's ``test/unit/`` and ``scripts/test/`` (pure libraries; tests
-that need a master start their own on a free port). Tier 2: every package's ``test/*.test``
-through ``rostest``, each on its own free master port so that runs cannot collide, and the docs
-test (``scripts/docs_test.py``: the code blocks of README.md and docs/*.md), two at a time.
+that need a master start their own on a free port), one pytest per package. Tier 2: every
+package's ``test/*.test`` through ``rostest``, each on its own free master port so that runs
+cannot collide, and the docs test (``scripts/docs_test.py``: the code blocks of README.md and
+docs/*.md). Those jobs run two at a time, the longest kinds first; each writes its own log and
+JUnit XML under out/test-results/<run>/, and a failing job's log ends the output.
 
     run_tests.py                   both tiers
     run_tests.py --tier 1          unit tests only
     run_tests.py -k sim            only packages / .test files whose path contains 'sim'
     run_tests.py --tier 2 -k docs  only the docs test
-    run_tests.py --tier 2 -j 1     rostests one after another
+    run_tests.py -j 1              one job after another
 """
 import argparse
 import concurrent.futures
@@ -59,38 +61,47 @@ def junit_counts(path):
     return passed, failed, skipped, xfailed
 
 
-def run_unit(pattern):
-    # every package's test/unit, and the workspace scripts' own tests (scripts/test)
+def unit_jobs(pattern):
+    """One pytest job per package's test/unit (and scripts/test) whose path contains ``pattern``."""
     candidates = (glob.glob(os.path.join(ROOT, "src", "*", "test", "unit"))
                   + [os.path.join(ROOT, "scripts", "test")])
     # -k matches the path inside the workspace (not the folder the workspace is in)
     dirs = sorted(d for d in candidates
                   if pattern in os.path.relpath(d, ROOT) and glob.glob(os.path.join(d, "test_*.py")))
-    if not dirs:
-        print("[tests] tier 1: no unit test directories matched")
-        return 0, 0, 0, 0
-    xml = os.path.join(RESULTS, "unit.xml")
-    cmd = [sys.executable, "-m", "pytest", "-q", "--import-mode=importlib", "-p", "no:cacheprovider",
-           "--junitxml", xml, "-o", "junit_family=xunit2"] + dirs
-    print("[tests] tier 1: pytest over %d packages" % len(dirs), flush=True)
-    if os.path.exists(xml):
-        os.remove(xml)
-    rc = subprocess.call(cmd, cwd=ROOT)
+    return [("unit " + os.path.relpath(d, ROOT).replace(os.sep + "test" + os.sep + "unit", "")
+             .replace("src" + os.sep, ""), run_unit, d) for d in dirs]
+
+
+def run_unit(path, timeout):
+    """pytest over one test directory: (passed, failed, skipped, xfailed, rc, logfile, seconds)."""
+    name = os.path.relpath(path, ROOT).replace(os.sep, "_")
+    xml = os.path.join(RESULTS, "unit", name + ".xml")
+    logfile = os.path.join(RESULTS, "unit", name + ".log")
+    os.makedirs(os.path.dirname(xml), exist_ok=True)
+    cmd = [sys.executable, "-m", "pytest", "-q", "-rfE", "--import-mode=importlib", "-p", "no:cacheprovider",
+           "--junitxml", xml, "-o", "junit_family=xunit2", path]
+    start = time.time()
+    with open(logfile, "w") as log:
+        try:
+            rc = subprocess.call(cmd, cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, timeout=timeout)
+        except subprocess.TimeoutExpired:
+            rc = "timeout after %d s" % timeout
     passed, failed, skipped, xfailed = junit_counts(xml)
     if rc not in (0, 5) and failed == 0:
-        failed = 1  # pytest itself failed (collection or usage error): count it
-        print("[tests] pytest exited with %d" % rc)
-    return passed, failed, skipped, xfailed
+        failed = 1  # pytest itself failed (collection or usage error, timeout): count it
+    return passed, failed, skipped, xfailed, rc, logfile, time.time() - start
 
 
-def rostest_files(pattern):
+def rostest_jobs(pattern):
     # -k matches the path inside the workspace (not the folder the workspace is in)
-    return sorted(f for f in glob.glob(os.path.join(ROOT, "src", "*", "test", "*.test"))
-                  if pattern in os.path.relpath(f, ROOT))
+    files = sorted(f for f in glob.glob(os.path.join(ROOT, "src", "*", "test", "*.test"))
+                   if pattern in os.path.relpath(f, ROOT))
+    return [("%s/%s" % (os.path.basename(os.path.dirname(os.path.dirname(f))),
+                        os.path.splitext(os.path.basename(f))[0]), run_rostest, f) for f in files]
 
 
 def run_rostest(path, timeout):
-    """One .test file through rostest on its own master: (passed, failed, skipped, logfile, seconds)."""
+    """One .test file through rostest on its own master."""
     pkg = os.path.basename(os.path.dirname(os.path.dirname(path)))
     name = os.path.splitext(os.path.basename(path))[0]
     outdir = os.path.join(RESULTS, "rostest", pkg, name)     # its own: files may run at once
@@ -121,12 +132,17 @@ def run_rostest(path, timeout):
         f = 1
     if p + f == 0:
         f = 1  # a .test that ran no test is a failure
-    return p, f, s, rc, logfile, time.time() - start
+    return p, f, s, 0, rc, logfile, time.time() - start
 
 
-def run_docs(timeout):
+def docs_jobs(pattern):
+    """The docs test runs with `-k docs` or with no pattern."""
+    return [("docs", run_docs, None)] if pattern in "scripts/docs_test.py" else []
+
+
+def run_docs(_path, timeout):
     """The docs test (scripts/docs_test.py): every shell and Python block of README.md and docs/*.md
-    is run or marked as not run. (passed, failed, 0, rc, logfile, seconds)"""
+    is run or marked as not run."""
     xml = os.path.join(RESULTS, "docs.xml")
     logfile = os.path.join(RESULTS, "docs.log")
     start = time.time()
@@ -139,69 +155,62 @@ def run_docs(timeout):
     passed, failed, _, _ = junit_counts(xml)
     if rc != 0 and failed == 0:
         failed = 1
-    return passed, failed, 0, rc, logfile, time.time() - start
+    return passed, failed, 0, 0, rc, logfile, time.time() - start
 
 
-def run_tier2(pattern, timeout, jobs):
-    """Every matching .test file and (with no pattern or one in its path) the docs test, ``jobs``
-    at a time: most of a rostest's wall time is a master, nodes starting and simulated time
-    passing, so two share this 2-core machine well. The docs test, the longest, starts first."""
-    work = [("docs", None)] if pattern in "scripts/docs_test.py" else []
-    work += [("%s/%s" % (os.path.basename(os.path.dirname(os.path.dirname(f))),
-                         os.path.splitext(os.path.basename(f))[0]), f) for f in rostest_files(pattern)]
+def failure_lines(logfile):
+    """The end of a failed job's log: pytest's and the docs test's summaries come last."""
+    with open(logfile, errors="replace") as fh:
+        lines = [line for line in fh if not line.startswith("       |")]   # docs test: block echo
+    return "".join(lines[-60:])
+
+
+def run_jobs(jobs, workers, timeout):
+    """Run (label, function, path) jobs ``workers`` at a time, a line each as they end; totals."""
     total = [0, 0, 0, 0]
-    if not work:
-        print("[tests] tier 2: no .test files matched")
-        return tuple(total)
-    print("[tests] tier 2: %d rostest files%s, %d at a time"
-          % (len(work) - (work[0][0] == "docs"), " and the docs' code blocks (scripts/docs_test.py)"
-             if work[0][0] == "docs" else "", jobs), flush=True)
     failures = []
-    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-        running = {pool.submit(run_docs if path is None else run_rostest,
-                               *((timeout,) if path is None else (path, timeout))): label
-                   for label, path in work}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+        running = {pool.submit(fn, path, timeout): label for label, fn, path in jobs}
         for i, done in enumerate(concurrent.futures.as_completed(running), 1):
             label = running[done]
-            p, f, s, rc, logfile, seconds = done.result()
-            total[0] += p
-            total[1] += f
-            total[2] += s
+            p, f, s, x, rc, logfile, seconds = done.result()
+            for k, v in enumerate((p, f, s, x)):
+                total[k] += v
             status = "ok" if f == 0 else "FAILED (rc=%s, log: %s)" % (rc, os.path.relpath(logfile, ROOT))
-            print("[tests] [%d/%d] %s: %d passed, %d failed in %.0f s  %s"
-                  % (i, len(work), label, p, f, seconds, status), flush=True)
+            print("[tests] [%d/%d] %s: %d passed, %d failed%s in %.0f s  %s"
+                  % (i, len(jobs), label, p, f, ", %d xfailed" % x if x else "", seconds, status), flush=True)
             if f:
                 failures.append(logfile)
     for logfile in failures:
         print("---- last lines of %s" % os.path.relpath(logfile, ROOT))
-        with open(logfile, errors="replace") as fh:
-            if logfile.endswith("docs.log"):
-                print("".join(line for line in fh if not line.startswith("       |"))[-6000:])
-            else:
-                print("".join(fh.readlines()[-40:]))
-    return tuple(total)
+        print(failure_lines(logfile))
+    return total
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--tier", type=int, choices=(1, 2), help="run only this tier")
     ap.add_argument("-k", dest="pattern", default="", help="only paths containing this string")
-    ap.add_argument("--timeout", type=int, default=900, help="seconds per rostest file (default 900)")
+    ap.add_argument("--timeout", type=int, default=900, help="seconds per job (default 900)")
     ap.add_argument("-j", "--jobs", type=int, default=int(os.environ.get("MODROB_TEST_JOBS", "2")),
-                    help="tier 2 files run at once (default 2, or $MODROB_TEST_JOBS)")
+                    help="jobs at once (default 2, or $MODROB_TEST_JOBS)")
     args = ap.parse_args()
     os.makedirs(RESULTS, exist_ok=True)
     print("[tests] results and logs: %s" % os.path.relpath(RESULTS, ROOT))
-    totals = [0, 0, 0, 0]
-    parts = []
+    # the long kinds first (a package's unit tests, the docs test), so the two workers end together
+    jobs = []
     if args.tier in (None, 1):
-        parts.append(run_unit(args.pattern))
+        jobs += unit_jobs(args.pattern)
     if args.tier in (None, 2):
-        parts.append(run_tier2(args.pattern, args.timeout, max(1, args.jobs)))
-    for part in parts:
-        for i, v in enumerate(part):
-            totals[i] += v
-    passed, failed, skipped, xfailed = totals
+        jobs += docs_jobs(args.pattern) + rostest_jobs(args.pattern)
+    if not jobs:
+        print("[tests] nothing matched -k %r" % args.pattern)
+        return 1
+    kinds = sum(1 for j in jobs if j[1] is run_unit), sum(1 for j in jobs if j[1] is run_rostest)
+    print("[tests] %d unit test packages, %d rostest files%s; %d at a time"
+          % (kinds[0], kinds[1], ", the docs test" if any(j[1] is run_docs for j in jobs) else "",
+             max(1, args.jobs)), flush=True)
+    passed, failed, skipped, xfailed = run_jobs(jobs, max(1, args.jobs), args.timeout)
     line = "%d passed, %d failed" % (passed, failed)
     if xfailed:
         line += ", %d xfailed (known limits that fail as expected)" % xfailed
