@@ -320,6 +320,25 @@ def test_diffbot_stops_when_the_commands_stop():
     assert model.links["base_link"].pose[0][0] == pytest.approx(x, abs=1e-3)
 
 
+def test_a_wall_stops_diffbot_its_wheels_slip_nothing_tunnels():
+    """A wall 1 m ahead: commanded 0.3 m/s for 5 s the robot stops at it and keeps pushing (in
+    contact, its body still), its wheels turning at the commanded speed (slipping), and it does
+    not pass it; its wheel odometry runs on past the wall."""
+    world, model, c = diffbot()
+    world.add_sdf('<sdf version="1.6"><model name="wall"><static>true</static><pose>1.0 0 0.25 0 0 0</pose>'
+                  '<link name="l"><collision name="c"><geometry><box><size>0.1 2 0.5</size></box></geometry>'
+                  '</collision></link></model></sdf>')
+    drive(world, c, 0.3, 0.0, 5.0)
+    front = model.links["base_link"].pose[0][0] + 0.25          # the box's front face
+    assert 0.90 < front < 0.951, front                          # the wall's face is at x = 0.95
+    assert abs(model.twist[0][0]) < 0.01
+    assert any("wall" in (k[0], k[2]) for k in world.contacts())
+    assert model.joints["left_wheel"].velocity * 0.1 == pytest.approx(0.3, rel=0.05)
+    assert c.odometry.x > 1.2
+    drive(world, c, 0.3, 0.0, 2.0)
+    assert model.links["base_link"].pose[0][0] + 0.25 < 0.951
+
+
 def ackbot():
     """ackbot resting on the ground plane, its AckermannSteeringController running with the
     default joint names and the wheelbase and radius read from the model. The steering joint is
