@@ -8,8 +8,8 @@ wheelSeparation 0.4, wheelDiameter 0.15, torque 5, updateRate 100 Hz (0 = every 
 commandTopic cmd_vel, odometryTopic odom, odometryFrame odom, robotBaseFrame base_footprint,
 broadcastTF false, covariance_x 0.0001, covariance_y 0.0001, covariance_yaw 0.01.
 
-Gazebo's plugin also sets the wheels' velocities directly (Joint::SetVelocity) at each update;
-here the motors alone turn them, so that a blocked robot's wheels are held by their torque.
+As Noetic's plugin (Gazebo > 2: the joints' "vel" and "fmax" parameters), the motors alone turn
+the wheels, so that a blocked robot's wheels are held by their torque.
 """
 from modrob_sim.gazebo_ros.plugin_base import RateGate
 
