@@ -11,6 +11,7 @@ docs"); in short, on the line directly before a fenced ```bash / ```python block
     docs_test.py --check            only check the markers (no ROS, a second)
     docs_test.py docs/ptrz.md       one document; docs/ptrz.md:99 only the session of that block
     docs_test.py --list             the sessions that would run
+    docs_test.py --jobs 1           one session at a time (default: two side by side)
 """
 import argparse
 import glob
@@ -23,6 +24,7 @@ import socket
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import xml.etree.ElementTree as ET
 
@@ -43,13 +45,15 @@ FENCE = re.compile(r"^(\s*)(```+|~~~+)\s*([^`\s]*)[^`]*$")
 LIST_ITEM = re.compile(r"^(\s*)([-*+]|\d+[.)])(\s+)\S")
 DEFAULT_TIMEOUT = 120.0  # wall seconds: generous, a shared 2-core machine can be slow
 STOP_GRACE = 20.0  # wall seconds for a Ctrl-C'd launch to end before SIGTERM
-
-
-def _ctrl_c_ends():
-    """In a block's process, before it runs: Ctrl-C (SIGINT) does what it does in a reader's shell.
-    A test run started as a background job (CI scripts, nohup ... &) inherits SIGINT ignored, and
-    an ignored signal stays ignored across exec: the block would then outlive the Ctrl-C."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
+# Sessions side by side: a session keeps about one core busy (Python processes starting one after
+# the other, a launch coming up, a Ctrl-C'd launch ending), so two at once use both of 2 cores
+JOBS = 2
+# A block's process starts with Ctrl-C (SIGINT) doing what it does in a reader's shell. A test run
+# started as a background job (CI scripts, nohup ... &) inherits SIGINT ignored, and an ignored
+# signal stays ignored across exec: the block would then outlive the Ctrl-C. (coreutils' env, not
+# a preexec_fn: sessions start processes from several threads.)
+CTRL_C_ENDS = ["env", "--default-signal=INT"]
+INTERRUPTED = threading.Event()  # the docs test itself got Ctrl-C: sessions stop what they run
 
 
 class Block(object):
@@ -219,6 +223,24 @@ def sessions(blocks):
     return out
 
 
+def cost(group):
+    """A session's expected run time, for starting the longest first when sessions run side by
+    side: its commands (each a process that starts Python or ROS), a launch or make counting five."""
+    total = 0
+    for block in group:
+        if block.kind == "python":
+            total += 3
+            continue
+        previous = ""
+        for line in block.text.split("\n"):
+            line, continued = line.strip(), previous.endswith("\\")
+            previous = line
+            if not line or line.startswith("#") or continued:
+                continue
+            total += 5 if line.split()[0] in ("roslaunch", "make") else 1
+    return total
+
+
 # ---------------------------------------------------------------- running
 
 
@@ -228,10 +250,22 @@ def free_port():
         return s.getsockname()[1]
 
 
+def made_since(path, since):
+    """Whether ``path`` (relative to the workspace) exists and was written at or after wall time
+    ``since``: a file left by an earlier run does not count as made by this one. (File times come
+    from the kernel's coarse clock, up to a tick behind time.time(): hence the 50 ms.)"""
+    try:
+        return os.stat(os.path.join(ROOT, path)).st_mtime >= since - 0.05
+    except OSError:
+        return False
+
+
 def tracked_state():
     """{path: digest} of the tracked files that differ from git's index, to see what a block rewrote."""
-    out = subprocess.run(["git", "diff", "--name-only"], cwd=ROOT, capture_output=True,
-                         text=True).stdout.split()
+    # --no-optional-locks: sessions side by side run this at once; git diff would otherwise take
+    # the index lock to refresh it, and one of them would fail on it
+    out = subprocess.run(["git", "--no-optional-locks", "diff", "--name-only"], cwd=ROOT,
+                         capture_output=True, text=True).stdout.split()
     state = {}
     for path in out:
         full = os.path.join(ROOT, path)
@@ -266,30 +300,32 @@ class Session(object):
         self.logs[block] = log
         env = dict(self.env, DISPLAY=self.display()) if "display" in block.opts else self.env
         with open(log, "w") as out:
-            proc = subprocess.Popen(["bash", "-c", "source scripts/env.sh && " + run, path],
+            proc = subprocess.Popen(CTRL_C_ENDS + ["bash", "-c", "source scripts/env.sh && " + run, path],
                                     cwd=ROOT, env=env,
                                     stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT,
-                                    start_new_session=True, preexec_fn=_ctrl_c_ends)
+                                    start_new_session=True)
         self.groups.append(proc.pid)
         self.group_of[proc.pid] = block
         self.procs.append(proc)
         return proc
 
     def display(self):
-        """A private Xvfb for the blocks marked display=xvfb (started once per session)."""
+        """A private Xvfb for the blocks marked display=xvfb (started once per session). Xvfb picks
+        a free display number itself (-displayfd) and says it once it accepts clients, so sessions
+        side by side never race for one."""
         if self.xvfb is None:
-            number = next(n for n in range(90, 300) if not os.path.exists("/tmp/.X11-unix/X%d" % n)
-                          and not os.path.exists("/tmp/.X%d-lock" % n))
-            self.xvfb = (":%d" % number, subprocess.Popen(
-                ["Xvfb", ":%d" % number, "-screen", "0", "1280x1024x24", "-nolisten", "tcp"],
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True))
-            end = time.monotonic() + 10
-            while not os.path.exists("/tmp/.X11-unix/X%d" % number) and time.monotonic() < end:
-                time.sleep(0.05)
+            read, write = os.pipe()
+            proc = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24",
+                                     "-nolisten", "tcp"], pass_fds=(write,), stdout=subprocess.DEVNULL,
+                                    stderr=subprocess.DEVNULL, start_new_session=True)
+            os.close(write)
+            with os.fdopen(read) as f:
+                number = f.readline().strip()  # "" when Xvfb could not start
+            self.xvfb = (":%s" % number, proc)
         return self.xvfb[0]
 
     def run_block(self, block, n):
-        start = time.monotonic()
+        start, self.started = time.monotonic(), time.time()
         timeout = float(block.opts.get("timeout", DEFAULT_TIMEOUT))
         before = tracked_state()
         proc = self.start(block, n)
@@ -297,20 +333,20 @@ class Session(object):
         if checks:
             problem = self.wait_checks(proc, checks, start + timeout)
         else:
-            try:
-                status = proc.wait(timeout=timeout)
-                want = int(float(block.opts.get("status", 0)))
-                problem = None if status == want else "exit status %d (expected %d)" % (status, want)
-            except subprocess.TimeoutExpired:
+            status = wait_exit(proc, start + timeout)
+            if status is None:
                 problem = ("did not finish within %.0f s: a launch in the foreground? Give the marker "
                            "until=..., "
                            "end the line with & and wait for it, or mark the block skip" % timeout)
+            else:
+                want = int(float(block.opts.get("status", 0)))
+                problem = None if status == want else "exit status %d (expected %d)" % (status, want)
         if problem is None:
             problem = self.check_files(block)
         rewritten = sorted(p for p, d in tracked_state().items() if before.get(p) != d)
         if problem is None and rewritten:
-            problem = ("rewrote tracked files: %s (write under out/ or a path the reader gives)"
-                       % ", ".join(rewritten))
+            problem = ("rewrote tracked files: %s (write under out/ or a path the reader gives; with --jobs "
+                       "above 1 it may be a block of a session beside it)" % ", ".join(rewritten))
         self.results[block] = [problem is None, problem, time.monotonic() - start]
         return problem is None
 
@@ -334,10 +370,10 @@ class Session(object):
             names_ok = waiter is None or waiter.poll() == 0
             if waiter is not None and waiter.poll() not in (None, 0):
                 return "%s (%s)" % (", ".join(checks), waiter.stdout.read().strip())
-            missing = [f for f in files if not os.path.exists(os.path.join(ROOT, f))]
+            missing = [f for f in files if not made_since(f, self.started)]
             if names_ok and not missing:
                 return None
-            if time.monotonic() > end:
+            if time.monotonic() > end or INTERRUPTED.is_set():
                 if waiter:
                     os.killpg(waiter.pid, signal.SIGKILL)
                     waiter.wait()
@@ -345,9 +381,8 @@ class Session(object):
             time.sleep(0.1)
 
     def check_files(self, block):
-        missing = [f for f in split_list(block.opts.get("creates", ""))
-                   if not os.path.exists(os.path.join(ROOT, f))]
-        return "did not create %s" % ", ".join(missing) if missing else None
+        missing = [f for f in split_list(block.opts.get("creates", "")) if not made_since(f, self.started)]
+        return "did not create %s (or left an older one as it was)" % ", ".join(missing) if missing else None
 
     def stop(self):
         """Ctrl-C every block's process group (launches end as a reader's would), then insist.
@@ -395,6 +430,17 @@ class Session(object):
                 result[0], result[1] = False, "the output has no match for expect=%r" % block.opts["expect"]
 
 
+def wait_exit(proc, end):
+    """proc's exit status, or None when wall time ``end`` passed (or the docs test was interrupted)."""
+    while not INTERRUPTED.is_set():
+        try:
+            return proc.wait(timeout=max(0.0, min(0.2, end - time.monotonic())))
+        except subprocess.TimeoutExpired:
+            if time.monotonic() >= end:
+                return None
+    return None
+
+
 def group_alive(pgid):
     try:
         os.killpg(pgid, 0)
@@ -413,7 +459,7 @@ def run_session(blocks, workdir):
     session = Session(blocks, workdir)
     try:
         for n, block in enumerate(blocks, 1):
-            if not session.run_block(block, n):
+            if INTERRUPTED.is_set() or not session.run_block(block, n):
                 break
     finally:
         t = time.monotonic()
@@ -429,6 +475,40 @@ def run_session(blocks, workdir):
         if block.action == "run" and block not in session.results:
             session.results[block] = [False, "not run: an earlier block of its session failed", 0.0]
     return session
+
+
+def run_groups(groups, workdir, jobs, report):
+    """Run the sessions ``groups``, ``jobs`` side by side, the longest (by :func:`cost`) first so
+    that the last to end is a short one; ``report(i, group, session, seconds)`` gets each ended
+    session (``i`` its place in ``groups``, from 1), one call at a time. True when Ctrl-C
+    interrupted the run (the sessions that ran are stopped then)."""
+    queue = sorted(enumerate(groups, 1), key=lambda item: -cost(item[1]))
+    lock = threading.Lock()
+
+    def worker():
+        while not INTERRUPTED.is_set():
+            with lock:
+                if not queue:
+                    return
+                i, group = queue.pop(0)
+            start = time.monotonic()
+            session = run_session(group, workdir)
+            with lock:
+                report(i, group, session, time.monotonic() - start)
+
+    workers = [threading.Thread(target=worker) for _ in range(max(1, min(jobs, len(queue))))]
+    try:
+        for thread in workers:
+            thread.start()
+        for thread in workers:
+            while thread.is_alive():
+                thread.join(0.2)
+    except KeyboardInterrupt:
+        INTERRUPTED.set()
+        print("[docs] interrupted: stopping the sessions that run", flush=True)
+        for thread in workers:
+            thread.join()
+    return INTERRUPTED.is_set()
 
 
 def write_junit(path, cases):
@@ -450,6 +530,8 @@ def main():
     ap.add_argument("--list", action="store_true", help="print the sessions and exit")
     ap.add_argument("--junit", help="write JUnit XML here")
     ap.add_argument("--keep", action="store_true", help="keep the blocks' scripts and logs (printed)")
+    ap.add_argument("--jobs", type=int, default=JOBS, metavar="N",
+                    help="sessions run side by side (default %d; each has its own master and Xvfb)" % JOBS)
     args = ap.parse_args()
 
     wanted = {}
@@ -486,32 +568,42 @@ def main():
 
     workdir = tempfile.mkdtemp(prefix="modrob-docs-test-")
     failed = 0
-    for i, group in enumerate(groups, 1):
-        start = time.monotonic()
-        session = run_session(group, workdir)
+    done = []
+
+    def report(i, group, session, seconds):
+        """One session's lines, printed together (sessions end in any order; called under a lock)."""
+        nonlocal failed
+        lines = []
         for block in group:
-            ok, message, seconds = session.results[block]
-            cases.append(("docs." + block.doc, "L%d" % block.line, seconds, None if ok else message))
+            ok, message, block_seconds = session.results[block]
+            cases.append(("docs." + block.doc, "L%d" % block.line, block_seconds, None if ok else message))
             if not ok:
                 failed += 1
-                print("[docs] %s FAILED: %s\n       log: %s"
-                      % (block.where, message, session.logs.get(block, "-")))
+                lines.append("[docs] %s FAILED: %s\n       log: %s"
+                             % (block.where, message, session.logs.get(block, "-")))
                 if block in session.logs:
                     with open(session.logs[block], errors="replace") as f:
                         tail = strip_ansi(f.read()).rstrip().split("\n")[-25:]
-                    print("       | " + "\n       | ".join(tail))
-        print("[docs] [%d/%d] %s: %s in %.0f s (%s; stop %.1f s)" % (
-            i, len(groups), " + ".join(b.where for b in group),
-            "ok" if all(session.results[b][0] for b in group) else "FAILED", time.monotonic() - start,
-            " + ".join("%.1f" % session.results[b][2] for b in group), session.stop_seconds), flush=True)
+                    lines.append("       | " + "\n       | ".join(tail))
+        done.append(i)
+        lines.append("[docs] [%d/%d, #%d] %s: %s in %.0f s (%s; stop %.1f s)" % (
+            len(done), len(groups), i, " + ".join(b.where for b in group),
+            "ok" if all(session.results[b][0] for b in group) else "FAILED", seconds,
+            " + ".join("%.1f" % session.results[b][2] for b in group), session.stop_seconds))
+        print("\n".join(lines), flush=True)
+
+    started = time.monotonic()
+    if run_groups(groups, workdir, args.jobs, report):
+        return 130
     if args.junit:
         write_junit(args.junit, cases)
     if args.keep or failed:
         print("[docs] scripts and logs: %s" % workdir)
     else:
         subprocess.call(["rm", "-rf", workdir])
-    print("[docs] %d blocks run, %d failed, %d marked not run; %d marker problems"
-          % (sum(len(g) for g in groups), failed, len(skipped), n_problems))
+    print("[docs] %d blocks run, %d failed, %d marked not run; %d marker problems; %.0f s, %d side by side"
+          % (sum(len(g) for g in groups), failed, len(skipped), n_problems, time.monotonic() - started,
+             max(1, args.jobs)))
     return 1 if failed or n_problems else 0
 
 

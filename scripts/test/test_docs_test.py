@@ -220,3 +220,76 @@ def test_tracked_state_sees_a_rewritten_file(tmp_path, monkeypatch):
 def test_bad_markers_are_refused(marker):
     _, problems = scan("<!-- docs-test: %s -->\n```bash\ntrue\n```\n" % marker)
     assert len(problems) == 1
+
+
+def test_sessions_side_by_side_get_displays_of_their_own(tmp_path):
+    """Each session's Xvfb picks its own free display (-displayfd), also when started at once."""
+    import threading
+    sessions = [docs_test.Session([], str(tmp_path)) for _ in range(2)]
+    threads = [threading.Thread(target=s.display) for s in sessions]
+    try:
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(30)
+        displays = [s.xvfb[0] for s in sessions]
+        assert len(set(displays)) == 2 and all(d != ":" for d in displays)
+        for d in displays:
+            assert os.path.exists("/tmp/.X11-unix/X%s" % d[1:])
+    finally:
+        for s in sessions:
+            s.stop()
+
+
+def test_a_file_left_by_an_earlier_run_is_not_made_by_the_block(tmp_path):
+    old = tmp_path / "old.txt"
+    old.write_text("from an earlier run\n")
+    os.utime(str(old), (1e9, 1e9))
+    target = os.path.relpath(str(old), docs_test.ROOT)
+    results = run("""\
+        <!-- docs-test: run creates=%s -->
+        ```bash
+        true
+        ```
+
+        <!-- docs-test: run until=file:%s timeout=3 -->
+        ```bash
+        exec tail -f /dev/null
+        ```
+
+        <!-- docs-test: run creates=%s -->
+        ```bash
+        touch %s
+        ```
+        """ % (target, target, target, target), tmp_path)
+    assert not results[0][0] and "did not create" in results[0][1]
+    assert not results[1][0] and "not within" in results[1][1]
+    assert results[2][0], results[2]
+
+
+def test_sessions_run_side_by_side(tmp_path):
+    """Two sessions that each wait for the other's file pass only when they run at once; the one
+    with more commands counts as the longer (it is started first)."""
+    a, b = (os.path.relpath(str(tmp_path / name), docs_test.ROOT) for name in ("a", "b"))
+    wait = "for i in $(seq 300); do [ -e %s ] && exit 0; sleep 0.1; done; exit 1"
+    blocks, problems = docs_test.scan("doc.md", textwrap.dedent("""\
+        <!-- docs-test: run session=one -->
+        ```bash
+        touch %s
+        %s
+        ```
+
+        <!-- docs-test: run session=two -->
+        ```bash
+        touch %s
+        echo two
+        %s
+        ```
+        """) % (a, wait % b, b, wait % a))
+    assert problems == []
+    groups = docs_test.sessions(blocks)
+    assert docs_test.cost(groups[1]) > docs_test.cost(groups[0])
+    ended = []
+    docs_test.run_groups(groups, str(tmp_path), 2, lambda i, group, session, seconds: ended.append(
+        (i, session.results[group[0]][0])))
+    assert sorted(ended) == [(1, True), (2, True)]
