@@ -48,13 +48,74 @@ def test_camera_info_follows_gazebo_formula():
 @pytest.mark.parametrize("bad,match", [
     (SENSOR.replace("1.3962634", "3.5"), "horizontal_fov"),
     (SENSOR.replace("<width>800", "<width>0"), "width/height"),
-    (SENSOR.replace("R8G8B8", "BAYER_RGGB8"), "format"),
+    (SENSOR.replace("R8G8B8", "R32G32B32F"), "format"),
+    (SENSOR.replace("</noise>", "</noise><distortion><center>0.5</center></distortion>"), "center"),
+    (SENSOR.replace("<hackBaseline>", "<Cx>-3</Cx><hackBaseline>"), "Cx"),
     (SENSOR.replace("<near>0.02", "<near>400"), "clip"),
     (SENSOR.replace('type="camera"', 'type="ray"'), "type"),
 ])
 def test_bad_sensors_name_the_problem(bad, match):
     with pytest.raises(ModelError, match=match):
         _parse(bad)
+
+
+@pytest.mark.parametrize("fmt,encoding", [
+    ("R8G8B8", "rgb8"), ("RGB_INT8", "rgb8"), ("B8G8R8", "bgr8"), ("L8", "mono8"), ("L_INT8", "mono8"),
+    ("L16", "mono16"), ("L_INT16", "mono16"), ("R16G16B16", "rgb16"), ("RGB_INT16", "rgb16"),
+    ("BAYER_RGGB8", "bayer_rggb8"), ("BAYER_BGGR8", "bayer_bggr8"), ("BAYER_GBRG8", "bayer_gbrg8"),
+    ("BAYER_GRBG8", "bayer_grbg8")])
+def test_formats_to_the_encodings_gazebo_plugins_publishes(fmt, encoding):
+    assert _parse(SENSOR.replace("R8G8B8", fmt)).encoding == encoding
+
+
+def test_cx_cy_focal_length_as_gazebo_plugins():
+    c = _parse(SENSOR.replace("<hackBaseline>", "<Cx>390</Cx><Cy>0</Cy><focalLength>500</focalLength>"
+                                                "<hackBaseline>"))
+    info = plugin.camera_info(c, c.hfov, "camera_link")
+    assert (info.K[0], info.K[4], info.K[2], info.K[5]) == (500.0, 500.0, 390.0, 300.5)   # Cy 0: Gazebo's
+    assert info.P[0] == 500.0 and info.P[2] == 390.0
+    zoomed = plugin.camera_info(c, 0.5, "camera_link")           # zoomed: the field of view's focal length
+    assert zoomed.K[0] == pytest.approx(800 / (2 * math.tan(0.25)))
+
+
+LENS = "<distortion><k1>-0.25</k1><k2>0.05</k2><k3>0.01</k3><p1>0.001</p1><p2>-0.002</p2>" \
+       "<center>0.5 0.5</center></distortion>"
+
+
+def test_lens_drawn_and_d_from_the_plugin_or_the_lens():
+    c = _parse(SENSOR.replace("</noise>", "</noise>" + LENS))
+    assert c.lens == (-0.25, 0.05, 0.01, 0.001, -0.002, 0.5, 0.5)
+    assert c.distortion == [0.1, 0.0, 0.0, 0.0, 0.0]             # D: the plugin's distortionK1.. keys
+    auto = _parse(SENSOR.replace("</noise>", "</noise>" + LENS).replace(
+        "<alwaysOn>", "<autoDistortion>true</autoDistortion><alwaysOn>"))
+    assert auto.distortion == [-0.25, 0.05, 0.001, -0.002, 0.01]  # ROS's order k1 k2 p1 p2 k3
+    assert _parse().lens is None
+
+
+STEREO = """<sensor type="multicamera" name="stereo"><update_rate>10</update_rate>
+  <camera name="left_cam"><horizontal_fov>1.0</horizontal_fov>
+    <image><width>160</width><height>120</height><format>L8</format></image></camera>
+  <camera name="right_cam"><pose>0 -0.07 0 0 0 0</pose><horizontal_fov>1.0</horizontal_fov>
+    <image><width>160</width><height>120</height><format>L8</format></image></camera>
+  <plugin name="stereo_controller" filename="libgazebo_ros_multicamera.so">
+    <cameraName>stereo</cameraName><frameName>stereo_optical</frameName><hackBaseline>0.07</hackBaseline>
+  </plugin></sensor>"""
+
+
+def test_multicamera_cameras_as_gazebo_plugins():
+    s = ET.fromstring(STEREO)
+    cams = s.findall("camera")
+    left = sensor_config.parse(s, s.find("plugin"), "head", "bot", "", "libgazebo_ros_multicamera.so",
+                               types=("multicamera",), camera=cams[0], name_suffix="/left", hack_baseline=0.0)
+    right = sensor_config.parse(s, s.find("plugin"), "head", "bot", "", "libgazebo_ros_multicamera.so",
+                                types=("multicamera",), camera=cams[1], name_suffix="/right")
+    assert sensor_config.topic(left, left.image_topic) == "/stereo/left/image_raw"
+    assert sensor_config.topic(right, right.info_topic) == "/stereo/right/camera_info"
+    assert (left.hack_baseline, right.hack_baseline) == (0.0, 0.07)
+    assert right.camera_pose == (0.0, -0.07, 0.0, 0.0, 0.0, 0.0) and left.camera_pose == (0.0,) * 6
+    assert left.frame_name == right.frame_name == "stereo_optical"
+    assert plugin.camera_info(right, right.hfov, "f").P[3] == pytest.approx(-right.hack_baseline * 160 / (
+        2 * math.tan(0.5)))
 
 
 # ---- depth cameras (TurtleBot3 waffle's realsense_R200 block, in our own words) -------------------

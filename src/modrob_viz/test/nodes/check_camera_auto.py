@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """rostest camera_auto.test: the simulator runs the camera renderer only while a camera is
-subscribed, and a depth camera's outputs are exact to the geometry.
+subscribed, a depth camera's outputs are exact to the geometry, and gazebo_plugins' other cameras
+(stereo pair, triggered, lens distortion, 16-bit and bayer formats: fixtures/camera_family.urdf)
+publish as theirs do.
 
 A depth camera (libgazebo_ros_openni_kinect.so, TurtleBot3 waffle's topic names) 0.5 m up at the
 origin looking along +x (hfov 1.0 rad, 160x120); a red box of 0.4 m centred at (2, 0, 0.5): its
@@ -18,6 +20,7 @@ import rostest
 import rostopic
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, PointCloud2
+from std_msgs.msg import Empty
 
 RENDERER = "/gazebo_camera_renderer"
 W, H, HFOV = 160, 120, 1.0
@@ -27,7 +30,10 @@ FACE, CAMERA_Z, HALF = 1.8, 0.5, 0.2
 FRAME = "camera_depth_optical_frame"
 TOPICS = (("/camera/rgb/image_raw", Image), ("/camera/rgb/camera_info", CameraInfo),
           ("/camera/depth/image_raw", Image), ("/camera/depth/camera_info", CameraInfo),
-          ("/camera/depth/points", PointCloud2))
+          ("/camera/depth/points", PointCloud2),
+          ("/stereo/left/image_raw", Image), ("/stereo/left/camera_info", CameraInfo),
+          ("/stereo/right/image_raw", Image), ("/stereo/right/camera_info", CameraInfo),
+          ("/trig/image_raw", Image), ("/lens/image_raw", Image), ("/lens/camera_info", CameraInfo))
 
 
 def renderer_running():
@@ -52,9 +58,11 @@ def wait_for(cond, timeout, what):
 class Latest(object):
     def __init__(self, topic, cls):
         self.msg = None
+        self.count = 0
         self.sub = rospy.Subscriber(topic, cls, self._store, queue_size=1, buff_size=2 ** 24)
 
     def _store(self, msg):
+        self.count += 1
         self.msg = msg
 
     def wait(self, cond=lambda m: True, timeout=90.0):
@@ -165,7 +173,65 @@ class CameraAuto(unittest.TestCase):
         self.assertTrue(np.all(np.abs(gz) <= 0.01),
                         "ground points at %s..%s, not 0 +- 0.01" % (gz.min(), gz.max()))
 
-    def test_5_renderer_stops_after_the_last_subscriber_left(self):
+    def test_5a_stereo_pair_as_gazebo_plugins(self):
+        # the pair straddles the box: left camera 0.035 m left of it, right one 0.035 m right
+        shift = F * 0.035 / FACE
+        cols = {}
+        for side, sign in (("left", 1), ("right", -1)):
+            msg = self.subs["/stereo/%s/image_raw" % side].wait(lambda m: len(red_pixels(m)[0]) > 0)
+            self.assertEqual((msg.width, msg.height, msg.encoding, msg.header.frame_id),
+                             (W, H, "rgb8", "stereo_optical_frame"))
+            info = self.subs["/stereo/%s/camera_info" % side].wait()
+            cols[side] = red_pixels(msg)[1].mean()
+            rospy.loginfo("stereo %s: box middle at column %.2f (cx %.2f)", side, cols[side], info.K[2])
+            self.assertAlmostEqual(cols[side], info.K[2] + sign * shift, delta=0.75)
+            # P[3] = -fx * baseline on the right camera only
+            self.assertAlmostEqual(info.P[3], 0.0 if side == "left" else -F * 0.07, places=6)
+        self.assertAlmostEqual(cols["left"] - cols["right"], F * 0.07 / FACE, delta=0.75)
+
+    def test_5b_triggered_camera_one_frame_per_trigger(self):
+        trig = self.subs["/trig/image_raw"]
+        left = self.subs["/stereo/left/image_raw"]
+        self.assertEqual(trig.count, 0, "a triggered camera published without a trigger")
+        pub = rospy.Publisher("/trig/image_trigger", Empty, queue_size=10)
+        wait_for(lambda: pub.get_num_connections() > 0, 30.0, "/gazebo subscribed to /trig/image_trigger")
+        for _ in range(3):
+            pub.publish(Empty())
+        wait_for(lambda: trig.count >= 3, 60.0, "3 images for 3 triggers")
+        seen = left.count
+        wait_for(lambda: left.count >= seen + 5, 30.0, "5 more frames of the stereo camera")
+        self.assertEqual(trig.count, 3, "more images than triggers")
+        msg = trig.msg
+        self.assertEqual((msg.width, msg.height, msg.encoding, msg.step, msg.header.frame_id),
+                         (W, H, "mono16", 2 * W, "trig_optical_frame"))
+        a = np.frombuffer(msg.data, "<u2").reshape(H, W)
+        # 16-bit grey of the scene: the red box is darker than the sky behind it
+        self.assertLess(int(a[H // 2, W // 2]), 100 * 257)
+        self.assertGreater(int(a[5, 5]), 150 * 257)
+
+    def test_5c_lens_distortion_drawn_and_in_d(self):
+        import cv2
+        msg = self.subs["/lens/image_raw"].wait()
+        info = self.subs["/lens/camera_info"].wait()
+        self.assertEqual((msg.encoding, msg.step), ("bayer_rggb8", W))
+        self.assertEqual(list(info.D), [-0.3, 0.0, 0.0, 0.0, 0.0])        # autoDistortion: the lens
+        a = np.frombuffer(msg.data, np.uint8).reshape(H, W)
+
+        def horizon(img, col):
+            """First row from the top that sees the ground (240 grey; the sky is 178, no lens black)."""
+            return int(np.argmax(img[:, col] > 210))
+        # pitched 0.35 rad down: the horizon 0.365 focal lengths above the centre, bent by the barrel
+        bent = [horizon(a, c) for c in (15, W // 2, W - 16)]
+        K = np.array(info.K).reshape(3, 3)
+        straight = [horizon(cv2.undistort(a, K, np.array(info.D)), c) for c in (15, W // 2, W - 16)]
+        rospy.loginfo("horizon rows at columns 15, %d, %d: %s; undistorted with D: %s",
+                      W // 2, W - 16, bent, straight)
+        self.assertGreaterEqual(min(bent[0], bent[2]) - bent[1], 3, "the lens bends the horizon")
+        self.assertLessEqual(max(straight) - min(straight), 1, "undistorted with D it is straight")
+        # the ground plane's far edge is a little below the horizon at infinity (row cy - F tan 0.35)
+        self.assertTrue(0 <= straight[1] - (info.K[5] - F * math.tan(0.35)) <= 3, straight)
+
+    def test_6_renderer_stops_after_the_last_subscriber_left(self):
         self.assertTrue(self.subs, "test_2 subscribed nothing")
         for latest in self.subs.values():
             latest.sub.unregister()

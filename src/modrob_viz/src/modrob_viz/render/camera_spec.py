@@ -13,10 +13,15 @@ A camera is a dict (from the ``~cameras`` parameter, or from a simulator camera 
     header_frame  frame_id written into the output (default: frame)
     camera_info_out  output CameraInfo topic, stamped like each image (default: none)
     rate          frames per second (default: the node's ~rate)
-    format        rgb8 | bgr8 | mono8, or Gazebo's R8G8B8 | B8G8R8 | L8 (default rgb8)
+    format        rgb8 | bgr8 | mono8 | mono16 | rgb16 | bayer_rggb8 | bayer_bggr8 | bayer_gbrg8 |
+                  bayer_grbg8, or Gazebo's R8G8B8 | B8G8R8 | L8 (default rgb8)
     noise_mean noise_stddev   Gazebo's gaussian image noise, in units of full scale (0..1)
     hack_baseline  Gazebo's hackBaseline [m]: P[3] = -fx * baseline
     clip_near clip_far  nothing nearer or farther (m) is drawn (0.01, 100)
+    lens          Brown's lens distortion drawn into the image: {k1, k2, k3, p1, p2, center_x,
+                  center_y} (centre in fractions of the image, 0.5 = the principal point; lens.py)
+    trigger       a std_msgs/Empty topic: one frame per message instead of frames at ``rate``
+                  (Gazebo's triggered camera)
 
 A depth camera (Gazebo's depth sensor) has any of these output topics besides its image:
 
@@ -32,8 +37,11 @@ import re
 from modrob_viz.errors import ConfigError
 from modrob_viz.render import depth, pinhole
 
-FORMATS = {"rgb8": "rgb8", "bgr8": "bgr8", "mono8": "mono8",
+FORMATS = {"rgb8": "rgb8", "bgr8": "bgr8", "mono8": "mono8", "mono16": "mono16", "rgb16": "rgb16",
+           "bayer_rggb8": "bayer_rggb8", "bayer_bggr8": "bayer_bggr8", "bayer_gbrg8": "bayer_gbrg8",
+           "bayer_grbg8": "bayer_grbg8",
            "R8G8B8": "rgb8", "B8G8R8": "bgr8", "L8": "mono8", "RGB_INT8": "rgb8", "BGR_INT8": "bgr8"}
+LENS_KEYS = ("k1", "k2", "k3", "p1", "p2", "center_x", "center_y")
 
 
 def internal_name(name):
@@ -89,6 +97,14 @@ def parse(spec, default_rate, where="camera"):
     if not 0 < out["clip_near"] < out["clip_far"]:
         raise ConfigError("%s: clip needs 0 < clip_near < clip_far, got %r and %r"
                           % (where, out["clip_near"], out["clip_far"]))
+    lens = spec.get("lens")
+    out["lens"] = None
+    if lens not in (None, "", {}):
+        if not isinstance(lens, dict) or set(lens) - set(LENS_KEYS):
+            raise ConfigError("%s: lens must be a dict of %s, got %r" % (where, ", ".join(LENS_KEYS), lens))
+        out["lens"] = tuple(_num(lens, k, 0.5 if k.startswith("center") else 0.0, where + " lens")
+                            for k in LENS_KEYS)
+    out["trigger"] = str(spec.get("trigger", "") or "")
     for key in ("depth_image", "depth_camera_info", "points"):
         out[key] = str(spec.get(key, "") or "")
     out["depth_format"] = str(spec.get("depth_format", "32FC1"))
@@ -152,12 +168,25 @@ def apply_noise(img, mean, stddev, rng):
 
 
 def convert(img, fmt):
-    """RGB uint8 (h, w, 3) -> (array, encoding, step) in the camera's format."""
+    """RGB uint8 (h, w, 3) -> (array, encoding, step) in the camera's format (an encoding of
+    FORMATS' values). 16-bit: the 8-bit value times 257 (full scale to full scale), little-endian;
+    mono: luminance 0.299 R + 0.587 G + 0.114 B; bayer_xyzw8: one colour a pixel, the 2x2 pattern
+    x y / z w from the top-left pixel (as Gazebo's camera makes its BAYER formats)."""
+    import numpy as np
     if fmt == "bgr8":
         img = img[:, :, ::-1]
-    elif fmt == "mono8":
-        img = (0.299 * img[:, :, 0] + 0.587 * img[:, :, 1] + 0.114 * img[:, :, 2]).astype("uint8")
-        return img, "mono8", img.shape[1]
+    elif fmt in ("mono8", "mono16"):
+        lum = 0.299 * img[:, :, 0] + 0.587 * img[:, :, 1] + 0.114 * img[:, :, 2]
+        if fmt == "mono8":
+            return lum.astype(np.uint8), fmt, img.shape[1]
+        return (np.rint(lum) * 257).astype("<u2"), fmt, img.shape[1] * 2
+    elif fmt == "rgb16":
+        return img.astype("<u2") * 257, fmt, img.shape[1] * 6
+    elif fmt.startswith("bayer_"):
+        out = np.empty(img.shape[:2], np.uint8)
+        for colour, (dy, dx) in zip(fmt[len("bayer_"):len("bayer_") + 4], ((0, 0), (0, 1), (1, 0), (1, 1))):
+            out[dy::2, dx::2] = img[dy::2, dx::2, "rgb".index(colour)]
+        return out, fmt, img.shape[1]
     return img, fmt, img.shape[1] * 3
 
 

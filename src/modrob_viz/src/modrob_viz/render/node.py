@@ -31,12 +31,13 @@ import rospy
 import tf2_ros
 from python_qt_binding.QtCore import QTimer
 from sensor_msgs.msg import CameraInfo, Image, PointCloud2, PointField
+from std_msgs.msg import Empty
 from std_srvs.srv import Trigger, TriggerResponse
 from visualization_msgs.msg import Marker, MarkerArray
 
 from modrob_msgs.errors import ModrobError
 from modrob_viz.errors import ConfigError
-from modrob_viz.render import camera_spec, depth, pinhole, scene_sync
+from modrob_viz.render import camera_spec, depth, lens, pinhole, scene_sync
 from modrob_viz.render.video import VideoRecorder, save_png
 
 #: s a camera given to RViz may take to come up before it is given again (RViz resets its displays
@@ -80,6 +81,9 @@ class _Camera(object):
         self.pub_points = rospy.Publisher(spec["points"], PointCloud2, queue_size=1) \
             if spec["points"] else None
         self.rays = None            # (intrinsics, pixel rays) of the last point cloud
+        self.lens_maps = None       # (intrinsics, lens.source_maps) of the last distorted image
+        self.triggers = 0           # frames asked for by the trigger topic and not yet published
+        self.trigger_sub = None
         prefix = rospy.get_name() + "/" + spec["id"]
         self.pub_blank = rospy.Publisher(prefix + "/image", Image, queue_size=1, latch=True)
         self.pub_rviz_info = rospy.Publisher(prefix + "/camera_info", CameraInfo, queue_size=1, latch=True)
@@ -102,7 +106,7 @@ class _Camera(object):
 
     def close(self):
         for p in (self.pub_image, self.pub_info, self.pub_depth, self.pub_depth_info, self.pub_points,
-                  self.pub_blank, self.pub_rviz_info, self.sub):
+                  self.pub_blank, self.pub_rviz_info, self.sub, self.trigger_sub):
             if p is not None:
                 p.unregister()
         if self.recorder is not None:
@@ -214,6 +218,8 @@ class CameraRendererNode(object):
         cam = _Camera(spec)
         if spec["camera_info"]:
             cam.sub = rospy.Subscriber(spec["camera_info"], CameraInfo, self._on_info, cam, queue_size=1)
+        if spec["trigger"]:
+            cam.trigger_sub = rospy.Subscriber(spec["trigger"], Empty, self._on_trigger, cam, queue_size=100)
         if getattr(self, "record", None) and ("all" in self.record or spec["name"] in self.record):
             try:
                 cam.recorder = VideoRecorder(os.path.join(self.output_dir, "%s.avi" % spec["id"]),
@@ -236,6 +242,10 @@ class CameraRendererNode(object):
             cam.close()
             self.scene.remove_camera(cid)
             rospy.loginfo("camera '%s' removed", cam.spec["name"])
+
+    def _on_trigger(self, _msg, cam):
+        with self.lock:
+            cam.triggers += 1
 
     def _on_info(self, msg, cam):
         cam.info = msg      # stored only; the Qt thread uses it
@@ -383,9 +393,14 @@ class CameraRendererNode(object):
         for cam in cams:
             # a camera due within half its period joins the batch: cameras of one rate fall into
             # step and share batches (each batch costs RViz a pass)
-            if now < cam.next_t - 0.5 / cam.spec["rate"]:
+            if cam.spec["trigger"]:
+                # a triggered camera: a frame while a trigger waits (and none is in flight)
+                if cam.triggers <= 0 or cam.pending is not None:
+                    continue
+            elif now < cam.next_t - 0.5 / cam.spec["rate"]:
                 continue
-            cam.next_t = max(cam.next_t + 1.0 / cam.spec["rate"], now - 0.5 / cam.spec["rate"])
+            else:
+                cam.next_t = max(cam.next_t + 1.0 / cam.spec["rate"], now - 0.5 / cam.spec["rate"])
             ready = self._ready(cam)        # says what keeps it from rendering, also when idle
             if not cam.active:
                 self.idle_frames += 1
@@ -540,7 +555,14 @@ class CameraRendererNode(object):
 
     def _publish(self, cam, rgb, intr, frame, stamp, dep=None):
         spec = cam.spec
+        if spec["lens"] is not None:
+            if cam.lens_maps is None or cam.lens_maps[0] != intr:
+                cam.lens_maps = (intr, lens.source_maps(intr, spec["lens"]))
+            rgb = lens.apply(rgb, cam.lens_maps[1])
         rgb = camera_spec.apply_noise(rgb, spec["noise_mean"], spec["noise_stddev"], self.rng)
+        if spec["trigger"]:
+            with self.lock:
+                cam.triggers = max(0, cam.triggers - 1)
         cam.last_rgb = rgb
         cam.frames += 1
         info_frame = cam.info.header.frame_id if cam.info is not None else ""
