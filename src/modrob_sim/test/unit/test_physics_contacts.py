@@ -227,6 +227,45 @@ def test_contact_points_of_the_last_step(native):
         assert 0.0 <= c.depth < 0.002
     xs = sorted(c.position[0] for c in cps)
     assert xs[0] == pytest.approx(0.4, abs=1e-3) and xs[-1] == pytest.approx(0.6, abs=1e-3)
+    # the contact forces on the resting 2 kg box (ODE's contact joint feedback) carry its weight;
+    # the ground is static: nothing is reported on its side
+    on_box = [c.force1 if c.model1 == "box" else c.force2 for c in cps]
+    assert sum(f[2] for f in on_box) == pytest.approx(2.0 * 9.81, rel=0.01)
+    assert all(f[2] >= -1e-9 for f in on_box)                  # a contact only pushes
+    assert abs(sum(f[0] for f in on_box)) < 0.01 and abs(sum(f[1] for f in on_box)) < 0.01
+    # the static ground gets the reaction, its torque about the ground link's origin
+    for c in cps:
+        box_first = c.model1 == "box"
+        fb, fg, tg = (c.force1, c.force2, c.torque2) if box_first else (c.force2, c.force1, c.torque1)
+        assert fg == pytest.approx(tuple(-x for x in fb), abs=1e-12)
+        o = world.models["ground"].links["slab"].pose[0]
+        r = [p - q for p, q in zip(c.position, o)]
+        assert tg == pytest.approx((r[1] * fg[2] - r[2] * fg[1], r[2] * fg[0] - r[0] * fg[2],
+                                    r[0] * fg[1] - r[1] * fg[0]), abs=1e-9)
+    # about the box's centre (0.05 m above the contacts) the corner forces balance
+    torque = [sum((c.torque1 if c.model1 == "box" else c.torque2)[k] for c in cps) for k in range(3)]
+    assert max(abs(x) for x in torque) < 0.01
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_contact_forces_between_two_bodies_are_equal_and_opposite(native):
+    world = World(native=native)
+    world.add_urdf("ground", H.fixture("ground_box.urdf"))
+    world.add_urdf("box", H.fixture("box.urdf"), pose=((0.5, 0, 0.06), (0, 0, 0, 1)))
+    world.add_urdf("top", H.robot("top", H.box_link("top", 3.0, (0.1, 0.1, 0.1))),
+                   pose=((0.5, 0, 0.16), (0, 0, 0, 1)))
+    world.set_physics_params(auto_disable=False)
+    world.step(600)
+    between = [c for c in world.contacts() if {c.model1, c.model2} == {"box", "top"}]
+    assert between
+    on_top = [c.force1 if c.model1 == "top" else c.force2 for c in between]
+    on_box = [c.force2 if c.model1 == "top" else c.force1 for c in between]
+    assert sum(f[2] for f in on_top) == pytest.approx(3.0 * 9.81, rel=0.01)
+    for a, b in zip(on_top, on_box):
+        assert a == pytest.approx(tuple(-x for x in b), abs=1e-9)
+    ground = [c.force1 if c.model1 == "box" else c.force2 for c in world.contacts()
+              if {c.model1, c.model2} == {"box", "ground"}]
+    assert sum(f[2] for f in ground) == pytest.approx(5.0 * 9.81, rel=0.01)
 
 
 _SHAPES = ("<box><size>0.1 0.08 0.06</size></box>", "<sphere><radius>0.05</radius></sphere>",

@@ -23,7 +23,8 @@ only the physics-side interface of Model, Link and Joint (model.py):
     run(n, t, iterations, before_due, after_due, wake, observer) -> Stretch or None
                                     up to n steps natively (the pure backend: None, never)
     find_blowups() -> [(model, group, reason)]   the guard's scan after a step
-    contacts() -> [ContactPoint]                 the last step's contact points
+    contacts() -> [(info1, info2, pos, normal, depth, wrenches)]   the last step's contact points;
+                                    wrenches = (f1, t1, f2, t2): ODE's feedback of the contact joint
     overlaps(model) -> {(m1, l1, m2, l2): depth}   spawn-overlap check
     close()                         free the backend's own objects
     new_actuator(joint, kind) -> record       an actuator's data (actuators.py)
@@ -48,6 +49,7 @@ from .world_parts import may_sleep, warn_once
 
 _APPROX1 = ode.ContactApprox1_1 | ode.ContactApprox1_2
 _BASE_MODE = _APPROX1 | ode.ContactSoftERP | ode.ContactSoftCFM
+ZERO3 = (0.0, 0.0, 0.0)
 
 
 class _PairParams(object):
@@ -144,6 +146,8 @@ class PureBackend(object):
         self.seed = 0
         self.ncontacts = 0
         self.contact_log = []
+        self.joints = []      # this step's contact joints, as contact_log (until the feedback is read)
+        self.feedback = []    # their feedback after the step: (f1, t1, f2, t2) as contact_log
         self.made = []        # (contact, body1, body2, whole depth) of this step's contact joints
         self.capped = False   # a contact of this step had its correction capped at maxVel
 
@@ -242,6 +246,7 @@ class PureBackend(object):
         world.contact_group.empty()
         self.ncontacts = 0
         self.contact_log = []
+        self.joints = []
         self.made = []
         self.capped = False
         self._collide(world)
@@ -254,6 +259,7 @@ class PureBackend(object):
         else:
             world.ode_world.quickStep(dt)
         self.seed = odelib.get_seed()
+        self._read_feedback()
         self._wake_held(world)
         return self.ncontacts
 
@@ -273,12 +279,17 @@ class PureBackend(object):
             b.setAngularVel(w)
             b.setForce(f)
             b.setTorque(t)
+        for j in self.joints:
+            j.setFeedback(False)   # while the joint exists (see _read_feedback)
         world.contact_group.empty()
+        self.joints = []
         for c, b1, b2, depth in self.made:
             pos, normal, _d, g1, g2 = c.getContactGeomParams()
             c.setContactGeomParams(pos, normal, depth, g1, g2)
             j = ode.ContactJoint(world.ode_world, world.contact_group, c)
             j.attach(b1, b2)
+            j.setFeedback(True)
+            self.joints.append(j)
         odelib.set_seed(seed0)
         world.ode_world.quickStep(dt)
         for b, (v, w) in zip(bodies, velocities):
@@ -324,7 +335,25 @@ class PureBackend(object):
         return flagged
 
     def contacts(self):
-        return [(i1, i2, tuple(pos), tuple(normal), depth) for i1, i2, pos, normal, depth in self.contact_log]
+        return [(i1, i2, tuple(pos), tuple(normal), depth, w)
+                for (i1, i2, pos, normal, depth), w in zip(self.contact_log, self.feedback)]
+
+    def _read_feedback(self):
+        """The contact joints' feedback, read at once and then turned off: the World may empty
+        their group (a model removed, a reset) before anyone asks, and PyODE (which unsets a
+        joint's feedback when it frees the Python object) aborts on a joint already destroyed."""
+        out = []
+        for (i1, i2, _p, _n, _d), j in zip(self.contact_log, self.joints):
+            f1, t1, f2, t2 = j.getFeedback()
+            j.setFeedback(False)
+            if i1.body is None:
+                # attached as (None, b2): ODE makes the one body its first, so its force is f1
+                f1, t1, f2, t2 = ZERO3, ZERO3, f1, t1
+            elif i2.body is None:
+                f2 = t2 = ZERO3
+            out.append((f1, t1, f2, t2))
+        self.feedback = out
+        self.joints = []
 
     def overlaps(self, model):
         world = self.p
@@ -450,8 +479,10 @@ class PureBackend(object):
                 c.setFDir1(fdir)
             j = ode.ContactJoint(world, group, c)
             j.attach(b1, b2)
+            j.setFeedback(True)
             self.made.append((c, b1, b2, whole))
             self.contact_log.append((i1, i2, pos, normal, depth))
+            self.joints.append(j)
 
 
 def _friction_dir(g, b1, b2, pos, n):
@@ -542,6 +573,7 @@ class NativeBackend(object):
         self.nat = nat
         self.p = parts
         self._run = _declare_run(nat)
+        self._contact_vals = nat.mr_contact_vals()
         self.ctx = nat.mr_ctx_new(odelib.raw_pointer(parts.ode_world), parts.static_space._id(),
                                   parts.dyn_space._id())
         self._surface_index = {}
@@ -845,16 +877,18 @@ class NativeBackend(object):
         n = self.ncontacts
         if n <= 0:
             return out
+        m = self._contact_vals
         gs = (ctypes.c_void_p * (2 * n))()
-        vals = (ctypes.c_double * (7 * n))()
+        vals = (ctypes.c_double * (m * n))()
         n = self.nat.mr_contact_log(self.ctx, gs, vals, n)
         by_ptr = {geom_ptr(g): info for g, info in self.p.geom_info.items()}
         for k in range(n):
             i1, i2 = by_ptr.get(gs[2 * k]), by_ptr.get(gs[2 * k + 1])
             if i1 is None or i2 is None:
                 continue  # removed since
-            v = vals[7 * k:7 * k + 7]
-            out.append((i1, i2, tuple(v[0:3]), tuple(v[3:6]), v[6]))
+            v = vals[m * k:m * k + m]
+            out.append((i1, i2, tuple(v[0:3]), tuple(v[3:6]), v[6],
+                        (tuple(v[7:10]), tuple(v[10:13]), tuple(v[13:16]), tuple(v[16:19]))))
         return out
 
     def overlaps(self, model):
@@ -925,6 +959,15 @@ class NativeMesh(object):
     def setCollideBits(self, bits):
         self._col = bits
         self._nat.mr_geom_set_bits(self.ptr, getattr(self, "_cat", bits), bits)
+
+    def enable(self):
+        self._nat.mr_geom_enable(self.ptr, 1)
+
+    def disable(self):
+        self._nat.mr_geom_enable(self.ptr, 0)
+
+    def isEnabled(self):
+        return bool(self._nat.mr_geom_is_enabled(self.ptr))
 
     def getAABB(self):
         out = (ctypes.c_double * 6)()

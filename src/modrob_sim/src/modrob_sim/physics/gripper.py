@@ -19,8 +19,6 @@ import logging
 import weakref
 from collections import deque, namedtuple
 
-import ode
-
 LOG = logging.getLogger("modrob_sim.physics")
 
 UPDATE_PERIOD = 0.75
@@ -156,10 +154,7 @@ class Gripper(object):
     def _attach(self, obj_model, obj_link):
         if obj_link.body is None:
             return
-        j = ode.FixedJoint(self.world.ode_world)
-        j.attach(obj_link.body, self.palm.body)  # a static palm (no body): to the world
-        j.setFixed()
-        self._joint = j
+        self._joint = self.world.weld(obj_link, self.palm)  # a static palm: to the world
         self.attached = (obj_model, obj_link.name)
         LOG.info("model '%s' gripper '%s': attached model '%s' link '%s' to palm link '%s'",
                  self.model.name, self.desc.name, obj_model.name, obj_link.name, self.palm.name)
@@ -168,12 +163,9 @@ class Gripper(object):
         if self._joint is None:
             self.attached = None
             return
-        self._joint.attach(None, None)
+        self._joint.release()
         self._joint = None
         obj = self.attached
-        body = obj[0].links[obj[1]].body if not obj[0].removed else None
-        if body is not None:
-            body.enable()  # it may have fallen asleep while held
         self.attached = None
         self._diffs.extend([float("inf")] * STABLE_SAMPLES)
         self._prev_rel = None
@@ -183,7 +175,7 @@ class Gripper(object):
     def close(self):
         """Let go and stop checking (the model was deleted)."""
         if self._joint is not None:
-            self._joint.attach(None, None)
+            self._joint.release()
             self._joint = None
         self.attached = None
         if self._hook is not None:

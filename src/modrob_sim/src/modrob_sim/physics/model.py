@@ -227,6 +227,20 @@ class Link(object):
         self._wrenches = []
 
     # ---- wrenches ----------------------------------------------------------------------------
+    @property
+    def collides(self):
+        """(addition) False while :meth:`set_collides` turned the link's collisions off."""
+        return all(g.isEnabled() for g, _ in self._geoms)
+
+    def set_collides(self, on):
+        """(addition) Turn every collision of the link on or off (Gazebo's
+        ``Link::SetCollideMode("all")`` / ``("none")``): an off geom makes no contacts."""
+        for g, _ in self._geoms:
+            if on:
+                g.enable()
+            else:
+                g.disable()
+
     def add_wrench(self, force, torque, reference_point=(0.0, 0.0, 0.0), duration=None):
         """Force and torque in the WORLD frame; ``reference_point`` in the LINK frame (where the
         force acts, relative to the link origin). Applied every step until ``duration`` simulated
@@ -283,6 +297,7 @@ class Joint(object):
         self._has_cmd = False
         self._vel_target = None    # (v, fmax)
         self._child_inertia = 1.0  # about the axis; bounds the explicit damping for stability
+        self._fb_armed_at = None   # world iteration at which measure_wrench turned ODE's feedback on
 
     def __repr__(self):
         return "<Joint %s::%s (%s)>" % (self.model.name, self.name, self.type)
@@ -441,6 +456,51 @@ class Joint(object):
         self._vel_target = (v, fm) if fm > 0 else None
         self._apply_motor()
 
+    # ---- the wrench the joint transmits (addition) -----------------------------------------------
+    @property
+    def child_offset(self):
+        """The child link frame in the joint frame (identity for URDF; SDF's joint <pose>)."""
+        return self._child_offset
+
+    @property
+    def can_measure_wrench(self):
+        """False for a joint welded into one body (fixed joints: no ODE joint carries anything)."""
+        return self._ode is not None
+
+    def measure_wrench(self):
+        """From the next step on, ODE reports what this joint's constraints do (its joint
+        feedback, kept for the model's life). Returns False when the joint has no ODE joint."""
+        if self._ode is None:
+            return False
+        if self._fb_armed_at is None:
+            self._ode.setFeedback(True)
+            self._fb_armed_at = self.model._world.iterations   # ODE writes it from the next step
+        return True
+
+    def transmitted_wrench(self):
+        """``(force, torque)`` the joint exerted on its CHILD in the last step, world frame, torque
+        about the joint origin: ODE's constraint rows (stops, motors, mimic coupling, friction) plus
+        the effort applied to the joint (``effort``). Explicit damping is not included. None until
+        :meth:`measure_wrench` was called and a step was made since."""
+        o = self._ode
+        if o is None or self._fb_armed_at is None or self._fb_armed_at == self.model._world.iterations:
+            return None
+        fb = o.getFeedback()
+        f, t = list(fb[0]), list(fb[1])
+        e = self.effort
+        if e:
+            ax = o.getAxis()
+            acc = t if self._angular else f
+            for k in range(3):
+                acc[k] += e * ax[k]
+        body = self._ode.getBody(0)
+        cg = body.getPosition()
+        child = self.model.links[self.child]
+        origin = pose_mul(child.pose, pose_inv(self._child_offset))[0]   # the joint frame's
+        arm = (cg[0] - origin[0], cg[1] - origin[1], cg[2] - origin[2])
+        m = cross(arm, f)
+        return tuple(f), (t[0] + m[0], t[1] + m[1], t[2] + m[2])
+
     # ---- physics-side interface (World and backends) -------------------------------------------
     @property
     def ode_joint(self):
@@ -565,6 +625,13 @@ class Joint(object):
             fmax = min(fmax, self._child_inertia * abs(v - self.velocity) / dt)
         self._ode.setParam(odelib.PARAM_VEL, v)
         self._ode.setParam(odelib.PARAM_FMAX, fmax)
+
+    def set_mimic(self, mimic):
+        """(World.set_mimic) the coupling ``(master name, multiplier, offset)`` or None; a joint
+        released from it gets its own motor settings back (friction, velocity target)."""
+        self.mimic = mimic
+        if mimic is None:
+            self._apply_motor()
 
     def release(self):
         """The model left the world: detach and forget the ODE joint."""

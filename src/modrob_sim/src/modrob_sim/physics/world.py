@@ -21,7 +21,7 @@ from .backends import NativeBackend, NativeMesh, PureBackend  # noqa: F401 (Nati
 from .builder import build_model
 from .description import GeometryDesc
 from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN  # noqa: F401 (public names)
-from .transforms import (IDENTITY_POSE, check_pose, check_vec3, dot, normalized, pose_mul,
+from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, dot, normalized, pose_mul,
                          quat_rotate, to_ode_quat)
 from .urdf_reader import read_urdf
 from .world_parts import WorldParts, may_sleep, warn_once
@@ -30,8 +30,12 @@ LOG = logging.getLogger("modrob_sim.physics")
 
 GuardEvent = namedtuple("GuardEvent", "model link reason time")
 #: one contact point of the last step (addition): model/link names of both sides, world position,
-#: normal (pointing from the second geom into the first, ODE's convention) and penetration depth
-ContactPoint = namedtuple("ContactPoint", "model1 link1 model2 link2 position normal depth")
+#: normal (pointing from the second geom into the first, ODE's convention), penetration depth, and
+#: what the contact did in the step (ODE's joint feedback, world frame): force1/torque1 on side 1's
+#: link (torque about its body's centre of mass), force2/torque2 on side 2's; a static side gets
+#: the reaction of the other side's force, its torque about the static link's frame origin
+ContactPoint = namedtuple("ContactPoint", "model1 link1 model2 link2 position normal depth "
+                          "force1 torque1 force2 torque2")
 
 #: Gazebo's ODE defaults, except max_contacts (Gazebo 20 per pair; ODE makes up to 8 for a
 #: cylinder on a box, 4 spread points hold any resting face) and the guard settings (ours).
@@ -401,6 +405,44 @@ class World(object):
     def actuators(self):
         """Every actuator of the World, in the order they run."""
         return tuple(self._actuators)
+
+    def weld(self, link, to=None):
+        """(addition) Hold ``link`` where it is relative to the link ``to`` (None: the world) with
+        an ODE fixed joint until ``release()`` of the returned :class:`Weld` (a grasp that
+        attaches an object to a palm). InputError when ``link`` cannot move."""
+        if link.body is None:
+            raise InputError("weld: link '%s' of model '%s' is static: nothing to hold"
+                             % (link.name, link.model.name))
+        return Weld(self._p.ode_world, link, to)
+
+    def set_mimic(self, joint, master=None, multiplier=1.0, offset=0.0):
+        """(addition) Couple ``joint`` to ``master`` (a joint of the same model) as a URDF
+        <mimic> couples it: position = multiplier * master + offset, held at every step by the
+        World's mimic coupling (natively between hooks); ``master`` None releases the joint.
+        InputError for joints that cannot be coupled."""
+        model = getattr(joint, "model", None)
+        what = "set_mimic: joint '%s' of model '%s'" % (getattr(joint, "name", joint),
+                                                        getattr(model, "name", "?"))
+        if model is None or self.models.get(model.name) is not model:
+            raise InputError("%s: the joint's model is not in this World" % what)
+        if master is None:
+            joint.set_mimic(None)
+        else:
+            if getattr(master, "model", None) is not model:
+                raise InputError("%s: the master joint '%s' is not a joint of the same model"
+                                 % (what, getattr(master, "name", master)))
+            for j in (joint, master):
+                if j.ode_joint is None or j.type not in ("revolute", "continuous", "prismatic"):
+                    raise InputError("%s: joint '%s' is %s; only revolute, continuous and prismatic "
+                                     "joints can be coupled" % (what, j.name, j.type))
+            if joint is master:
+                raise InputError("%s: a joint cannot mimic itself" % what)
+            m, o = float(multiplier), float(offset)
+            if not (math.isfinite(m) and math.isfinite(o)):
+                raise InputError("%s: multiplier %r and offset %r must be finite"
+                                 % (what, multiplier, offset))
+            joint.set_mimic((master.name, m, o))
+        self._rebuild_caches()
 
     # ---- models ------------------------------------------------------------------------------
     def warn_once(self, key, message):
@@ -998,8 +1040,17 @@ class World(object):
     def contacts(self):
         """The contact points made in the last step (addition to the contract): a list of
         ContactPoint, at most max_contacts per geom pair, depth as the collider reported it."""
-        return [ContactPoint(i1.model.name, i1.link.name, i2.model.name, i2.link.name, pos, normal, depth)
-                for i1, i2, pos, normal, depth in self._backend.contacts()]
+        out = []
+        for i1, i2, pos, normal, depth, (f1, t1, f2, t2) in self._backend.contacts():
+            # a static side has no body for ODE to report on: it takes the reaction of the other
+            # side's force, with its torque about the static link's frame origin
+            if i1.body is None:
+                f1, t1 = _reaction(f2, pos, i1.link)
+            elif i2.body is None:
+                f2, t2 = _reaction(f1, pos, i2.link)
+            out.append(ContactPoint(i1.model.name, i1.link.name, i2.model.name, i2.link.name, pos, normal,
+                                    depth, f1, t1, f2, t2))
+        return out
 
     def pop_events(self):
         ev, self._events = self._events, []
@@ -1079,6 +1130,39 @@ def _destroy_objects(model, geom_info, backend, wrench_links=None):
     model.release()
 
 
+class Weld(object):
+    """A fixed joint made by :meth:`World.weld`: ``link`` and ``to`` move as one until released."""
+
+    def __init__(self, ode_world, link, to):
+        self.link, self.to = link, to
+        j = ode.FixedJoint(ode_world)
+        j.attach(link.body, to.body if to is not None else None)   # a static 'to': the world
+        j.setFixed()
+        self._joint = j
+
+    @property
+    def active(self):
+        return self._joint is not None
+
+    def release(self):
+        """End the weld (again: nothing); the link may have fallen asleep while held: wake it."""
+        if self._joint is None:
+            return
+        self._joint.attach(None, None)
+        self._joint = None
+        body = None if self.link.model.removed else self.link.body
+        if body is not None:
+            body.enable()
+
+
+def _reaction(force, point, link):
+    """The force a contact at ``point`` puts on ``link`` (static) when the other side gets
+    ``force``, and its torque about the link's frame origin."""
+    f = (-force[0], -force[1], -force[2])
+    o = link.pose[0]
+    return f, cross((point[0] - o[0], point[1] - o[1], point[2] - o[2]), f)
+
+
 def _teardown(models, geom_info, backend, ode_world, static_space, dyn_space, contact_group):
     for m in list(models.values()):
         _destroy_objects(m, geom_info, backend)
@@ -1134,4 +1218,4 @@ def _earliest(dues):
     return due
 
 
-__all__ = ["World", "GuardEvent", "ContactPoint", "DEFAULT_PARAMS", "FORCE_CAP", "SimulationError"]
+__all__ = ["World", "Weld", "GuardEvent", "ContactPoint", "DEFAULT_PARAMS", "FORCE_CAP", "SimulationError"]

@@ -41,6 +41,8 @@ typedef struct {
 typedef struct {
     dGeomID g1, g2;
     double pos[3], normal[3], depth;
+    dJointID joint;            /* its contact joint (of this step's group) */
+    dJointFeedback fb;         /* what the joint did in the step: force and torque on each body */
 } MrContactRec;
 
 /* a contact joint made in this step, kept for the position pass of mr_split_solve */
@@ -302,19 +304,48 @@ int mr_model_contacts(MrCtx *c, int model)
 
 int mr_last_contacts(MrCtx *c) { return c->ncontacts; }
 
-/* copy up to `max` logged contacts: geoms (2 per contact) and 7 doubles (pos, normal, depth) */
+/* copy up to `max` logged contacts: geoms (2 per contact) and MR_CONTACT_VALS doubles: pos,
+ * normal, depth, then the contact joint's feedback of the step (force and torque on body 1, about
+ * its centre of mass, then on body 2; world frame; zero on a side without a body) */
+#define MR_CONTACT_VALS 19
+int mr_contact_vals(void) { return MR_CONTACT_VALS; }
 int mr_contact_log(MrCtx *c, void **geoms, double *vals, int max)
 {
     int i, n = c->nlog < max ? c->nlog : max;
     for (i = 0; i < n; ++i) {
         const MrContactRec *r = &c->log[i];
+        double *v = &vals[MR_CONTACT_VALS * i];
         geoms[2 * i] = (void *)r->g1;
         geoms[2 * i + 1] = (void *)r->g2;
-        memcpy(&vals[7 * i], r->pos, 3 * sizeof(double));
-        memcpy(&vals[7 * i + 3], r->normal, 3 * sizeof(double));
-        vals[7 * i + 6] = r->depth;
+        memcpy(v, r->pos, 3 * sizeof(double));
+        memcpy(v + 3, r->normal, 3 * sizeof(double));
+        v[6] = r->depth;
+        memset(v + 7, 0, 12 * sizeof(double));
+        if (dGeomGetBody(r->g1)) {
+            memcpy(v + 7, r->fb.f1, 3 * sizeof(double));
+            memcpy(v + 10, r->fb.t1, 3 * sizeof(double));
+            if (dGeomGetBody(r->g2)) {
+                memcpy(v + 13, r->fb.f2, 3 * sizeof(double));
+                memcpy(v + 16, r->fb.t2, 3 * sizeof(double));
+            }
+        } else if (dGeomGetBody(r->g2)) {
+            /* attached as (0, b2): ODE makes the one body its first, so its force is f1 */
+            memcpy(v + 13, r->fb.f1, 3 * sizeof(double));
+            memcpy(v + 16, r->fb.t1, 3 * sizeof(double));
+        }
     }
     return n;
+}
+
+/* every contact joint of the step reports its forces into its log record (after collision:
+ * the log no longer moves) */
+static void mr_contact_feedback(MrCtx *c)
+{
+    int i;
+    for (i = 0; i < c->nlog; ++i) {
+        memset(&c->log[i].fb, 0, sizeof(dJointFeedback));
+        dJointSetFeedback(c->log[i].joint, &c->log[i].fb);
+    }
 }
 
 /* ---- contact selection -------------------------------------------------------------------- */
@@ -508,6 +539,7 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
             MrContactRec *r = &c->log[c->nlog++];
             const dContactGeom *g = &c->gen[sel[i]];
             r->g1 = o1; r->g2 = o2;
+            r->joint = j;
             r->pos[0] = g->pos[0]; r->pos[1] = g->pos[1]; r->pos[2] = g->pos[2];
             r->normal[0] = g->normal[0]; r->normal[1] = g->normal[1]; r->normal[2] = g->normal[2];
             r->depth = g->depth;
@@ -611,6 +643,7 @@ int mr_collide(MrCtx *c, double dt, double gx, double gy, double gz, double laye
     }
     if (mr_space_nonempty(c->mesh_static) && mr_space_nonempty(c->dyn_space))
         dSpaceCollide2((dGeomID)c->mesh_static, (dGeomID)c->dyn_space, c, &mr_near);
+    mr_contact_feedback(c);
     return c->ncontacts;
 }
 
@@ -703,7 +736,9 @@ static void mr_split_solve(MrCtx *c, double dt, dBodyID *bodies, int nbodies)
         m->ct.geom.depth = m->full_depth;
         j = dJointCreateContact(c->world, c->contacts, &m->ct);
         dJointAttach(j, m->b1, m->b2);
+        c->log[i].joint = j;           /* made and log grow together: the same contact */
     }
+    mr_contact_feedback(c);
     c->seed = mr_quickstep(c->world, dt, seed0);     /* pass 2: the whole correction */
     for (i = 0, s = c->saved; i < nbodies; ++i, s += 19) {
         dBodySetLinearVel(bodies[i], s[7], s[8], s[9]);
@@ -829,6 +864,8 @@ void mr_geom_set_pose(dGeomID g, double x, double y, double z, double qw, double
     dGeomSetPosition(g, x, y, z);
     dGeomSetQuaternion(g, q);
 }
+void mr_geom_enable(dGeomID g, int on) { if (on) dGeomEnable(g); else dGeomDisable(g); }
+int mr_geom_is_enabled(dGeomID g) { return dGeomIsEnabled(g); }
 void mr_geom_set_bits(dGeomID g, unsigned long cat, unsigned long col)
 {
     dGeomSetCategoryBits(g, cat);
