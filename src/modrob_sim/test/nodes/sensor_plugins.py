@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """rostest node: the simulated sensors through /gazebo, each spawned with Gazebo's unchanged
 plugin XML. ``sensor_plugins.py CASE`` runs one case (laser, gpu_laser, imu_sensor, imu_model,
-velodyne, gps, p3d, bumper, range, hector); every .test file starts its own /gazebo."""
+velodyne, gps, p3d, bumper, ft_sensor, range, hector; several as a comma list share one /gazebo);
+every .test file starts its own /gazebo."""
 import importlib.util
 import math
 import os
@@ -13,7 +14,7 @@ import numpy as np
 import rospy
 import rostest
 from gazebo_msgs.msg import ContactsState, ModelStates
-from geometry_msgs.msg import Pose, Vector3Stamped
+from geometry_msgs.msg import Pose, Vector3Stamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, LaserScan, NavSatFix, PointCloud, PointCloud2, Range
 from std_srvs.srv import Empty
@@ -312,9 +313,56 @@ class SensorPlugins(unittest.TestCase):
         self.assertGreater(len(st.contact_positions), 0)
         self.assertLess(abs(st.contact_positions[0].z - 0.275), 0.01)
 
+        # once it rests, the contact forces on the sensor's link carry the 0.5 kg box's weight
+        def weight_on_plate():
+            m = bumper.get()
+            s = [x for x in m.states if "weight" in x.collision2_name] if m is not None else []
+            return s[0] if s and abs(s[0].total_wrench.force.z + 0.5 * 9.81) < 0.01 * 0.5 * 9.81 else None
+        self.assertTrue(wait_for(lambda: weight_on_plate() is not None, 30.0),
+                        "the contact forces on the plate do not settle at the box's weight: %s"
+                        % [x.total_wrench for x in bumper.get().states])
+        st = weight_on_plate()
+        self.assertEqual(len(st.wrenches), len(st.contact_positions))
+        self.assertAlmostEqual(sum(w.force.z for w in st.wrenches), st.total_wrench.force.z, places=9)
+        self.assertTrue(all(w.force.z <= 1e-9 for w in st.wrenches))    # a contact only pushes
+
+    # ---- force/torque on a joint ---------------------------------------------------------------
+    def test_ft_sensor(self):
+        # test/fixtures/force/ft_arm.urdf: a 2 kg load, centre 0.1 m out, on a vertical wrist joint;
+        # gazebo_ros_ft_sensor (100 Hz, child frame, child_to_parent) and a force_torque sensor
+        # (50 Hz, parent frame, parent_to_child) with the plugin inside
+        with open(os.path.join(os.path.dirname(_FIX), "force", "ft_arm.urdf")) as f:
+            urdf = f.read()
+        ft = Latest("/ft_sensor", WrenchStamped)
+        wrist = Latest("/wrist_ft", WrenchStamped)
+        self.spawn_urdf("ft_arm", urdf, x=3.0)
+        weight = 2.0 * 9.81
+        ok = wait_for(lambda: ft.count > 2 and wrist.count > 2, 30.0)
+        self.assertTrue(ok, "no WrenchStamped on /ft_sensor and /wrist_ft")
+        m = ft.get()
+        self.assertEqual(m.header.frame_id, "load")
+        self.assertAlmostEqual(m.wrench.force.z, -weight, delta=0.01 * weight)
+        self.assertAlmostEqual(m.wrench.torque.y, 0.1 * weight, delta=0.01 * 0.1 * weight)
+        w = wrist.get()
+        self.assertEqual(w.header.frame_id, "post")
+        self.assertAlmostEqual(w.wrench.force.z, weight, delta=0.01 * weight)
+        # the rates: 100 Hz and 50 Hz of simulated time (a message may be dropped on the way: every
+        # gap is a whole number of periods, the smallest one period)
+        for topic, period in (("/ft_sensor", 0.01), ("/wrist_ft", 0.02)):
+            stamps = []
+            sub = rospy.Subscriber(topic, WrenchStamped, lambda m: stamps.append(m.header.stamp.to_sec()),
+                                   queue_size=100)
+            self.assertTrue(wait_for(lambda: len(stamps) >= 30, 30.0), "%s: too few messages" % topic)
+            sub.unregister()
+            gaps = [b - a for a, b in zip(stamps, stamps[1:])]
+            self.assertTrue(all(g > 0 and abs(g / period - round(g / period)) < 1e-4 for g in gaps),
+                            "%s: stamps off the %g s grid: %s" % (topic, period, gaps))
+            self.assertAlmostEqual(min(gaps), period, places=6)
+
 
 if __name__ == "__main__":
-    for _name in [n for n in vars(SensorPlugins) if n.startswith("test_") and n != "test_" + CASE]:
+    _cases = ["test_" + c for c in CASE.split(",")]
+    for _name in [n for n in vars(SensorPlugins) if n.startswith("test_") and n not in _cases]:
         delattr(SensorPlugins, _name)
     rospy.init_node("sensor_plugins_test")
-    rostest.rosrun("modrob_sim", "sensor_plugins_" + CASE, SensorPlugins)
+    rostest.rosrun("modrob_sim", "sensor_plugins_" + CASE.replace(",", "_"), SensorPlugins)

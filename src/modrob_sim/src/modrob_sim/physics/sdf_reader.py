@@ -340,6 +340,11 @@ def _model(rd, me, name, warn, resolver=None):
             if de is not None:
                 j.damping = rd.float(_text(de, "damping"), where, "<damping>", 0.0)
                 j.friction = rd.float(_text(de, "friction"), where, "<friction>", 0.0)
+        for se in _children(je, "sensor"):
+            # a joint's sensor (force_torque): its plugins see the joint's child link, whose
+            # parent joint this is
+            for pe in _children(se, "plugin"):
+                desc.plugins.append(_plugin(pe, child, se))
         if j.type == "revolute" and j.lower is None:
             j.type = "continuous"  # SDF revolute without limits turns freely
         desc.joints[jname] = j

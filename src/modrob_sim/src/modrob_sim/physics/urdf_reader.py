@@ -275,6 +275,11 @@ def _read_gazebo(rd, root, desc, name, warn):
             j = desc.joints[ref]
             for c in ge:
                 tag = local(c.tag)
+                if tag == "sensor":
+                    # a joint's sensor (force_torque): its plugins see the joint's child link,
+                    # whose parent joint this is
+                    for pe in c.findall("plugin"):
+                        desc.plugins.append(_plugin(rd, pe, j.child, c))
                 if tag in JOINT_ACCEPTED:
                     j.extra[tag] = c
                 else:

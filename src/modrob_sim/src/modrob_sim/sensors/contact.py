@@ -5,8 +5,11 @@ the sensor's link (every collision of the link; Gazebo names URDF collisions
 ``<link>_collision``), one ContactState per pair of links: collision1_name is the sensor's
 collision (``model::link::link_collision``), collision2_name the other one; positions, normals
 (pointing from the other body into the sensor's, as ODE reports them for geom 1) and depths, in
-the world frame (``frameName`` world) or in the frame of the link named ``frameName``. Forces are
-not reported by the physics core: wrenches and total_wrench are zero.
+the world frame (``frameName`` world) or in the frame of the link named ``frameName``; the
+wrench each contact applied to the sensor's body in the step (the physics core's contact forces,
+ODE's contact joint feedback; torque about the centre of mass of the sensor link's body), in the
+same frame. (Gazebo's ODE gives these forces in the sensor link's frame whatever ``frameName``
+says; the two agree while the link is level.)
 
 Sleeping bodies make no contacts in ODE, so a box resting on the sensor would vanish from it
 once the physics auto-disables it: a body seen touching the sensor is kept awake (its
@@ -22,11 +25,17 @@ from .sdf import Params
 
 
 class ContactPair(object):
-    __slots__ = ("collision1", "collision2", "positions", "normals", "depths")
+    __slots__ = ("collision1", "collision2", "positions", "normals", "depths", "forces", "torques")
 
     def __init__(self, c1, c2):
         self.collision1, self.collision2 = c1, c2
         self.positions, self.normals, self.depths = [], [], []
+        self.forces, self.torques = [], []
+
+    def total(self):
+        """(force, torque): the sums over the pair's contacts."""
+        return (tuple(sum(f[k] for f in self.forces) for k in range(3)),
+                tuple(sum(t[k] for t in self.torques) for k in range(3)))
 
 
 def collision_name(model, link):
@@ -71,9 +80,10 @@ class ContactSensor(MountedSensor):
         self._keep_awake(self.link)
         for c in self.world.contacts():
             if (c.model1, c.link1) == (me_m, me_l):
-                other, n = (c.model2, c.link2), c.normal
+                other, n, f, tq = (c.model2, c.link2), c.normal, c.force1, c.torque1
             elif (c.model2, c.link2) == (me_m, me_l):
                 other, n = (c.model1, c.link1), (-c.normal[0], -c.normal[1], -c.normal[2])
+                f, tq = c.force2, c.torque2
             else:
                 continue
             self._keep_awake(self._link(*other))
@@ -85,9 +95,12 @@ class ContactSensor(MountedSensor):
             if fp is not None:
                 pos = quat_rotate(inv, (pos[0] - fp[0][0], pos[1] - fp[0][1], pos[2] - fp[0][2]))
                 n = quat_rotate(inv, n)
+                f, tq = quat_rotate(inv, f), quat_rotate(inv, tq)
             pair.positions.append(tuple(pos))
             pair.normals.append(tuple(n))
             pair.depths.append(c.depth)
+            pair.forces.append(tuple(f))
+            pair.torques.append(tuple(tq))
         return out
 
     def _link(self, model_name, link_name):

@@ -10,20 +10,21 @@ publishing thread (publish_later) from arrays copied in the hook.
 import threading
 
 import rospy
-from geometry_msgs.msg import Point32, Vector3, Vector3Stamped, Wrench
+from geometry_msgs.msg import Point32, Vector3, Vector3Stamped, Wrench, WrenchStamped
 from gazebo_msgs.msg import ContactsState, ContactState
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import (ChannelFloat32, Imu, LaserScan, MagneticField, NavSatFix, PointCloud,
                              PointCloud2, PointField, Range)
 from std_srvs.srv import Empty, EmptyResponse
 
-from modrob_sim.gazebo_ros.plugin_base import ModelPlugin, SensorPlugin
+from modrob_sim.gazebo_ros.plugin_base import ModelPlugin, RateGate, SensorPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
 
 from . import laser, velodyne
 from .contact import ContactSensor
 from .core import where
 from .errors import SensorConfigError
+from .force_torque import JointWrench
 from .gps import HectorGps
 from .hector import HectorImu, HectorMagnetic
 from .imu import ImuModelPlugin, ImuSensor, covariance
@@ -350,14 +351,104 @@ class BumperPlugin(_Publishing, SensorPlugin):
                 k, len(pairs), pair.collision1, pair.collision2)
             st.collision1_name = pair.collision1
             st.collision2_name = pair.collision2
-            for pos, n, d in zip(pair.positions, pair.normals, pair.depths):
+            for pos, n, d, f, tq in zip(pair.positions, pair.normals, pair.depths, pair.forces, pair.torques):
                 st.contact_positions.append(Vector3(*pos))
                 st.contact_normals.append(Vector3(*n))
                 st.depths.append(d)
-                st.wrenches.append(Wrench())
-            st.total_wrench = Wrench()
+                st.wrenches.append(Wrench(Vector3(*f), Vector3(*tq)))
+            f, tq = pair.total()
+            st.total_wrench = Wrench(Vector3(*f), Vector3(*tq))
             msg.states.append(st)
         self.pub.publish(msg)
+
+
+class _FtPublishing(_Publishing):
+    """What both forms of libgazebo_ros_ft_sensor.so share: the WrenchStamped with noise."""
+
+    def _advertise(self, spec, context, topic, frame):
+        ns = plugin_namespace(spec, context)
+        self.frame = tf_resolve(tf_prefix(ns), frame)
+        self.noise = self.param("gaussianNoise", 0.0, float)
+        if self.noise < 0:
+            raise SensorConfigError("%s: <gaussianNoise> must not be negative" % self.name)
+        self.pub = context.advertise(join_ns(ns, topic), WrenchStamped, queue_size=1)
+        self.pubs = (self.pub,)
+        rospy.loginfo("%s: WrenchStamped of joint '%s' in frame '%s' on %s"
+                      % (self.name, self.ft.joint.name, self.frame, self.pub.name))
+
+    def publish_wrench(self, t):
+        (fx, fy, fz), (tx, ty, tz) = self.ft.read()
+        msg = WrenchStamped()
+        msg.header.stamp = stamp(t)
+        msg.header.frame_id = self.frame
+        n = [self.rng.gauss(0.0, self.noise) for _ in range(6)] if self.noise else (0.0,) * 6
+        msg.wrench.force = Vector3(fx + n[0], fy + n[1], fz + n[2])
+        msg.wrench.torque = Vector3(tx + n[3], ty + n[4], tz + n[5])
+        self.pub.publish(msg)
+
+
+class FtModelPlugin(_FtPublishing, ModelPlugin):
+    """libgazebo_ros_ft_sensor.so as gazebo_plugins has it: a model plugin naming <jointName>,
+    publishing on <topicName> what the joint transmits, child link frame, child_to_parent."""
+
+    def load(self, model, spec, context):
+        joint_name = self.param("jointName")
+        topic = self.param("topicName")
+        joint = model.joints.get(joint_name)
+        if joint is None:
+            raise SensorConfigError("%s: <jointName> '%s' is not a joint of the model (joints: %s)"
+                                    % (self.name, joint_name, ", ".join(model.joints)))
+        self.ft = JointWrench(joint, self.name)
+        rate = self.param("updateRate", 0.0, float)
+        if rate < 0:
+            raise SensorConfigError("%s: <updateRate> must not be negative" % self.name)
+        self.gate = RateGate(rate)
+        self._advertise(spec, context, topic, joint.child)
+
+    def after_due(self):
+        return self.gate.next_time
+
+    def after_step(self, t, dt):
+        if self.gate.due(t) and self.active():
+            self.publish_wrench(t)
+
+    def reset(self):
+        self.gate.reset()
+
+
+class FtSensorPlugin(_FtPublishing, SensorPlugin):
+    """libgazebo_ros_ft_sensor.so inside a <sensor type="force_torque"> (on a joint): the sensor's
+    <update_rate>, <force_torque><frame> and <measure_direction>; <topicName> (default
+    ``<sensor name>/wrench``), <frameName> (default: the link of the chosen frame, or the sensor's
+    name for frame 'sensor'), <gaussianNoise>. The joint is the one whose child the sensor's link
+    is (the joint itself for <gazebo reference="joint">)."""
+
+    def load(self, model, spec, context):
+        _check_type(self, ("force_torque",))
+        joint = self.link.parent_joint
+        if joint is None:
+            raise SensorConfigError("%s: sensor '%s' is on link '%s', which hangs on no joint: put the "
+                                    "force_torque sensor on a joint (<gazebo reference=\"joint\">)"
+                                    % (self.name, self.sensor_name, self.link.name))
+        ft = self.sensor.find("force_torque")
+        frame = self.param("frame", "child", element=ft) if ft is not None else "child"
+        direction = self.param("measure_direction", "child_to_parent", element=ft) if ft is not None \
+            else "child_to_parent"
+        self.ft = JointWrench(joint, self.name, frame, direction, self.sensor_pose)
+        default_frame = {"child": joint.child, "parent": joint.parent, "sensor": self.sensor_name}[frame]
+        topic = self.param("topicName", "%s/wrench" % (self.sensor_name or joint.name))
+        self._advertise(spec, context, topic, self.param("frameName", default_frame))
+
+    def sense(self, t):
+        if self.active():
+            self.publish_wrench(t)
+
+
+def ft_sensor_plugin(model, spec, context):
+    """libgazebo_ros_ft_sensor.so: a model plugin (gazebo_plugins), or inside a force_torque
+    sensor (as gazebo_ros 2 has it)."""
+    cls = FtSensorPlugin if spec.sensor is not None else FtModelPlugin
+    return cls(model, spec, context)
 
 
 class RangePlugin(_Publishing, SensorPlugin):
@@ -578,6 +669,7 @@ PLUGINS = {
     "libhector_gazebo_ros_gps.so": GpsPlugin,
     "libgazebo_ros_p3d.so": P3dPlugin,
     "libgazebo_ros_bumper.so": BumperPlugin,
+    "libgazebo_ros_ft_sensor.so": ft_sensor_plugin,
     "libgazebo_ros_range.so": RangePlugin,
     "libgazebo_ros_block_laser.so": BlockLaserPlugin,
     "libhector_gazebo_ros_sonar.so": HectorSonarPlugin,
