@@ -27,6 +27,8 @@ PLUGIN_MODULES = [
     "modrob_sim.camera.plugin",
     "modrob_sim.sensors.ros_plugins",
     "modrob_sim.drives.ros_plugins",
+    "modrob_sim.arm_plugins.mimic_joint",
+    "modrob_sim.arm_plugins.grasp_fix",
 ]
 
 _log = logging.getLogger(__name__)

@@ -1,0 +1,108 @@
+"""roboticsgroup_gazebo_plugins' ``libroboticsgroup_gazebo_mimic_joint_plugin.so``: one joint
+follows another, ``mimicJoint = multiplier * joint + offset``.
+
+Parameters as the original reads them: ``<joint>`` and ``<mimicJoint>`` (required), ``<multiplier>``
+(1), ``<offset>`` (0), ``<sensitiveness>`` (0: an error below it is left alone), ``<maxEffort>``
+(the mimic joint's effort limit), ``<hasPID>`` and ``<robotNamespace>``.
+
+- Without ``<hasPID>`` the original sets the mimic joint's position at every step (Gazebo 9+:
+  keeping the link velocities). Here the World's mimic coupling does it (``World.set_mimic``: the
+  rule URDF ``<mimic>`` joints follow, a stiff constraint inside ODE's solver, run natively between
+  Python hooks), so the joint follows within a fraction of a milliradian and pushes back on what it
+  meets as a linkage would. ``sensitiveness`` is accepted and not needed.
+- With ``<hasPID>`` it applies ``clamp(pid(target - position), +-maxEffort)`` to the mimic joint at
+  every step, with control_toolbox gains read from the ROS parameters in the namespace that
+  ``<hasPID>`` names, relative to the robot namespace (empty: ``gazebo_ros_control/pid_gains/
+  <mimicJoint>``), as ``control_toolbox::Pid::init`` reads them. This runs in Python at every step.
+  A URDF ``<mimic>`` on that joint (which Gazebo's physics ignores) is released, so that only the
+  plugin's PID drives it, as on Gazebo.
+"""
+import math
+
+from modrob_sim.errors import PluginError
+from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
+from modrob_sim.gazebo_ros.plugins import register_plugin
+from modrob_sim.physics.actuators import Pid
+
+FILENAME = "libroboticsgroup_gazebo_mimic_joint_plugin.so"
+INF = math.inf
+
+
+def _join(ns, name):
+    if name.startswith("/"):
+        return name
+    ns = (ns or "").strip("/")
+    return "/" + (ns + "/" if ns else "") + name
+
+
+class MimicJointPlugin(ModelPlugin):
+    def load(self, model, spec, context):
+        self.world = context.world
+        names = (self.param("joint"), self.param("mimicJoint"))
+        for n in names:
+            if n not in model.joints:
+                raise PluginError("%s: no joint named '%s' (joints: %s)"
+                                  % (self.name, n, ", ".join(model.joints)))
+        self.master, self.joint = model.joints[names[0]], model.joints[names[1]]
+        self.multiplier = self.param("multiplier", 1.0, float)
+        self.offset = self.param("offset", 0.0, float)
+        self.sensitiveness = self.param("sensitiveness", 0.0, float)
+        limit = self.joint.effort_limit
+        self.max_effort = self.param("maxEffort", limit if limit and limit > 0 else INF, float)
+        self.urdf_mimic = self.joint.mimic
+        has_pid = self.element.find("hasPID")
+        self.pid = None
+        if has_pid is None:
+            self.world.set_mimic(self.joint, self.master, self.multiplier, self.offset)
+            return
+        rel = (has_pid.text or "").strip() or "gazebo_ros_control/pid_gains/" + self.joint.name
+        self.gains_ns = _join(spec.robot_namespace, rel)
+        self.pid = Pid(self.read_gains(self.gains_ns))
+        if self.urdf_mimic is not None:
+            self.world.set_mimic(self.joint, None)
+
+    def read_gains(self, ns):
+        """control_toolbox gains from the ROS parameters under ``ns`` (PluginError when absent)."""
+        import rospy
+        from modrob_sim.ros_control.params import Params
+        from modrob_sim.ros_control.pid import PidGains
+        from modrob_sim.errors import ControllerError
+        if not rospy.core.is_initialized():
+            raise PluginError("%s: <hasPID> needs the gains in the ROS parameters under %s" % (self.name, ns))
+        try:
+            values = rospy.get_param(ns, {})
+        except (KeyError, OSError, rospy.ROSException) as e:
+            raise PluginError("%s: cannot read the PID gains under %s: %s" % (self.name, ns, e))
+        try:
+            return PidGains.from_params(Params(values if isinstance(values, dict) else {}, ns))
+        except ControllerError as e:
+            raise PluginError("%s: <hasPID>: %s" % (self.name, e))
+
+    def before_due(self):
+        return -INF if self.pid is not None else INF
+
+    def before_step(self, t, dt):
+        if self.pid is None:
+            return
+        error = self.multiplier * self.master.position + self.offset - self.joint.position
+        if abs(error) < self.sensitiveness:
+            return
+        effort = self.pid.compute(error, dt)
+        self.joint.set_effort(max(-self.max_effort, min(self.max_effort, effort)))
+
+    def reset(self):
+        if self.pid is not None:
+            self.pid.reset()
+
+    def shutdown(self):
+        # the joint's own <mimic> (or nothing) again, unless the model is gone
+        if self.joint.ode_joint is None:
+            return
+        if self.urdf_mimic is not None:
+            master = self.joint.model.joints.get(self.urdf_mimic[0])
+            self.world.set_mimic(self.joint, master, self.urdf_mimic[1], self.urdf_mimic[2])
+        else:
+            self.world.set_mimic(self.joint, None)
+
+
+register_plugin(FILENAME, MimicJointPlugin)
