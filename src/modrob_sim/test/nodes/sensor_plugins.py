@@ -17,6 +17,7 @@ from gazebo_msgs.msg import ContactsState, ModelStates
 from geometry_msgs.msg import Pose, Vector3Stamped, WrenchStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, LaserScan, NavSatFix, PointCloud, PointCloud2, Range
+from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -358,6 +359,60 @@ class SensorPlugins(unittest.TestCase):
             self.assertTrue(all(g > 0 and abs(g / period - round(g / period)) < 1e-4 for g in gaps),
                             "%s: stamps off the %g s grid: %s" % (topic, period, gaps))
             self.assertAlmostEqual(min(gaps), period, places=6)
+
+    # ---- arm projects' plugins: grasp fix and mimic joint, loaded by the node from the URDF --------
+    def test_arm_plugins(self):
+        force = os.path.join(os.path.dirname(_FIX), "force")
+
+        def read(name):
+            with open(os.path.join(force, name)) as f:
+                return f.read()
+        clock = Latest("/clock", Clock)
+        self.assertTrue(wait_for(lambda: clock.get() is not None, 10.0), "no /clock")
+
+        def after(seconds):          # until that much simulated time has passed
+            t0 = clock.get().clock.to_sec()
+            return wait_for(lambda: clock.get().clock.to_sec() >= t0 + seconds, 30.0)
+
+        def z(link):
+            return self.gz.get_link_state(link_name=link, reference_frame="").link_state.pose.position.z
+
+        def effort(joint, f):
+            self.gz.clear_joint_forces(joint_name="grasp_rig::" + joint)
+            r = self.gz.apply_joint_effort(joint_name="grasp_rig::" + joint, effort=f,
+                                           start_time=rospy.Time(0), duration=rospy.Duration(-1))
+            self.assertTrue(r.success, r.status_message)
+        # test/fixtures/force: the rig's fingers squeeze a slippery can (its friction carries 1 N of
+        # its 2.9 N weight); after three gripping 20 Hz updates the grasp fix welds it to the palm
+        self.spawn_urdf("grasp_rig", read("grasp_rig.urdf"), x=6.0)
+        self.spawn_urdf("can", read("can.urdf"), x=6.0)
+        self.assertTrue(after(0.3))
+        effort("left_finger_joint", 5.0)
+        effort("right_finger_joint", 5.0)
+        self.assertTrue(after(0.4))
+        effort("lift", 30.0)          # the palm goes up to its stop (0.3 m), the can with it
+        self.assertTrue(wait_for(lambda: z("can::can") > 0.25, 30.0),
+                        "the can did not go up with the palm (z %.3f): not attached" % z("can::can"))
+        effort("left_finger_joint", -5.0)
+        effort("right_finger_joint", -5.0)
+        self.assertTrue(wait_for(lambda: z("can::can") < 0.05, 30.0),
+                        "the can was not let go when the fingers opened (z %.3f)" % z("can::can"))
+
+        # the left finger mimics the right one (-1, +0.05 rad): tipped over, the right one falls to
+        # its stop at 0.8 rad and the left one follows to -0.75
+        self.spawn_urdf("fingers", read("mimic_fingers.urdf"), x=-6.0)
+        r = self.gz.set_model_configuration(model_name="fingers", urdf_param_name="",
+                                            joint_names=["right_finger_joint"], joint_positions=[0.3])
+        self.assertTrue(r.success, r.status_message)
+
+        def q(j):
+            return self.gz.get_joint_properties(joint_name="fingers::" + j).position[0]
+
+        def followed():
+            right, left = q("right_finger_joint"), q("left_finger_joint")
+            return right > 0.79 and abs(left - (-right + 0.05)) < 1e-3
+        self.assertTrue(wait_for(followed, 30.0),
+                        "right %.4f left %.4f" % (q("right_finger_joint"), q("left_finger_joint")))
 
 
 if __name__ == "__main__":

@@ -96,3 +96,47 @@ def test_what_cannot_be_measured_is_refused_with_the_reason():
         JointWrench(m.joints["wrist"], "x", frame="tool")
     with pytest.raises(SensorConfigError, match="<measure_direction> 'up'"):
         JointWrench(m.joints["wrist"], "x", direction="up")
+
+
+class FakePub(object):
+    """Stands in for context.advertise's PluginPublisher: records what is published."""
+
+    def __init__(self, topic):
+        self.name = topic
+        self.has_subscribers = True
+        self.sent = []
+
+    def publish(self, msg):
+        self.sent.append(msg)
+
+    def unregister(self):
+        pass
+
+
+@pytest.mark.parametrize("native", BACKENDS)
+def test_the_plugins_publish_at_their_rates_and_the_physics_steps_natively_between(native):
+    pubs = {}
+
+    def advertise(topic, msg_class, queue_size=1, latch=False):
+        pubs[topic] = FakePub(topic)
+        return pubs[topic]
+    import modrob_sim.sensors.ros_plugins  # noqa: F401 (registers the plugin file names)
+    from modrob_sim.gazebo_ros.plugin_host import PluginHost
+    with open(FIXTURE) as f:
+        urdf = f.read()
+    w = World(native=native)
+    host = PluginHost(w, "/gazebo", lambda uri: uri, advertise=advertise)
+    w.add_step_hook(host.before_step, host.after_step, host.before_due, host.after_due)   # as the node
+    model, sensor = host.load(w.add_urdf("ft_arm", urdf))
+    w.step(1000)                                   # 1 s: gazebo_ros_ft_sensor at 100 Hz, the sensor at 50
+    ft, wrist = pubs["/ft_sensor"].sent, pubs["/wrist_ft"].sent
+    assert len(ft) == 100 and len(wrist) == 50
+    m = ft[-1]
+    assert m.header.frame_id == "load" and m.header.stamp.to_sec() == pytest.approx(0.991)
+    assert m.wrench.force.z == pytest.approx(-M * G, rel=0.01)
+    assert m.wrench.torque.y == pytest.approx(ARM * M * G, rel=0.01)
+    assert wrist[-1].header.frame_id == "post" and wrist[-1].wrench.force.z == pytest.approx(M * G, rel=0.01)
+    if w.native:
+        # between the samples nothing of the plugins runs: the C loop makes the steps
+        assert w.native_steps >= 0.95 * w.iterations, "%d of %d" % (w.native_steps, w.iterations)
+    w.close()
