@@ -43,6 +43,10 @@ class FrankaStateController(Controller):
     def starting(self, t):
         self._last_publish = t - 1.0 / self.publish_rate
 
+    def update_due(self, t, iteration, dt):
+        """Only its publications need Python (it commands nothing)."""
+        return t if self._last_publish is None else self._last_publish + 1.0 / self.publish_rate - 1e-9
+
     def update(self, t, dt):
         if self._last_publish is not None and t < self._last_publish + 1.0 / self.publish_rate - 1e-9:
             return

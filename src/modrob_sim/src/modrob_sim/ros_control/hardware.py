@@ -332,10 +332,33 @@ class RobotHWSim(object):
 
     @property
     def needs_every_update(self):
-        """True when a joint's command changes between updates by the hardware's own rule (a
-        position joint moved kinematically, or rate-limited towards its target): then every step
-        is an update in Python."""
-        return any(res.method in (POSITION, POSITION_PID) for res in self.joints.values())
+        """True when the hardware's write has work at the next step although no controller
+        updates: a position joint moved kinematically (set at every step, as Gazebo's writeSim
+        does), a pid_gains position joint whose command is still rate-limited towards its target
+        (the velocity limit moves it by one step's worth per write), or pid_gains changed. Then
+        the next step is an update in Python; otherwise the actuators (held efforts, pid_gains
+        PIDs) and the ODE motors carry the last write."""
+        for res in self.joints.values():
+            m = res.method
+            if m == POSITION or (m == POSITION_PID and res.owner is None and not self._position_settled(res)):
+                return True
+            if res.pid is not None and res.pid.gains is not res.synced_gains and res.actuator is not None:
+                return True
+        return False
+
+    @staticmethod
+    def _position_settled(res):
+        """True when the next write of a pid_gains position joint would give its actuator the
+        target it already has (the rate limit has reached the command)."""
+        prev = res._prev_position_cmd
+        if prev is None:
+            return False
+        cmd = res.command
+        if not math.isfinite(cmd):
+            return False
+        if res.type == "continuous":
+            return prev + angles.shortest_angular_distance(prev, cmd) == prev
+        return res.clamp_position(cmd) == prev
 
     def reset_commands(self):
         """After a reset: hold where the joints are now, PIDs cleared."""

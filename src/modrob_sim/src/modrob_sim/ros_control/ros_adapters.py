@@ -173,7 +173,7 @@ class JointGroupAdapter(Adapter):
         self.handles.append(rospy.Subscriber(self.ns + "/command", Float64MultiArray, self._on_command,
                                              queue_size=1))
         for pid, ns in zip(getattr(controller, "pids", []), getattr(controller, "pid_namespaces", [])):
-            self.handles.append(PidReconfigure(pid, ns))
+            self.handles.append(PidReconfigure(pid, ns, on_change=lambda _g: self.wake()))
 
     def _on_command(self, msg):
         res = self.c.set_command(msg.data)
@@ -199,7 +199,8 @@ class GripperActionAdapter(Adapter):
         self.server.start()
         _status_in_sim_time(self)
         if getattr(controller, "pid", None) is not None:
-            self.handles.append(PidReconfigure(controller.pid, controller.pid_namespace))
+            self.handles.append(PidReconfigure(controller.pid, controller.pid_namespace,
+                                               on_change=lambda _g: self.wake()))
 
     def _on_goal(self, gh):
         with self.lock:

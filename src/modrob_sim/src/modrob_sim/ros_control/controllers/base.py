@@ -90,6 +90,20 @@ class Controller(object):
         update). ``math.inf``: none until something changes."""
         return t
 
+    #: the ``command`` buffer's version the last update took (None: none taken yet)
+    _taken_version = None
+
+    def command_waiting(self):
+        """True when the ``command`` buffer was written after the last :meth:`take_command`
+        (a controller whose update only forwards its command is due then, and only then)."""
+        return self.command.version != self._taken_version
+
+    def take_command(self):
+        """The ``command`` buffer's value, marked as taken (a write after the version is read
+        makes the next update due again, so no command is missed)."""
+        self._taken_version = self.command.version
+        return self.command.read()
+
     def collect(self):
         """After the step of an update that set ``collect_due``: ``pending`` from what the
         actuators did in that step."""

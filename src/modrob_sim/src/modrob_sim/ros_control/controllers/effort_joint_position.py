@@ -35,7 +35,6 @@ class _PidController(Controller):
         self.command = CommandBuffer(self._initial())
         self.act = None
         self._gains = None
-        self._version = None
         self._start = None
         self._dt = 0.0
         #: whether a state message is wanted at all (the ROS layer: its topic has subscribers)
@@ -52,7 +51,6 @@ class _PidController(Controller):
         self.pid.reset()
         self.act = self.joint.actuate(self.KIND, self.pid.gains, self._error_rule(), owner=self)
         self._gains = self.pid.gains
-        self._version = None
         self._start = None
         self.collect_due = False
 
@@ -67,9 +65,7 @@ class _PidController(Controller):
         a = self.act
         if self.pid.gains is not self._gains:
             self._gains = a.gains = self.pid.gains
-        self._version = self.command.version
-        target = self.command.read()
-        a.command = target
+        a.command = self.take_command()
         if self._start is None:
             self._start = self.hw.iteration
         if (self.hw.iteration - self._start) % STATE_DECIMATION == 0:
@@ -77,7 +73,7 @@ class _PidController(Controller):
             self._dt = dt
 
     def update_due(self, t, iteration, dt):
-        if self.pid.gains is not self._gains or self.command.version != self._version or self._start is None:
+        if self.pid.gains is not self._gains or self.command_waiting() or self._start is None:
             return t
         if not self.state_wanted():
             return INF

@@ -34,15 +34,13 @@ class _ForwardCommandController(Controller):
 
     def starting(self, t):
         self.command.write(self._initial())
-        self._version = None
 
     def update(self, t, dt):
-        self._version = self.command.version
-        self.joint.command = self.command.read()
+        self.joint.command = self.take_command()
 
     def update_due(self, t, iteration, dt):
-        """An update only when a new command waits: the hardware's actuator holds the last one."""
-        return t if self.command.version != getattr(self, "_version", None) else float("inf")
+        """An update only when a new command waits: the hardware holds the last one."""
+        return t if self.command_waiting() else float("inf")
 
 
 class EffortJointEffortController(_ForwardCommandController):

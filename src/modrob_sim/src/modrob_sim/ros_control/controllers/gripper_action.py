@@ -17,7 +17,9 @@ What the joint gets, as ros_controllers' HardwareInterfaceAdapter: the position 
 position to the position interface (the hardware takes it there: kinematically, or through
 ``gazebo_ros_control/pid_gains``); the effort type writes PID(position error, velocity error)
 clamped to +-|max_effort| -- so a max_effort of 0 applies no effort at all, exactly as there (the
-ROS layer warns about such a goal).
+ROS layer warns about such a goal). That PID is the joint's actuator (SEGMENT_PID holding the target,
+run by the World at every step); the updates run in Python at every step while a goal runs (its
+checks) and otherwise only when something changes.
 
 Outcomes (``events``: (goal id, outcome, result dict, text)), as ros_controllers reports them:
 succeeded with ``reached_goal: true`` once within goal_tolerance; aborted with ``stalled: true``
@@ -29,6 +31,7 @@ output; for the position type the goal's max_effort, as ros_controllers returns 
 import math
 
 from modrob_sim.errors import ControllerError
+from modrob_sim.physics import actuators
 from modrob_sim.ros_control.controllers.base import CommandBuffer, Controller
 from modrob_sim.ros_control.pid import Pid, PidGains
 from modrob_sim.ros_control.transmissions import EFFORT, POSITION
@@ -116,6 +119,7 @@ class GripperActionControllerBase(Controller):
         self._preempt("controller '%s' was stopped" % self.name)
 
     def update(self, t, dt):
+        self._taken_target = self.target.version
         position, max_effort = self.target.read()
         error = position - self.joint.position
         velocity = self.joint.velocity
@@ -135,6 +139,17 @@ class GripperActionControllerBase(Controller):
                                 "stalled %.3g from the goal position: joint '%s' has not moved for %g s"
                                 % (error, self.joint.name, self.stall_timeout)))
             self.goal = None
+
+    #: the ``target`` buffer's version the last update took
+    _taken_target = None
+
+    def update_due(self, t, iteration, dt):
+        """While a goal runs, every update (it checks the goal and the stall at each, as
+        ros_controllers does); otherwise only when a new target waits: the hardware (or the
+        effort type's actuator) holds the last one."""
+        if self.goal is not None or self.target.version != self._taken_target:
+            return t
+        return float("inf")
 
     def _start_adapter(self):
         pass
@@ -172,10 +187,41 @@ class EffortGripperActionController(GripperActionControllerBase):
 
     def _start_adapter(self):
         self.pid.reset()
+        # the PID (position error, velocity error = -velocity) runs in the joint's actuator at
+        # every step, holding the target; its output clamped to +-max_effort (and the joint's
+        # effort limit: the two symmetric clamps in one)
         self.joint.command = 0.0
+        self.act = self.joint.actuate(actuators.SEGMENT_PID, self.pid.gains, actuators.PLAIN, owner=self)
+        self._gains = self.pid.gains
+        self._max_effort = 0.0
+        self.act.hold(self.joint.position)
+        self.act.effort_limit = 0.0
+
+    def stopping(self, t):
+        super(EffortGripperActionController, self).stopping(t)
+        if self.joint.owner is self:
+            # the hardware keeps applying the last effort, as ros_control's does
+            self.joint.command = self._clamped(self.act.last.output, self._max_effort)
+            self.joint.release()
+
+    def update_due(self, t, iteration, dt):
+        if self.pid.gains is not self._gains:
+            return t
+        return super(EffortGripperActionController, self).update_due(t, iteration, dt)
+
+    def _clamped(self, effort, max_effort):
+        lim = abs(max_effort)
+        return min(lim, max(-lim, effort))
 
     def _command(self, dt, position, error, error_velocity, max_effort):
+        a = self.act
+        if self.pid.gains is not self._gains:
+            self._gains = a.gains = self.pid.gains
+        a.hold(position)
+        self._max_effort = max_effort
         lim = abs(max_effort)
-        effort = min(lim, max(-lim, self.pid.compute(error, dt, error_velocity)))
-        self.joint.command = effort
-        return effort
+        hw = self.joint.effort_limit
+        a.effort_limit = lim if hw is None else min(lim, hw)
+        # what ros_controllers reports as the command: the clamped PID output (of the last step
+        # the actuator made; this update's step follows)
+        return self._clamped(a.last.output, max_effort)

@@ -9,16 +9,20 @@ one value per joint in the order of the ``joints`` parameter) for several joints
   interfaces unchanged, what then happens is the hardware's business)
 * effort_controllers/JointGroupPositionController -- EffortJointInterface: a PID per joint
   (``<joint>/pid``) on the position error writes an effort; starts holding the current positions
-  (clamped to the joint limits)
+  (clamped to the joint limits). The PIDs are the joints' actuators (POSITION_PID, run by the
+  World at every step); an update writes the targets and the gains when they change.
 
 A command whose length is not the number of joints is refused (nothing changes), as
 ros_controllers refuses it; a NaN or infinite value refuses the whole command; values beyond a
 joint's limits are clamped, and the result says so.
 """
 from modrob_sim.errors import ControllerError
+from modrob_sim.physics import actuators
 from modrob_sim.ros_control.controllers.base import CommandBuffer, CommandResult, Controller, check_finite
 from modrob_sim.ros_control.pid import Pid, PidGains
 from modrob_sim.ros_control.transmissions import EFFORT, POSITION, VELOCITY
+
+INF = float("inf")
 
 
 class JointGroupControllerBase(Controller):
@@ -70,8 +74,12 @@ class JointGroupControllerBase(Controller):
         self.command.write(self._initial())
 
     def update(self, t, dt):
-        for j, v in zip(self.joints, self.command.read()):
+        for j, v in zip(self.joints, self.take_command()):
             j.command = v
+
+    def update_due(self, t, iteration, dt):
+        """An update only when a new command waits: the hardware holds the last ones."""
+        return t if self.command_waiting() else INF
 
 
 def _clamp_position(j, v):
@@ -124,9 +132,12 @@ class EffortJointGroupPositionController(JointGroupControllerBase):
 
     def __init__(self, name, hw, params):
         super(EffortJointGroupPositionController, self).__init__(name, hw, params)
+        #: the gains per joint (dynamic_reconfigure swaps them); the PIDs' state is the actuators'
         self.pids = [Pid(PidGains.from_params(params.child(j).child("pid", required=True)))
                      for j in self.joint_names]
         self.pid_namespaces = [params.path(j, "pid") for j in self.joint_names]
+        self.acts = []
+        self._gains = []
 
     def _initial(self):
         return [j.clamp_position(j.position) for j in self.joints]
@@ -138,7 +149,28 @@ class EffortJointGroupPositionController(JointGroupControllerBase):
         super(EffortJointGroupPositionController, self).starting(t)
         for pid in self.pids:
             pid.reset()
+        # each joint's PID is its actuator's (the World runs it at every step, between updates too)
+        self.acts = [j.actuate(actuators.POSITION_PID, pid.gains, j.position_rule, owner=self)
+                     for j, pid in zip(self.joints, self.pids)]
+        self._gains = [pid.gains for pid in self.pids]
+
+    def stopping(self, t):
+        for j, a in zip(self.joints, self.acts):
+            if j.owner is self:
+                # the hardware keeps applying the last effort, as ros_control's does
+                j.command = a.last.output
+                j.release()
+        self.acts = []
 
     def update(self, t, dt):
-        for j, pid, target in zip(self.joints, self.pids, self.command.read()):
-            j.command = pid.compute(j.position_error(target), dt)
+        for k, (a, pid) in enumerate(zip(self.acts, self.pids)):
+            if pid.gains is not self._gains[k]:
+                self._gains[k] = a.gains = pid.gains
+        for a, target in zip(self.acts, self.take_command()):
+            a.command = target
+
+    def update_due(self, t, iteration, dt):
+        """An update when a command or new gains wait; the actuators hold the targets."""
+        if self.command_waiting() or any(p.gains is not g for p, g in zip(self.pids, self._gains)):
+            return t
+        return INF

@@ -190,6 +190,7 @@ class MobileBaseController(Controller):
         self._last0 = (0.0, 0.0)
         self._last1 = (0.0, 0.0)
         self._last_publish = None
+        self._fresh = True
         self.cmd_out = None
 
     # -- what the subclasses give ---------------------------------------------------------------
@@ -235,11 +236,56 @@ class MobileBaseController(Controller):
         self._last_publish = t
         self.odometry.restart(t)
         self.drive(0.0, 0.0)
+        self._fresh = True      # the first update writes the stopped wheels' commands
 
     def stopping(self, t):
         self.drive(0.0, 0.0)
 
+    def _publish_time(self):
+        """The time after which an update publishes odometry (inf: never, publish_rate 0)."""
+        rate = self.publish_rate
+        if rate <= 0.0:
+            return math.inf
+        return -math.inf if self._last_publish is None else self._last_publish + 1.0 / rate
+
+    def _target(self, t):
+        """The (linear, angular) an update at ``t`` would ask for before the limiters."""
+        lin, ang, _seq = self.command.read()
+        if t - self._cmd_stamp > self.cmd_vel_timeout:
+            return 0.0, 0.0
+        return lin, ang
+
+    def update_due(self, t, iteration, dt):
+        """An update in Python when it changes something or publishes; between those the joints'
+        hardware holds the wheel commands (docs/controllers.md, "When controllers run"):
+
+        * a new command waits, or the limited command has not reached its target (the limiters
+          work per update, so a ramp is made at every step), or ``publish_cmd`` /
+          ``publish_wheel_joint_controller_state`` (a message at every update);
+        * the command's timeout (``cmd_vel_timeout`` after it came): the brake;
+        * the odometry: the update that publishes and the ``velocity_rolling_window_size`` + 1
+          updates before it, at every step, so that the twist averages per-step speeds exactly
+          as at every update (the pose integrates the travel since the last update along an arc,
+          equal to the per-step sums to rounding)."""
+        if self._fresh or self.publish_cmd or getattr(self, "publish_wheel_state", False):
+            return t
+        if self.command.read()[2] != self._seen_seq:
+            return t
+        target = self._target(t)
+        if self._last0 != target or self._last1 != target:
+            return t
+        due = math.inf
+        if target != (0.0, 0.0):
+            due = self._cmd_stamp + self.cmd_vel_timeout - 0.5 * dt
+        publish = self._publish_time()
+        if publish < math.inf:
+            # the first step starting after `publish`, less the window and one step of margin
+            steps = math.floor((publish - t) / dt) + 1 if publish >= t else 0
+            due = min(due, t + (steps - self.odometry.window - 1.5) * dt)
+        return t if due <= t else due
+
     def update(self, t, dt):
+        self._fresh = False
         odo = self.odometry
         if self.open_loop:
             odo.update_open_loop(self._last0[0], self._open_loop_rate(*self._last0), t)

@@ -1,0 +1,208 @@
+"""The due times of the group, gripper and mobile-base controllers (docs/controllers.md, "When
+controllers run"): stepped as the node steps them (natively between their due times) they give the
+steps of calling every update at every step -- the same states, efforts, actuator internals and
+messages, bit for bit (the mobile base's odometry pose to rounding: it integrates the travel since
+its last update along one arc) -- and most steps are made in C."""
+import math
+import os
+
+import pytest
+
+from modrob_sim.gazebo_ros.testing import ControlRig
+from modrob_sim.physics import native as native_mod
+from modrob_sim.ros_control.manager import STRICT
+
+FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
+needs_c = pytest.mark.skipif(native_mod.LIB is None, reason="the C loop is not built")
+
+
+def fixture(name):
+    with open(os.path.join(FIX, name)) as f:
+        return f.read()
+
+
+def snapshot(rig):
+    acts = [(a.pid_state(), a.last, a.command, a.gains.as_dict()) for a in rig.world.actuators]
+    joints = [(j.position, j.velocity, j.effort) for j in rig.model.joints_in_order]
+    return (rig.world.time, rig.world.iterations, rig.world.state_digest(), acts, joints)
+
+
+def run(rig, steps, events):
+    """``steps`` steps in passes of 10 (as the node's loop), ``events[i](rig)`` called before
+    step ``i``."""
+    marks = sorted(events) + [steps]
+    while rig.world.iterations < steps:
+        i = rig.world.iterations
+        if i in events:
+            events[i](rig)
+        n = min(10, min(m for m in marks if m > i) - i)
+        rig.step(n)
+    return rig
+
+
+class GroupArm(ControlRig):
+    """The 3-joint arm on effort joints: an effort_controllers/JointGroupPositionController on
+    yaw and shoulder (PIDs in the joints' actuators), a JointGroupEffortController on the elbow."""
+
+    def __init__(self, fast):
+        super(GroupArm, self).__init__(fixture("arm_3dof.urdf").replace("PositionJointInterface",
+                                                                        "EffortJointInterface"))
+        self.joint_state_controller(publish_rate=50)
+        self.pos = self.mgr.load("pos", {
+            "type": "effort_controllers/JointGroupPositionController", "joints": ["yaw", "shoulder"],
+            "yaw": {"pid": {"p": 80.0, "i": 30.0, "d": 4.0, "i_clamp": 5.0, "antiwindup": True}},
+            "shoulder": {"pid": {"p": 200.0, "i": 50.0, "d": 10.0, "i_clamp": 8.0}}})
+        self.eff = self.mgr.load("eff", {"type": "effort_controllers/JointGroupEffortController",
+                                         "joints": ["elbow"]})
+        self.adapter("pos")
+        self.adapter("eff")
+        assert self.mgr.switch(["jsc", "pos", "eff"], [], STRICT)[0]
+        self.start(fast)
+
+
+def _new_gains(rig):
+    rig.pos.pids[1].set_gains(type(rig.pos.pids[1].gains)(150.0, 20.0, 8.0, 4.0, -4.0))
+
+
+GROUP_EVENTS = {
+    100: lambda r: r.pos.set_command([1.2, -0.7]),
+    400: lambda r: r.eff.set_command([3.0]),
+    600: lambda r: r.pos.set_command([-2.0, 0.3]),
+    800: _new_gains,
+    900: lambda r: r.mgr.switch([], ["eff"], STRICT),       # the elbow keeps its last effort
+}
+
+
+@needs_c
+def test_group_controllers_step_natively_and_equal_every_update_bit_for_bit():
+    ref = run(GroupArm(False), 1200, GROUP_EVENTS)
+    fast = run(GroupArm(True), 1200, GROUP_EVENTS)
+    assert ref.log == fast.log and len(ref.log) == 60
+    assert snapshot(ref) == snapshot(fast)
+    # Python: the joint_states samples (every 20th step) and the updates that take a command
+    assert fast.world.native_steps > 0.9 * fast.world.iterations, fast.world.native_steps
+    assert abs(fast.model.joints["yaw"].position + 2.0) < 0.2, "the group did not follow its command"
+    assert fast.model.joints["elbow"].effort == 3.0
+
+
+class Gripper(ControlRig):
+    """The parallel gripper's effort_controllers/GripperActionController (its PID in the finger's
+    actuator); the goals' outcomes go to ``log``."""
+
+    def __init__(self, fast):
+        super(Gripper, self).__init__(fixture("gripper_parallel.urdf"), name="gripper")
+        self.c = self.mgr.load("gc", {"type": "effort_controllers/GripperActionController",
+                                      "joint": "finger_joint1", "goal_tolerance": 0.002,
+                                      "stall_timeout": 0.3, "gains": {"finger_joint1": {"p": 100.0, "d": 5.0}}})
+        self.adapter("gc", after_update=self._events)
+        assert self.mgr.switch(["gc"], [], STRICT)[0]
+        self.start(fast)
+
+    def _events(self, t):
+        self.log.extend((t,) + e for e in self.c.events)
+        del self.c.events[:]
+
+
+def _goal(position, max_effort):
+    return lambda r: r.c.submit("g%g" % position, position, max_effort, r.world.time)
+
+
+@needs_c
+def test_gripper_action_steps_natively_between_goals_and_equals_every_update_bit_for_bit():
+    events = {50: _goal(0.03, 10.0), 700: _goal(0.01, 5.0)}
+    ref = run(Gripper(False), 1500, events)
+    fast = run(Gripper(True), 1500, events)
+    assert ref.log == fast.log
+    assert [e[2] for e in fast.log] == ["succeeded", "succeeded"], fast.log
+    assert snapshot(ref) == snapshot(fast)
+    # Python while a goal runs; the finger holds natively otherwise
+    assert fast.world.native_steps > 0.5 * fast.world.iterations, fast.world.native_steps
+    assert abs(fast.model.joints["finger_joint1"].position - 0.01) < 0.002
+
+
+class DiffBot(ControlRig):
+    """diffbot on a DiffDriveController (velocity wheels: ODE motors) with acceleration limits,
+    a 0.25 s command timeout and a rolling window of 4; its odometry messages go to ``log``."""
+
+    def __init__(self, fast, window=4):
+        super(DiffBot, self).__init__(fixture("diffbot.urdf"), name="diffbot")
+        self.c = self.mgr.load("base", {
+            "type": "diff_drive_controller/DiffDriveController", "left_wheel": ["left_wheel"],
+            "right_wheel": "right_wheel", "publish_rate": 50, "cmd_vel_timeout": 0.25,
+            "velocity_rolling_window_size": window,
+            "pose_covariance_diagonal": [0.001] * 6, "twist_covariance_diagonal": [0.001] * 6,
+            "linear": {"x": {"has_acceleration_limits": True, "max_acceleration": 3.0}},
+            "angular": {"z": {"has_acceleration_limits": True, "max_acceleration": 6.0}}})
+        self.adapter("base", after_update=self._odom)
+        assert self.mgr.switch(["base"], [], STRICT)[0]
+        self.start(fast)
+
+    def _odom(self, t):
+        data, self.c.pending = self.c.pending, None
+        if data is not None:
+            self.log.append(data)
+
+
+DRIVE_EVENTS = {
+    30: lambda r: r.c.set_command(0.4, 0.0),
+    300: lambda r: r.c.set_command(0.3, 1.0),       # kept up until the timeout brakes it
+    800: lambda r: r.c.set_command(0.2, -0.5),
+    900: lambda r: r.c.set_command(0.2, -0.5),       # the same command again: its timeout restarts
+}
+
+
+@needs_c
+def test_diff_drive_controller_steps_natively_and_equals_every_update():
+    ref = run(DiffBot(False), 1500, DRIVE_EVENTS)
+    fast = run(DiffBot(True), 1500, DRIVE_EVENTS)
+    # the wheels got the same commands at the same steps: the same physics, bit for bit
+    assert snapshot(ref) == snapshot(fast)
+    assert len(ref.log) == len(fast.log) == 74         # 50 Hz over 1.5 s, the first at 20 ms
+    for a, b in zip(ref.log, fast.log):
+        assert a["stamp"] == b["stamp"]
+        # the twist averages the same per-step speeds; the pose sums one arc instead of several
+        assert a["linear"] == pytest.approx(b["linear"], rel=1e-9, abs=1e-12)
+        assert a["angular"] == pytest.approx(b["angular"], rel=1e-9, abs=1e-12)
+        for k in ("x", "y", "heading"):
+            assert abs(a[k] - b[k]) < 1e-9, (k, a, b)
+    moved = fast.log[-1]
+    assert math.hypot(moved["x"], moved["y"]) > 0.2, "the robot did not drive"
+    # Python: the ramps of the acceleration limits after each command and at the brake (about 600
+    # steps here), 4 + 2 updates before each odometry message (6 of 20 steps)
+    assert fast.world.native_steps > 0.35 * fast.world.iterations, fast.world.native_steps
+    steady = fast.world.native_steps
+    fast.step(200)                            # standing: only the odometry's updates
+    assert fast.world.native_steps - steady >= 200 * 14 // 20 - 1, fast.world.native_steps - steady
+
+
+class PidGainsArm(ControlRig):
+    """The 3-joint arm on position joints with gazebo_ros_control's pid_gains (the hardware's
+    PIDs in the actuators), position_controllers/JointPositionController on each."""
+
+    def __init__(self, fast):
+        from modrob_sim.ros_control.pid import Pid, PidGains
+        super(PidGainsArm, self).__init__(fixture("arm_3dof.urdf"))
+        for name in ("yaw", "shoulder", "elbow"):
+            self.hw.joints[name].set_pid(Pid(PidGains(150.0, 10.0, 8.0, 3.0, -3.0)),
+                                         "/arm/gazebo_ros_control/pid_gains/" + name)
+            self.mgr.load(name, {"type": "position_controllers/JointPositionController", "joint": name})
+            self.adapter(name)
+        assert self.mgr.switch(["yaw", "shoulder", "elbow"], [], STRICT)[0]
+        self.start(fast)
+
+
+PID_GAINS_EVENTS = {
+    100: lambda r: r.mgr.get("yaw").set_command(1.5),        # 0.5 s at the velocity limit 3 rad/s
+    700: lambda r: r.mgr.get("shoulder").set_command(-0.4),
+    701: lambda r: r.mgr.get("elbow").set_command(0.8),
+}
+
+
+@needs_c
+def test_pid_gains_position_joints_step_natively_once_the_rate_limit_reaches_the_command():
+    ref = run(PidGainsArm(False), 1200, PID_GAINS_EVENTS)
+    fast = run(PidGainsArm(True), 1200, PID_GAINS_EVENTS)
+    assert snapshot(ref) == snapshot(fast)
+    # Python: the yaw command's 500 rate-limited steps, the others' ~130; the holds natively
+    assert 0.3 * 1200 < fast.world.native_steps < 0.6 * 1200, fast.world.native_steps
+    assert abs(fast.model.joints["yaw"].position - 1.5) < 0.05
