@@ -169,3 +169,23 @@ def test_depth_plugin_needs_a_depth_sensor():
     s = ET.fromstring(SENSOR)
     with pytest.raises(ModelError, match=r'libgazebo_ros_openni_kinect.so needs <sensor type="depth">'):
         sensor_config.parse_depth(s, s.find("plugin"), "l", "m")
+
+
+def _multi_configs(text):
+    import types
+    s = ET.fromstring(text)
+    spec = types.SimpleNamespace(sensor=s, element=s.find("plugin"), link="head")
+    multi = object.__new__(plugin.GazeboRosMultiCameraPlugin)     # only its sensor reading
+    return multi._configs(spec, "bot", "")
+
+
+def test_multicamera_plugin_publishes_left_and_right_only():
+    names = [name for name, _cfg in _multi_configs(STEREO)]
+    assert names == ["stereo/left_cam", "stereo/right_cam"]
+    third = STEREO.replace("<plugin ", '<camera name="middle"><horizontal_fov>1</horizontal_fov>'
+                                       '</camera><plugin ')
+    assert [n for n, _c in _multi_configs(third)] == names          # 'middle' not published (warned)
+    with pytest.raises(ModelError, match="left"):
+        _multi_configs(STEREO.replace("left_cam", "a").replace("right_cam", "b"))
+    with pytest.raises(ModelError, match="multicamera"):
+        _multi_configs(STEREO.replace('type="multicamera"', 'type="camera"'))

@@ -335,7 +335,8 @@ class GazeboRosMultiCameraPlugin(GazeboRosCameraPlugin):
 
 
 class GazeboRosTriggeredMultiCameraPlugin(GazeboRosMultiCameraPlugin):
-    """``libgazebo_ros_triggered_multicamera.so``: the stereo pair, a frame of each per trigger."""
+    """``libgazebo_ros_triggered_multicamera.so``: the stereo pair, each camera triggered on its own
+    topic (``<cameraName>/left/image_trigger``, ``.../right/image_trigger``), as gazebo_plugins."""
 
     filename = "libgazebo_ros_triggered_multicamera.so"
     triggered = True
