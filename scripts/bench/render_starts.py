@@ -60,6 +60,10 @@ def one_start(index, args, sizes, env, logdir):
     cmd = ["rosrun"] + prefix + ["modrob_viz", "camera_renderer", "__name:=stress_renderer",
                                  "_rate:=%g" % args.rate, "_pixels:=%s" % args.pixels,
                                  "_cameras:=[%s]" % ", ".join(cams)]
+    if args.sim:
+        # and the world's camera sensor, added while it runs (the renderer draws the sensors only
+        # when told where they register: the simulator's own renderer is not started here)
+        cmd.append("_sensors_param:=/gazebo/camera_sensors")
     renderer = start(cmd, env, log)
     got = set()
     last_r = [None]

@@ -216,6 +216,20 @@ def figures(results):
                            fmt(stats(col("mobile", lambda r: r["ours"]["rates"]["scan"])), 1),
                            fmt(stats(col("mobile", lambda r: r["ours"]["rates"]["imu"])), 0),
                            fmt(stats(col("mobile", lambda r: r["ours"]["rates"]["odom"])), 0))))
+    if results.get("mobile") and any("depth" in r for r in results["mobile"] if "error" not in r):
+        F.append(Figure("The same robot with a depth camera (640x480, 30 Hz, openni_kinect), its point cloud "
+                        "subscribed (the renderer runs beside)", "simulated s per node CPU s",
+                        col("mobile", lambda r: r["depth"]["sim_per_cpu"]),
+                        "the robot without the camera, same run",
+                        col("mobile", lambda r: r["ours"]["sim_per_cpu"]),
+                        col("mobile", lambda r: r["depth"]["sim_per_cpu"] / r["ours"]["sim_per_cpu"]),
+                        ("value", 10.0),
+                        note="wall RTF %s (without the camera %s); clouds %s per simulated s; the camera "
+                        "there but nobody subscribed: %s simulated s per node CPU s"
+                        % (fmt(stats(col("mobile", lambda r: r["depth"]["rtf"])), 1),
+                           fmt(stats(col("mobile", lambda r: r["ours"]["rtf"])), 1),
+                           fmt(stats(col("mobile", lambda r: r["depth"]["rates"]["points"])), 1),
+                           fmt(stats(col("mobile", lambda r: r["depth_unwatched"]["sim_per_cpu"])), 1))))
     for unit, label in (("bulbs_one", "Bulbs and Slides one robot"),
                         ("bulbs_two", "Bulbs and Slides two robots")):
         if results.get(unit):

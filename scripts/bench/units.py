@@ -573,32 +573,63 @@ def unit_kdl_fk(_args):
 MOBILE_URDF = os.path.join(ROOT, "src/modrob_sim/test/fixtures/drives/diff_bot.urdf")
 
 
-def mobile_robot_urdf(plugins):
+#: a depth camera on the base, as a TurtleBot3 waffle declares its own (openni_kinect plugin, its
+#: topic names) at a common RealSense mode: 640x480 at 30 Hz
+DEPTH_CAMERA = """
+  <gazebo reference="base_link">
+    <sensor type="depth" name="bench_depth">
+      <pose>0.06 0 0.1 0 0 0</pose>
+      <update_rate>30</update_rate>
+      <camera>
+        <horizontal_fov>1.3439</horizontal_fov>
+        <image><width>640</width><height>480</height><format>R8G8B8</format></image>
+        <clip><near>0.03</near><far>100</far></clip>
+      </camera>
+      <plugin name="camera_controller" filename="libgazebo_ros_openni_kinect.so">
+        <updateRate>30.0</updateRate>
+        <cameraName>camera</cameraName>
+        <frameName>camera_rgb_optical_frame</frameName>
+        <imageTopicName>rgb/image_raw</imageTopicName>
+        <depthImageTopicName>depth/image_raw</depthImageTopicName>
+        <pointCloudTopicName>depth/points</pointCloudTopicName>
+        <pointCloudCutoff>0.4</pointCloudCutoff>
+      </plugin>
+    </sensor>
+  </gazebo>
+</robot>"""
+
+
+def mobile_robot_urdf(plugins, depth=False):
     """Our TurtleBot3-style robot (360-ray lidar at 5 Hz, IMU at 200 Hz, diff drive); without its
-    <plugin> elements for the reference."""
+    <plugin> elements for the reference; with ``depth`` also DEPTH_CAMERA."""
     import re
     with open(MOBILE_URDF) as f:
         text = f.read()
+    if depth:
+        text = text.replace("</robot>", DEPTH_CAMERA)
     return text if plugins else re.sub(r"<plugin\b.*?</plugin>", "", text, flags=re.S)
 
 
-def run_mobile_once(seconds, plugins):
+def run_mobile_once(seconds, plugins, depth=False, watch_camera=True):
     """The /gazebo node (real_time_factor 0) with the robot driving a circle (0.2 m/s, 0.4 rad/s),
-    /scan, /imu and /odom subscribed: simulated s per wall s over ``seconds``."""
+    /scan, /imu and /odom subscribed: simulated s per wall s over ``seconds``. ``depth``: with
+    the depth camera, its point cloud subscribed (the renderer the node starts for it runs), timed
+    from its first cloud; with ``watch_camera`` False nobody subscribes to it (no renderer runs)."""
     import rospy
     from gazebo_msgs.srv import GetWorldProperties, SpawnModel
     from geometry_msgs.msg import Pose, Quaternion, Twist
     from nav_msgs.msg import Odometry
-    from sensor_msgs.msg import Imu, LaserScan
+    from sensor_msgs.msg import Imu, LaserScan, PointCloud2
     from std_srvs.srv import Empty
     node = start_node()
     try:
         g = "/gazebo/"
         rospy.wait_for_service(g + "spawn_urdf_model", timeout=60)
         if not rospy.ServiceProxy(g + "spawn_urdf_model", SpawnModel)(
-                "bot", mobile_robot_urdf(plugins), "", Pose(orientation=Quaternion(0, 0, 0, 1)), "").success:
+                "bot", mobile_robot_urdf(plugins, depth), "", Pose(orientation=Quaternion(0, 0, 0, 1)),
+                "").success:
             raise RuntimeError("spawning the mobile robot failed")
-        counts = {"scan": 0, "imu": 0, "odom": 0}
+        counts = {"scan": 0, "imu": 0, "odom": 0, "points": 0}
 
         def counter(key):
             def cb(_msg):
@@ -607,6 +638,9 @@ def run_mobile_once(seconds, plugins):
         subs = [rospy.Subscriber("/scan", LaserScan, counter("scan"), queue_size=10),
                 rospy.Subscriber("/imu", Imu, counter("imu"), queue_size=100),
                 rospy.Subscriber("/odom", Odometry, counter("odom"), queue_size=10)]
+        if depth and watch_camera:
+            subs.append(rospy.Subscriber("/camera/depth/points", PointCloud2, counter("points"), queue_size=1,
+                                         buff_size=2 ** 25))
         cmd = rospy.Publisher("/cmd_vel", Twist, queue_size=1, latch=True)
         twist = Twist()
         twist.linear.x, twist.angular.z = 0.2, 0.4
@@ -618,6 +652,9 @@ def run_mobile_once(seconds, plugins):
         world = rospy.ServiceProxy(g + "get_world_properties", GetWorldProperties)
         rospy.ServiceProxy(g + "unpause_physics", Empty)()
         time.sleep(0.5)
+        deadline = time.time() + 180
+        while depth and watch_camera and counts["points"] == 0 and time.time() < deadline:
+            time.sleep(0.1)         # the renderer starting (Xvfb, RViz): not part of the window
         t0, w0, c0 = world().sim_time, time.perf_counter(), cpu_seconds(node.pid)
         n0 = dict(counts)
         time.sleep(seconds)
@@ -644,7 +681,9 @@ def unit_mobile(args):
     try:
         rospy.init_node("bench_mobile", anonymous=True, disable_signals=True)
         seconds = args.seconds or 5.0
-        return {"ours": run_mobile_once(seconds, True), "reference": run_mobile_once(seconds, False)}
+        return {"ours": run_mobile_once(seconds, True), "reference": run_mobile_once(seconds, False),
+                "depth": run_mobile_once(seconds, True, depth=True),
+                "depth_unwatched": run_mobile_once(seconds, True, depth=True, watch_camera=False)}
     finally:
         master.close()
 
