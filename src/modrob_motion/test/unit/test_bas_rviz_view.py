@@ -47,7 +47,8 @@ def scene_points():
     fk = kdl_urdf.TreeFkSolverPos(tree)
     links = [kdl_urdf.frame_to_matrix(fk.jnt_to_cart({}, name))[:3, 3] for name in tree.segments]
     top = max(p[2] for p in links)
-    corners = [(sx * TABLE[0] / 2, sy * TABLE[1] / 2, z) for sx in (-1, 1) for sy in (-1, 1) for z in (0.0, 1.02)]
+    corners = [(sx * TABLE[0] / 2, sy * TABLE[1] / 2, z)
+               for sx in (-1, 1) for sy in (-1, 1) for z in (0.0, 1.02)]
     return links, top, corners
 
 
@@ -56,7 +57,8 @@ def test_the_launch_file_opens_rviz_with_the_scenario_view():
     given = {a.get("name"): a.get("value") for a in launch.iter("arg") if a.get("value")}
     assert given["rviz_config"] == "$(find modrob_motion)/config/bulbs_and_slides.rviz"
     build = ET.parse(os.path.join(SRC, "modrob_build", "launch", "urdf_and_gazebo.launch")).getroot()
-    assert any(a.get("name") == "rviz_config" and a.get("value") == "$(arg rviz_config)" for a in build.iter("arg"))
+    assert any(a.get("name") == "rviz_config" and a.get("value") == "$(arg rviz_config)"
+               for a in build.iter("arg"))
 
 
 def test_the_view_holds_the_standing_arm_and_the_table():
@@ -69,7 +71,8 @@ def test_the_view_holds_the_standing_arm_and_the_table():
     for points, limit in ((links, 0.9), (corners, 1.0)):
         for point in points:
             x, y = in_view(view, point)
-            assert abs(x) < limit and abs(y) < limit, "%s is outside the view (%.2f, %.2f)" % (tuple(point), x, y)
+            assert abs(x) < limit and abs(y) < limit, \
+                "%s is outside the view (%.2f, %.2f)" % (tuple(point), x, y)
     with open(os.path.join(SRC, "modrob_sim", "config", "sim.rviz")) as f:   # the check sees a crop
         plain = yaml.safe_load(f)["Visualization Manager"]["Views"]["Current"]
     assert max(abs(in_view(plain, p)[1]) for p in links) > 1.0
