@@ -405,14 +405,27 @@ class SensorPlugins(unittest.TestCase):
                                             joint_names=["right_finger_joint"], joint_positions=[0.3])
         self.assertTrue(r.success, r.status_message)
 
-        def q(j):
-            return self.gz.get_joint_properties(joint_name="fingers::" + j).position[0]
+        # the same with <hasPID>: its gains from the parameters the original reads
+        rospy.set_param("/pid_fingers/gazebo_ros_control/pid_gains/left_finger_joint",
+                        {"p": 5.0, "i": 20.0, "d": 0.02, "i_clamp": 0.5})
+        pid = read("mimic_fingers.urdf").replace("<maxEffort>5.0</maxEffort>",
+                                                 "<maxEffort>5.0</maxEffort><hasPID/>")
+        r = self.gz.spawn_urdf_model(model_name="pid_fingers", model_xml=pid, robot_namespace="/pid_fingers",
+                                     initial_pose=pose(x=-6.0, y=2.0), reference_frame="")
+        self.assertTrue(r.success, r.status_message)
+        r = self.gz.set_model_configuration(model_name="pid_fingers", urdf_param_name="",
+                                            joint_names=["right_finger_joint"], joint_positions=[0.3])
+        self.assertTrue(r.success, r.status_message)
 
-        def followed():
-            right, left = q("right_finger_joint"), q("left_finger_joint")
-            return right > 0.79 and abs(left - (-right + 0.05)) < 1e-3
-        self.assertTrue(wait_for(followed, 30.0),
-                        "right %.4f left %.4f" % (q("right_finger_joint"), q("left_finger_joint")))
+        def q(model, j):
+            return self.gz.get_joint_properties(joint_name=model + "::" + j).position[0]
+
+        for model in ("fingers", "pid_fingers"):
+            def followed():
+                right, left = q(model, "right_finger_joint"), q(model, "left_finger_joint")
+                return right > 0.79 and abs(left - (-right + 0.05)) < 1e-3
+            self.assertTrue(wait_for(followed, 30.0), "%s: right %.4f left %.4f" % (
+                model, q(model, "right_finger_joint"), q(model, "left_finger_joint")))
 
 
 if __name__ == "__main__":
