@@ -98,6 +98,13 @@ def test_a_missing_joint_is_named_and_the_model_spawns(caplog):
     assert "no joint named 'left_fnger_joint'" in caplog.text and "left_finger_joint" in caplog.text
 
 
+def test_the_upatras_successor_is_the_same_plugin():
+    upatras = ("libroboticsgroup_gazebo_mimic_joint_plugin.so",
+               "libroboticsgroup_upatras_gazebo_mimic_joint_plugin.so")
+    w, host, m, loaded, drive = fingers(None, replace=[upatras])
+    assert len(loaded) == 1 and m.joints["left_finger_joint"].mimic == ("right_finger_joint", -1.0, 0.05)
+
+
 def test_unloading_releases_the_joint():
     w, host, m, loaded, drive = fingers(None)
     assert m.joints["left_finger_joint"].mimic == ("right_finger_joint", -1.0, 0.05)

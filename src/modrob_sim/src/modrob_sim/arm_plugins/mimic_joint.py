@@ -1,5 +1,7 @@
-"""roboticsgroup_gazebo_plugins' ``libroboticsgroup_gazebo_mimic_joint_plugin.so``: one joint
-follows another, ``mimicJoint = multiplier * joint + offset``.
+"""roboticsgroup_gazebo_plugins' ``libroboticsgroup_gazebo_mimic_joint_plugin.so`` (and its
+successor's ``libroboticsgroup_upatras_gazebo_mimic_joint_plugin.so``, roboticsgroup_upatras_
+gazebo_plugins, same parameters): one joint follows another, ``mimicJoint = multiplier * joint +
+offset``.
 
 Parameters as the original reads them: ``<joint>`` and ``<mimicJoint>`` (required), ``<multiplier>``
 (1), ``<offset>`` (0), ``<sensitiveness>`` (0: an error below it is left alone), ``<maxEffort>``
@@ -24,7 +26,8 @@ from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
 from modrob_sim.physics.actuators import Pid
 
-FILENAME = "libroboticsgroup_gazebo_mimic_joint_plugin.so"
+FILENAMES = ("libroboticsgroup_gazebo_mimic_joint_plugin.so",
+             "libroboticsgroup_upatras_gazebo_mimic_joint_plugin.so")
 INF = math.inf
 
 
@@ -105,4 +108,5 @@ class MimicJointPlugin(ModelPlugin):
             self.world.set_mimic(self.joint, None)
 
 
-register_plugin(FILENAME, MimicJointPlugin)
+for _name in FILENAMES:
+    register_plugin(_name, MimicJointPlugin)
