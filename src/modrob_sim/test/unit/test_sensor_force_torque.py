@@ -140,3 +140,41 @@ def test_the_plugins_publish_at_their_rates_and_the_physics_steps_natively_betwe
         # between the samples nothing of the plugins runs: the C loop makes the steps
         assert w.native_steps >= 0.95 * w.iterations, "%d of %d" % (w.native_steps, w.iterations)
     w.close()
+
+
+SDF_ARM = """<sdf version="1.6"><model name="sdf_arm">
+  <link name="post"><pose>0 0 0.3 0 0 0</pose>
+    <inertial><mass>5</mass><inertia><ixx>0.1</ixx><iyy>0.1</iyy><izz>0.1</izz></inertia></inertial></link>
+  <joint name="anchor" type="fixed"><parent>world</parent><child>post</child></joint>
+  <link name="load"><pose>0 0 0.6 0 0 0</pose>
+    <inertial><pose>0.1 0 0 0 0 0</pose><mass>2</mass>
+      <inertia><ixx>0.002</ixx><iyy>0.002</iyy><izz>0.002</izz></inertia></inertial></link>
+  <joint name="wrist" type="revolute"><parent>post</parent><child>load</child>
+    <axis><xyz>0 0 1</xyz><limit><lower>-1.5</lower><upper>1.5</upper></limit></axis>
+    <sensor name="wrist_ft" type="force_torque"><update_rate>100</update_rate>
+      <force_torque><frame>child</frame><measure_direction>parent_to_child</measure_direction></force_torque>
+      <plugin name="ft" filename="libgazebo_ros_ft_sensor.so"><topicName>sdf_ft</topicName></plugin>
+    </sensor>
+  </joint>
+</model></sdf>"""
+
+
+def test_a_force_torque_sensor_on_an_sdf_joint():
+    pubs = {}
+
+    def advertise(topic, msg_class, queue_size=1, latch=False):
+        pubs[topic] = FakePub(topic)
+        return pubs[topic]
+    import modrob_sim.sensors.ros_plugins  # noqa: F401 (registers the plugin file names)
+    from modrob_sim.gazebo_ros.plugin_host import PluginHost
+    w = World()
+    host = PluginHost(w, "/gazebo", lambda uri: uri, advertise=advertise)
+    w.add_step_hook(host.before_step, host.after_step, host.before_due, host.after_due)
+    (m,) = w.add_sdf(SDF_ARM)
+    (ft,) = host.load(m)
+    w.step(200)
+    msg = pubs["/sdf_ft"].sent[-1]
+    assert len(pubs["/sdf_ft"].sent) == 20 and msg.header.frame_id == "load"
+    assert msg.wrench.force.z == pytest.approx(M * G, rel=0.01)                 # parent_to_child: up
+    assert msg.wrench.torque.y == pytest.approx(-ARM * M * G, rel=0.01)
+    w.close()
