@@ -169,3 +169,23 @@ def test_zero_and_tiny_inertias_do_not_break_ode():
         world.step()
     for ln in m.links.values():
         assert all(math.isfinite(v) for v in ln.pose[0] + ln.pose[1])
+
+
+def test_an_sdf_models_own_pose_is_given_in_the_frame_of_the_spawn_pose():
+    """gazebo_ros's spawn composes the request's initial pose with the model's <pose>: spawned
+    with the identity (spawn_model -sdf without -x/-y/-z) a model stands where its file puts it."""
+    sdf = ('<sdf version="1.6"><model name="%s"><static>true</static><pose>1 2 0.5 0 0 %r</pose>'
+           '<link name="l"><collision name="c"><geometry><box><size>0.1 0.1 0.1</size></box></geometry>'
+           '</collision></link></model></sdf>')
+    world = World()
+    yaw = math.pi / 2
+    at_file = world.add_sdf(sdf % ("a", yaw), pose=((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 1.0)))[0]
+    assert at_file.pose[0] == pytest.approx((1.0, 2.0, 0.5), abs=1e-9)
+    assert at_file.pose[1] == pytest.approx((0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2)), abs=1e-9)
+    # moved to (10, 0, 0) and turned 90 degrees: the file's (1, 2, 0.5) becomes (10 - 2, 1, 0.5)
+    # and the yaws add up
+    s = math.sqrt(0.5)
+    moved = world.add_sdf(sdf % ("b", yaw), pose=((10.0, 0.0, 0.0), (0.0, 0.0, s, s)))[0]
+    assert moved.pose[0] == pytest.approx((8.0, 1.0, 0.5), abs=1e-9)
+    assert moved.pose[1] == pytest.approx((0.0, 0.0, 1.0, 0.0), abs=1e-9)
+    world.close()

@@ -114,6 +114,6 @@ class ModelDesc(object):
         self.grippers = []  # GripperDesc of every <gripper> (Gazebo's grasp check)
         self.static = False
         self.self_collide = False
-        self.pose = None  # SDF <model><pose>, used when no spawn pose is given
+        self.pose = None  # SDF <model><pose>, in the frame of the spawn pose (World.add_sdf)
         self.root = None  # root link name (may be "world")
         self.root_offset = IDENTITY_POSE  # SDF: root link pose in the model frame

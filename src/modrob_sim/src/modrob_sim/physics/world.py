@@ -485,7 +485,10 @@ class World(object):
 
     def add_sdf(self, sdf_xml, name=None, pose=None):
         """Spawn every model of an SDF <world> (or one <model>); returns the list of Models.
-        All-or-nothing: on any ModelError no model of the file stays in the world."""
+        ``pose`` is the frame the file is placed in: a model's own ``<pose>`` is given in it (as
+        gazebo_ros's spawn composes the initial pose with the model's pose), so None or the
+        identity leaves every model where its file puts it. All-or-nothing: on any ModelError no
+        model of the file stays in the world."""
         from .sdf_reader import read_sdf
         descs, settings = read_sdf(sdf_xml, name, self._warn_once, self._resolver)
         seen = set()
@@ -502,7 +505,9 @@ class World(object):
         made = []
         try:
             for d in descs:
-                p = pose if (pose is not None and len(descs) == 1) else (d.pose or IDENTITY_POSE)
+                p = d.pose or IDENTITY_POSE
+                if pose is not None:
+                    p = pose_mul(pose, p)
                 made.append(self._spawn(d, p, None, ""))
             if settings:
                 # a <world>'s <gravity> and <physics> apply to this World, as when Gazebo loads it,
