@@ -4,7 +4,8 @@
 mode "off": empty_world.launch enable_ros_network:=false offers /clock and nothing of /gazebo (no
 model/link states, no services, no set_parameters), and the simulation still runs.
 mode "reconfigure": /gazebo/set_parameters (dynamic_reconfigure) starts with the world's physics,
-applies a change through set_physics_properties, and a refused value changes nothing."""
+applies a change through set_physics_properties, a refused value changes nothing, and
+max_update_rate keeps within Physics.cfg's bounds."""
 import sys
 import unittest
 
@@ -63,6 +64,14 @@ class Reconfigure(unittest.TestCase):
         props = gz.get_physics_properties()
         self.assertAlmostEqual(props.time_step, 0.002)
         self.assertAlmostEqual(props.gravity.z, -5.0)
+        # max_update_rate within gazebo_ros's Physics.cfg bounds, [0, 1000]: 1e6 is clamped
+        bounds = {d["name"]: (d["min"], d["max"]) for d in client.get_parameter_descriptions()}
+        self.assertEqual(bounds["max_update_rate"], (0.0, 1000.0))
+        fast = client.update_configuration({"max_update_rate": 1e6})
+        self.assertEqual(fast["max_update_rate"], 1000.0)
+        self.assertAlmostEqual(gz.get_physics_properties().max_update_rate, 1000.0)
+        self.assertEqual(client.update_configuration({"max_update_rate": 0.0})["max_update_rate"], 0.0)
+        self.assertEqual(gz.get_physics_properties().max_update_rate, 0.0)
 
 
 if __name__ == "__main__":

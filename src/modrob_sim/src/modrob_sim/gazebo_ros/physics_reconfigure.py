@@ -13,11 +13,14 @@ from gazebo_msgs import srv as gzs
 
 from modrob_sim.reconfigure_config import ConfigType, Param, shutdown_server
 
-#: gazebo_ros's Physics.cfg: name, type, default, min, max, text (max_update_rate reaches higher
-#: here: this simulator runs many times faster than real time)
+#: the highest max_update_rate the server takes, as gazebo_ros's Physics.cfg bounds it (steps per
+#: wall second; set_physics_properties itself takes more)
+MAX_UPDATE_RATE = 1000.0
+
+#: gazebo_ros's Physics.cfg: name, type, default, min, max, text
 PARAMS = (
     Param("time_step", "double", 0.001, 0.0, 10.0, "Simulation world time step size in seconds."),
-    Param("max_update_rate", "double", 1000.0, 0.0, 1e6,
+    Param("max_update_rate", "double", 60.0, 0.0, MAX_UPDATE_RATE,
           "Steps per wall second at most: real_time_factor / time_step; 0 = as fast as possible."),
     Param("gravity_x", "double", 0.0, -100.0, 100.0, "Simulated gravity in the x direction."),
     Param("gravity_y", "double", 0.0, -100.0, 100.0, "Simulated gravity in the y direction."),
@@ -27,13 +30,13 @@ PARAMS = (
     Param("sor_pgs_precon_iters", "int", 0, 0, 10000, "Preconditioning iterations of quickstep."),
     Param("sor_pgs_iters", "int", 20, 0, 10000, "Iterations of the SOR PGS LCP solver (quickstep)."),
     Param("sor_pgs_w", "double", 1.3, 0.0, 5.0, "Relaxation parameter of SOR PGS."),
-    Param("sor_pgs_rms_error_tol", "double", 0.0, -1.0, 10000.0, "RMS error tolerance of quickstep."),
+    Param("sor_pgs_rms_error_tol", "double", -1.0, -1.0, 10000.0, "RMS error tolerance of quickstep."),
     Param("cfm", "double", 0.0, 0.0, 10.0, "Constraint force mixing."),
     Param("erp", "double", 0.2, 0.0, 10.0, "Error reduction parameter."),
     Param("contact_surface_layer", "double", 0.001, 0.0, 10.0,
           "Penetration allowed before contacts push back."),
     Param("contact_max_correcting_vel", "double", 100.0, 0.0, 1e7, "Maximum contact correction velocity."),
-    Param("max_contacts", "int", 20, 0, 10000000, "Maximum number of contacts between two bodies."),
+    Param("max_contacts", "int", 100, 0, 10000000, "Maximum number of contacts between two bodies."),
 )
 
 _ODE = ("auto_disable_bodies", "sor_pgs_precon_iters", "sor_pgs_iters", "sor_pgs_w", "sor_pgs_rms_error_tol",
@@ -76,6 +79,10 @@ class PhysicsReconfigure(object):
             self._initialized = True
             config.update(current)
             return config
+        if current["max_update_rate"] > MAX_UPDATE_RATE and config["max_update_rate"] == MAX_UPDATE_RATE:
+            # the world runs faster than the server's bound (a world file's real_time_update_rate,
+            # set_physics_properties): the server clamped it on a change of something else; keep it
+            config["max_update_rate"] = current["max_update_rate"]
         if all(float(config[k]) == float(current[k]) for k in current):     # all numbers or bools
             return config
         resp = self.physics.set_physics_properties(request_from(config))
