@@ -173,7 +173,7 @@ def test_a_missing_mesh_of_a_package_is_still_an_error(places):
 NESTED = """<sdf version="1.6"><model name="house"><static>true</static>
   <link name="wall"><pose>0 0 1 0 0 0</pose>
     <collision name="c"><geometry><box><size>4 0.1 2</size></box></geometry></collision></link>
-  <model name="shelf"><pose frame="">2 1 0 0 0 1.5707963267948966</pose>
+  <model name="shelf"><static>1</static><pose frame="">2 1 0 0 0 1.5707963267948966</pose>
     <link name="link"><pose>0.5 0 0.5 0 0 0</pose>
       <collision name="c"><geometry><box><size>0.4 0.4 1</size></box></geometry></collision></link>
     <model name="book"><pose>0 0 1.1 0 0 0</pose>
@@ -181,22 +181,62 @@ NESTED = """<sdf version="1.6"><model name="house"><static>true</static>
         <collision name="c"><geometry><box><size>0.2 0.1 0.2</size></box></geometry></collision>
       </link></model>
   </model>
-  <model name="lamp"><static>false</static><link name="link"><pose>-1 0 0.5 0 0 0</pose>
+  <model name="lamp"><link name="link"><pose>-1 0 0.5 0 0 0</pose>
     <collision name="c"><geometry><sphere><radius>0.2</radius></sphere></geometry></collision></link></model>
 </model></sdf>"""
 
 
-def test_nested_models_become_scoped_links_with_composed_poses(caplog):
+def test_nested_models_become_scoped_links_with_composed_poses():
     world = World()
-    with caplog.at_level(logging.WARNING):
-        house = world.add_sdf(NESTED)[0]
+    house = world.add_sdf(NESTED)[0]
     assert sorted(house.links) == ["lamp::link", "shelf::book::link", "shelf::link", "wall"]
-    assert house.is_static
     (x, y, z), _ = house.links["shelf::link"].pose
     # (0.5, 0, 0.5) turned 90 degrees about z, then moved to (2, 1, 0)
     assert (x, y, z) == pytest.approx((2.0, 1.5, 0.5), abs=1e-9)
     assert house.links["shelf::book::link"].pose[0] == pytest.approx((2.0, 1.0, 1.1), abs=1e-9)
-    assert "nested model 'lamp' has <static>false</static>" in caplog.text
+    world.close()
+
+
+def test_a_nested_model_keeps_its_own_static_as_in_gazebo():
+    """turtlebot3_house (static) holds a table with <static>0</static> and trash cans without
+    <static>: in Gazebo those move (a nested model's <static> is its own, false when not given)."""
+    world = World()
+    house = world.add_sdf(NESTED)[0]
+    static = {n: ln.is_static for n, ln in house.links.items()}
+    assert static == {"wall": True, "shelf::link": True, "shelf::book::link": False, "lamp::link": False}
+    world.step(300)     # nothing under the book and the lamp: they fall, the rest stays
+    assert house.links["lamp::link"].pose[0][2] < 0.5 - 0.3
+    assert house.links["shelf::book::link"].pose[0][2] < 1.1 - 0.3
+    assert house.links["shelf::link"].pose[0] == pytest.approx((2.0, 1.5, 0.5), abs=1e-12)
+    world.close()
+
+
+def test_a_nested_include_static_overrides_and_a_link_left_without_collision_is_held(places, caplog):
+    """An <include><static> overrides the included model's; a moving link whose every collision
+    was an offline mesh (turtlebot3_house's mailbox) is held where it stands, not dropped through
+    the world."""
+    model_folder(places["models"], "crate", box_model("crate", z=0.1))
+    text = ('<sdf version="1.6"><model name="house"><static>true</static>'
+            '<link name="floor"><collision name="c"><geometry><box><size>4 4 0.1</size></box>'
+            '</geometry></collision></link>'
+            '<include><uri>model://crate</uri><name>held_crate</name><pose>1 0 1 0 0 0</pose>'
+            '<static>true</static></include>'
+            '<include><uri>model://crate</uri><name>loose_crate</name><pose>-1 0 1 0 0 0</pose></include>'
+            '<model name="mailbox"><pose>0 1 0.5 0 0 0</pose><link name="link"><collision name="c">'
+            '<geometry><mesh><uri>model://mailbox_db/meshes/mailbox.dae</uri></mesh></geometry>'
+            '</collision></link></model></model></sdf>')
+    world = World(resource_resolver=places["resolver"])
+    with caplog.at_level(logging.WARNING):
+        house = world.add_sdf(text)[0]
+    held = [rec.getMessage() for rec in caplog.records if "no collision is left" in rec.getMessage()]
+    assert len(held) == 1 and "link 'mailbox::link'" in held[0]
+    static = {n: ln.is_static for n, ln in house.links.items()}
+    assert static == {"floor": True, "held_crate::link": True, "loose_crate::link": False,
+                      "mailbox::link": True}
+    world.step(300)
+    assert house.links["loose_crate::link"].pose[0][2] < 1.0 - 0.3     # falls (0.44 m in 0.3 s)
+    assert house.links["held_crate::link"].pose[0][2] == pytest.approx(1.0, abs=1e-12)
+    assert house.links["mailbox::link"].pose[0][2] == pytest.approx(0.5, abs=1e-12)
     world.close()
 
 

@@ -3,7 +3,8 @@
 Fixed joints are LUMPED: the links they weld form one group = one ODE body with the combined
 mass and inertia, the body at the group's centre of mass, oriented like the group's root link;
 every link keeps its own frame (Link._T) so its pose stays exact. Groups welded to the 'world'
-link (or every group of a static model) have no body: their geoms are static.
+link, or holding a static link (every group of a static model; a static nested model's), have
+no body: their geoms are static.
 
 Everything that can fail on bad input (meshes, numbers, names) is checked before the first ODE
 object is created, and a failure while creating destroys what was made: the world is unchanged.
@@ -208,7 +209,10 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
 
     # ---- bodies -----------------------------------------------------------------------------
     for g in groups:
-        is_static = desc.static or (static_root and group_of.get("world") is g)
+        # static: welded to the world, or holding a static link (a static model's, or of a static
+        # nested model: a link welded to it cannot move either)
+        is_static = (static_root and group_of.get("world") is g) or any(
+            desc.link_static(desc.links[link.name]) for link in g.links)
         if is_static:
             for link in g.links:
                 link._static_pose = poses[link.name]

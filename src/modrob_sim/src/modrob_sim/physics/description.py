@@ -81,6 +81,7 @@ class LinkDesc(object):
         self.material = None
         self.sensors = []  # xml Elements of <sensor> (Gazebo extension or SDF)
         self.pose = None   # SDF only: link pose in the model frame (URDF: from joints)
+        self.static = None  # SDF: a nested model's own <static>; None: the model's
         self.extra = {}    # accepted Gazebo tags without physics meaning (kept for plugins)
 
 
@@ -117,3 +118,7 @@ class ModelDesc(object):
         self.pose = None  # SDF <model><pose>, in the frame of the spawn pose (World.add_sdf)
         self.root = None  # root link name (may be "world")
         self.root_offset = IDENTITY_POSE  # SDF: root link pose in the model frame
+
+    def link_static(self, ld):
+        """Whether the link ``ld`` is static: its nested model's <static>, else the model's."""
+        return self.static if ld.static is None else ld.static

@@ -168,12 +168,16 @@ def _set_pose(elem, pose):
     pe.text = _pose_text(pose)
 
 
+#: the private attribute by which a link of a nested model carries that model's <static>
+NESTED_STATIC = "{urn:modrob-sim}static"
+
+
 def _flatten_nested(rd, me, name, warn, resolver):
     """Nested models (SDF 1.5+: a ``<model>`` or ``<include>`` inside a ``<model>``, as in
     turtlebot3_house) become links and joints of the outer model, named ``nested::link`` as Gazebo
-    scopes them, their poses composed with the nested model's pose. The outer model's ``<static>``
-    holds for all of them (a nested ``<static>`` that differs is warned about)."""
-    outer_static = (_text(me, "static", "false") or "").lower() in ("1", "true")
+    scopes them, their poses composed with the nested model's pose. As in Gazebo, a nested model
+    keeps its own ``<static>`` (not given: dynamic, also inside a static model; an ``<include>``'s
+    ``<static>`` overrides the included file's): its links carry it (``NESTED_STATIC``)."""
     for index, c in enumerate(list(me)):
         tag = local(c.tag)
         if tag == "include":
@@ -186,6 +190,11 @@ def _flatten_nested(rd, me, name, warn, resolver):
                 inner.set("name", _text(c, "name"))
             if _child(c, "pose") is not None:
                 _set_pose(inner, _pose(rd, c, "<include><pose>"))
+            if _text(c, "static") is not None:
+                st = _child(inner, "static")
+                if st is None:
+                    st = ET.SubElement(inner, "static")
+                st.text = _text(c, "static")
             me.remove(c)
             me.insert(index, inner)
             c = inner
@@ -195,14 +204,12 @@ def _flatten_nested(rd, me, name, warn, resolver):
         _flatten_nested(rd, c, name + "::" + nested, warn, resolver)
         where = "nested model '%s'" % nested
         at = _pose(rd, c, where)
-        inner_static = _text(c, "static")
-        if inner_static is not None and (inner_static.lower() in ("1", "true")) != outer_static:
-            warn("sdf-nested-static:%s:%s" % (name, nested),
-                 "model '%s': nested model '%s' has <static>%s</static>; it is simulated as part of "
-                 "'%s' (static: %s)" % (name, nested, inner_static, name, "yes" if outer_static else "no"))
+        static = "true" if rd.bool(_text(c, "static", "false"), where, "<static>") else "false"
         for e in list(c):
             t = local(e.tag)
             if t == "link":
+                if e.get(NESTED_STATIC) is None:    # a link of a model nested deeper keeps its own
+                    e.set(NESTED_STATIC, static)
                 e.set("name", "%s::%s" % (nested, e.get("name", "")))
                 _set_pose(e, pose_mul(at, _pose(rd, e, where + " link '%s'" % e.get("name"))))
             elif t == "joint":
@@ -241,6 +248,8 @@ def _model(rd, me, name, warn, resolver=None):
             rd.fail("link '%s'" % lname, "two links are named '%s'" % lname)
         where = "link '%s'" % lname
         ld = LinkDesc(lname)
+        if le.get(NESTED_STATIC) is not None:
+            ld.static = le.get(NESTED_STATIC) == "true"
         ld.pose = _pose(rd, le, where)
         ie = _child(le, "inertial")
         if ie is not None:
@@ -255,7 +264,7 @@ def _model(rd, me, name, warn, resolver=None):
                                    for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz"))
             else:
                 ld.inertia = (1.0, 0.0, 0.0, 1.0, 0.0, 1.0)
-        elif not desc.static:
+        elif not desc.link_static(ld):
             ld.mass = 1.0  # SDF's defaults: 1 kg, unit inertia
             ld.inertia = (1.0, 0.0, 0.0, 1.0, 0.0, 1.0)
         ld.gravity = rd.bool(_text(le, "gravity", "true"), where, "<gravity>")

@@ -744,8 +744,11 @@ class World(object):
         """A ``model://`` mesh found nowhere on this machine (Gazebo would download it from its
         online model database) is dropped from its link with one warning naming the URI and where
         it looked, as Gazebo goes on without it; the rest of the model loads. Visual meshes with a
-        ``model://`` URI that is found become ``file://`` paths, so that RViz can load them."""
+        ``model://`` URI that is found become ``file://`` paths, so that RViz can load them. A
+        moving link left without any collision (turtlebot3_house's mailbox) would fall through
+        the world: it stays where it stands (static), and the warning says so."""
         for ld in desc.links.values():
+            had = len(ld.collisions)
             for kind, geoms in (("collision", ld.collisions), ("visual", ld.visuals)):
                 for gd in list(geoms):
                     if gd.kind != "mesh" or not (gd.uri or "").startswith("model://"):
@@ -762,6 +765,12 @@ class World(object):
                         continue
                     if kind == "visual" and path:
                         gd.uri = "file://" + os.path.abspath(path)
+            if had and not ld.collisions and not desc.link_static(ld):
+                ld.static = True
+                self._warn_once("mesh-offline-held:%s:%s" % (desc.name, ld.name),
+                                "model '%s' link '%s': no collision is left; the link is held where it "
+                                "stands (static) instead of falling through the world"
+                                % (desc.name, ld.name))
 
     def _mesh_file(self, uri):
         """The existing file a mesh URI names, or None."""
