@@ -162,6 +162,27 @@ def test_an_offline_model_mesh_is_dropped_with_one_warning_and_a_found_one_kept(
     world.close()
 
 
+def test_a_saved_worlds_state_places_its_models_as_gazebo_loads_it():
+    """A world saved by Gazebo (husky_gazebo's clearpath_playpen) has a <state>: its models start
+    at the state's poses, not their own; a model the state does not name keeps its pose."""
+    from modrob_sim.physics.sdf_reader import read_sdf
+    from modrob_sim.physics.transforms import quat_from_rpy
+
+    def model(name, z):
+        return ('<model name="%s"><static>true</static><pose>0 0 %r 0 0 0</pose><link name="link">'
+                '<collision name="c"><geometry><box><size>1 1 1</size></box></geometry></collision>'
+                '</link></model>' % (name, z))
+    text = ('<sdf version="1.6"><world name="default">' + model("moved", 0.1) + model("kept", 0.3)
+            + '<state world_name="default"><sim_time>12 0</sim_time><model name="moved">'
+              '<pose>2 1 0.1 0 0 1.57</pose><link name="link"><pose>2 1 0.1 0 0 1.57</pose></link>'
+              '</model></state></world></sdf>')
+    descs, _settings = read_sdf(text, "w", lambda key, message: None)
+    pose = dict((d.name, d.pose) for d in descs)
+    assert tuple(pose["moved"][0]) == (2.0, 1.0, 0.1)
+    assert pose["moved"][1] == pytest.approx(quat_from_rpy(0.0, 0.0, 1.57))
+    assert tuple(pose["kept"][0]) == (0.0, 0.0, 0.3)
+
+
 def test_a_missing_mesh_of_a_package_is_still_an_error(places):
     world = World(resource_resolver=places["resolver"])
     with pytest.raises(ModelError, match="package://world_pkg/meshes/none.stl"):

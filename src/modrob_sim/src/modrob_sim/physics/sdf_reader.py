@@ -528,7 +528,23 @@ def _world(rd, we, warn, resolver, xml_text):
         elif t not in ("physics", "gravity", "light", "scene", "gui", "magnetic_field",
                        "atmosphere", "spherical_coordinates", "state", "wind"):
             warn("sdf-world-tag:" + t, "SDF world <%s> is not supported; ignored" % t)
+    _saved_state(rd, we, descs)
     return descs, settings
+
+
+def _saved_state(rd, we, descs):
+    """A world saved by Gazebo carries a <state>: as Gazebo loads such a world, the models start
+    at the poses of its first <state>, not at their own <pose> (husky_gazebo's playpen moved a
+    barrier off the robot's spawn point that way). Only the models' poses are taken; the saved
+    clock, link poses and velocities are not."""
+    states = _children(we, "state")
+    if not states:
+        return
+    by_name = dict((d.name, d) for d in descs)
+    for me in _children(states[0], "model"):
+        d = by_name.get(me.get("name"))
+        if d is not None and _child(me, "pose") is not None:
+            d.pose = _pose(rd, me, "<state><model name='%s'><pose>" % d.name)
 
 
 def _checked(rd, check, value, what):
