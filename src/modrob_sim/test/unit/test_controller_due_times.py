@@ -93,7 +93,8 @@ class Gripper(ControlRig):
         super(Gripper, self).__init__(fixture("gripper_parallel.urdf"), name="gripper")
         self.c = self.mgr.load("gc", {"type": "effort_controllers/GripperActionController",
                                       "joint": "finger_joint1", "goal_tolerance": 0.002,
-                                      "stall_timeout": 0.3, "gains": {"finger_joint1": {"p": 100.0, "d": 5.0}}})
+                                      "stall_timeout": 0.3,
+                                      "gains": {"finger_joint1": {"p": 100.0, "d": 5.0}}})
         self.adapter("gc", after_update=self._events)
         assert self.mgr.switch(["gc"], [], STRICT)[0]
         self.start(fast)
