@@ -19,6 +19,7 @@ Parameters as the original reads them: ``<joint>`` and ``<mimicJoint>`` (require
   A URDF ``<mimic>`` on that joint (which Gazebo's physics ignores) is released, so that only the
   plugin's PID drives it, as on Gazebo.
 """
+import logging
 import math
 
 from modrob_sim.errors import PluginError
@@ -29,6 +30,7 @@ from modrob_sim.physics.actuators import Pid
 FILENAMES = ("libroboticsgroup_gazebo_mimic_joint_plugin.so",
              "libroboticsgroup_upatras_gazebo_mimic_joint_plugin.so")
 INF = math.inf
+LOG = logging.getLogger("modrob_sim.mimic_joint")
 
 
 def _join(ns, name):
@@ -57,12 +59,17 @@ class MimicJointPlugin(ModelPlugin):
         self.pid = None
         if has_pid is None:
             self.world.set_mimic(self.joint, self.master, self.multiplier, self.offset)
+            LOG.info("%s: joint '%s' follows '%s' (multiplier %g, offset %g), coupled by the physics",
+                     self.name, self.joint.name, self.master.name, self.multiplier, self.offset)
             return
         rel = (has_pid.text or "").strip() or "gazebo_ros_control/pid_gains/" + self.joint.name
         self.gains_ns = _join(spec.robot_namespace, rel)
         self.pid = Pid(self.read_gains(self.gains_ns))
         if self.urdf_mimic is not None:
             self.world.set_mimic(self.joint, None)
+        LOG.info("%s: joint '%s' follows '%s' (multiplier %g, offset %g) by a PID (gains from %s, max "
+                 "effort %g)", self.name, self.joint.name, self.master.name, self.multiplier, self.offset,
+                 self.gains_ns, self.max_effort)
 
     def read_gains(self, ns):
         """control_toolbox gains from the ROS parameters under ``ns`` (PluginError when absent)."""
