@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """rostest camera_auto.test: the simulator runs the camera renderer only while a camera is
-subscribed, a depth camera's outputs are exact to the geometry, and gazebo_plugins' other cameras
+subscribed, a depth camera's outputs are exact to the geometry, gazebo_plugins' other cameras
 (stereo pair, triggered, lens distortion, 16-bit and bayer formats: fixtures/camera_family.urdf)
-publish as theirs do.
+publish as theirs do, and <clip> is applied (fixtures/camera_clip.world).
 
 A depth camera (libgazebo_ros_openni_kinect.so, TurtleBot3 waffle's topic names) 0.5 m up at the
-origin looking along +x (hfov 1.0 rad, 160x120); a red box of 0.4 m centred at (2, 0, 0.5): its
-face is the plane x = 1.8 m. The tests run in name order on one simulator and one renderer start
-(a renderer's start-up is most of a camera test's time)."""
+origin of its post, looking along the post's +x (hfov 1.0 rad, 160x120); a red box of 0.4 m
+centred 2 m ahead at 0.5 m: its face is 1.8 m ahead (the posts are turned by pi in the world,
+looking along -x, away from camera_clip.world's boxes). The tests run in name order on one
+simulator and one renderer start (a renderer's start-up is most of a camera test's time)."""
 import math
 import time
 import unittest
@@ -33,7 +34,8 @@ TOPICS = (("/camera/rgb/image_raw", Image), ("/camera/rgb/camera_info", CameraIn
           ("/camera/depth/points", PointCloud2),
           ("/stereo/left/image_raw", Image), ("/stereo/left/camera_info", CameraInfo),
           ("/stereo/right/image_raw", Image), ("/stereo/right/camera_info", CameraInfo),
-          ("/trig/image_raw", Image), ("/lens/image_raw", Image), ("/lens/camera_info", CameraInfo))
+          ("/trig/image_raw", Image), ("/lens/image_raw", Image), ("/lens/camera_info", CameraInfo),
+          ("/wide_cam/image_raw", Image), ("/clip_cam/image_raw", Image))
 
 
 def renderer_running():
@@ -56,10 +58,10 @@ def wait_for(cond, timeout, what):
 
 
 class Latest(object):
-    def __init__(self, topic, cls):
+    def __init__(self, topic, cls, queue_size=1):
         self.msg = None
         self.count = 0
-        self.sub = rospy.Subscriber(topic, cls, self._store, queue_size=1, buff_size=2 ** 24)
+        self.sub = rospy.Subscriber(topic, cls, self._store, queue_size=queue_size, buff_size=2 ** 24)
 
     def _store(self, msg):
         self.count += 1
@@ -92,9 +94,50 @@ def cloud_array(msg):
     return np.frombuffer(msg.data, dt).reshape(msg.height, msg.width)
 
 
-def to_world(x, y, z):
-    """The camera's optical frame (z along world +x, x along world -y, y along world -z) in the world."""
+def to_post(x, y, z):
+    """The depth camera's optical frame (z forward, x right, y down) in its post's frame (x forward,
+    y left, z up; origin on the ground)."""
     return z, -x, CAMERA_Z - y
+
+
+# camera_clip.world: wide_cam and clip_cam at (0, 0, 1) look along +x (hfov 1.0 rad, 320x240);
+# box: (colour channel, centre ahead x, sideways y, height above the camera z, half edge)
+CLIP_W, CLIP_H = 320, 240
+CLIP_F = CLIP_W / (2.0 * math.tan(HFOV / 2.0))
+BOXES = {"green": (1, 0.3, 0.06, 0.04, 0.03), "red": (0, 2.0, 0.0, 0.0, 0.1),
+         "blue": (2, 4.0, -0.8, -0.2, 0.15)}
+
+
+def clip_pixels(msg, colour):
+    """(rows, columns) of the pixels of a saturated colour (the others dark)."""
+    a = np.frombuffer(msg.data, np.uint8).reshape(msg.height, msg.width, 3).astype(int)
+    ch = BOXES[colour][0]
+    others = [c for c in range(3) if c != ch]
+    return np.nonzero((a[..., ch] > 100) & (a[..., others[0]] < 60) & (a[..., others[1]] < 60))
+
+
+def clip_predicted_uv(colour):
+    """Pixel of the centre of the box's face towards the camera (pinhole, Gazebo's cx, cy)."""
+    _, x, y, z, half = BOXES[colour]
+    return (CLIP_W + 1) / 2.0 - CLIP_F * y / (x - half), (CLIP_H + 1) / 2.0 - CLIP_F * z / (x - half)
+
+
+def clip_seen(msg):
+    return {c: len(clip_pixels(msg, c)[1]) for c in BOXES}
+
+
+def wait_image(topic, predicate, timeout=60.0):
+    """The first image on ``topic`` that satisfies ``predicate`` (or the last one seen)."""
+    last = None
+    end = time.monotonic() + timeout
+    while time.monotonic() < end and not rospy.is_shutdown():
+        try:
+            last = rospy.wait_for_message(topic, Image, timeout=10.0)
+        except rospy.ROSException:
+            continue
+        if predicate(last):
+            return last
+    return last
 
 
 class CameraAuto(unittest.TestCase):
@@ -112,7 +155,8 @@ class CameraAuto(unittest.TestCase):
 
     def test_2_subscribed_the_box_is_where_the_camera_info_puts_it(self):
         for topic, cls in TOPICS:
-            CameraAuto.subs[topic] = Latest(topic, cls)
+            # every image of the triggered camera counts: a queue for the three that come together
+            CameraAuto.subs[topic] = Latest(topic, cls, 10 if topic == "/trig/image_raw" else 1)
         msg = self.subs["/camera/rgb/image_raw"].wait(lambda m: len(red_pixels(m)[0]) > 0)
         self.assertTrue(renderer_running())
         self.assertEqual((msg.width, msg.height, msg.encoding, msg.header.frame_id), (W, H, "rgb8", FRAME))
@@ -151,7 +195,7 @@ class CameraAuto(unittest.TestCase):
         self.assertEqual([f.name for f in msg.fields], ["x", "y", "z", "rgb"])
         self.assertFalse(msg.is_dense)
         face = c[H // 2 - 10:H // 2 + 10, W // 2 - 10:W // 2 + 10]
-        wx, wy, wz = to_world(face["x"], face["y"], face["z"])
+        wx, wy, wz = to_post(face["x"], face["y"], face["z"])
         self.assertTrue(np.all(np.abs(wx - FACE) <= 0.01),
                         "cloud x on the face %s..%s" % (wx.min(), wx.max()))
         self.assertTrue(np.all(np.abs(wy) <= HALF + 0.01) and np.all(np.abs(wz - CAMERA_Z) <= HALF + 0.01))
@@ -167,7 +211,7 @@ class CameraAuto(unittest.TestCase):
         ground = c[H - 3:, :]
         g = ground["z"][np.isfinite(ground["z"])]
         self.assertGreater(g.size, W, "the bottom rows should see the ground plane")
-        _wx, _wy, gz = to_world(ground["x"], ground["y"], ground["z"])
+        _wx, _wy, gz = to_post(ground["x"], ground["y"], ground["z"])
         gz = gz[np.isfinite(gz)]
         rospy.loginfo("ground points: height %.4f..%.4f m", gz.min(), gz.max())
         self.assertTrue(np.all(np.abs(gz) <= 0.01),
@@ -197,7 +241,7 @@ class CameraAuto(unittest.TestCase):
         wait_for(lambda: pub.get_num_connections() > 0, 30.0, "/gazebo subscribed to /trig/image_trigger")
         for _ in range(3):
             pub.publish(Empty())
-        wait_for(lambda: trig.count >= 3, 60.0, "3 images for 3 triggers")
+        wait_for(lambda: trig.count >= 3, 60.0, "3 images for 3 triggers (%d came)" % trig.count)
         seen = left.count
         wait_for(lambda: left.count >= seen + 5, 30.0, "5 more frames of the stereo camera")
         self.assertEqual(trig.count, 3, "more images than triggers")
@@ -230,6 +274,32 @@ class CameraAuto(unittest.TestCase):
         self.assertLessEqual(max(straight) - min(straight), 1, "undistorted with D it is straight")
         # the ground plane's far edge is a little below the horizon at infinity (row cy - F tan 0.35)
         self.assertTrue(0 <= straight[1] - (info.K[5] - F * math.tan(0.35)) <= 3, straight)
+
+    def test_5d_wide_clip_camera_sees_all_three_boxes(self):
+        msg = wait_image("/wide_cam/image_raw", lambda m: min(clip_seen(m).values()) >= 20)
+        self.assertIsNotNone(msg, "no image on /wide_cam/image_raw")
+        counts = clip_seen(msg)
+        rospy.loginfo("wide_cam: pixels per box %s", counts)
+        for colour in BOXES:
+            self.assertGreaterEqual(counts[colour], 20, "wide_cam does not show the %s box" % colour)
+            rows, cols = clip_pixels(msg, colour)
+            u, v = (cols.min() + cols.max() + 1) / 2.0, (rows.min() + rows.max() + 1) / 2.0
+            pu, pv = clip_predicted_uv(colour)
+            self.assertLess(abs(u - pu), 6.0, "%s box at column %.1f, pinhole model %.1f" % (colour, u, pu))
+            self.assertLess(abs(v - pv), 6.0, "%s box at row %.1f, pinhole model %.1f" % (colour, v, pv))
+
+    def test_5e_clip_camera_drops_boxes_outside_near_far(self):
+        def only_red(m):
+            c = clip_seen(m)
+            return c["red"] >= 20 and c["green"] == 0 and c["blue"] == 0
+        msg = wait_image("/clip_cam/image_raw", only_red)
+        self.assertIsNotNone(msg, "no image on /clip_cam/image_raw")
+        counts = clip_seen(msg)
+        rospy.loginfo("clip_cam: pixels per box %s", counts)
+        self.assertGreaterEqual(counts["red"], 20, "the red box (2 m, inside near 0.5 .. far 3) is missing")
+        self.assertEqual(counts["green"], 0, "the green box 0.3 m ahead is nearer than near = 0.5 m "
+                                             "but drawn")
+        self.assertEqual(counts["blue"], 0, "the blue box 4 m ahead is beyond far = 3 m but drawn")
 
     def test_6_renderer_stops_after_the_last_subscriber_left(self):
         self.assertTrue(self.subs, "test_2 subscribed nothing")
