@@ -84,6 +84,28 @@ def test_mesh_cube_rests_on_the_ground(name):
     assert world.pop_events() == []
 
 
+@pytest.mark.parametrize("native,name", [(None, "cube.obj"), (None, "box"), (False, "box")])
+def test_a_link_whose_collisions_are_off_falls_through_and_rests_again_when_on(native, name):
+    # Link.set_collides (the grasp fix's disable_collisions_on_attach): a triangle mesh (the C
+    # loop's own geom) and a primitive; off: no contact, it falls; on again: it rests again
+    world = World(native=native)
+    world.add_sdf(H.fixture("table_world.sdf").split("<model name=\"table\">")[0] + "</world></sdf>")
+    urdf = mesh_urdf("file://" + os.path.join(_FIX, name)) if name != "box" else \
+        H.robot("m", H.box_link("m", 0.5, (0.1, 0.1, 0.1)))
+    m = world.add_urdf("cube", urdf, pose=((0.0, 0.0, 0.3), (0.0, 0.0, 0.0, 1.0)))
+    link = m.links["m"]
+    world.step(800)
+    assert m.pose[0][2] == pytest.approx(0.05, abs=0.002) and link.collides
+    link.set_collides(False)
+    world.step(100)
+    assert not link.collides and m.pose[0][2] < 0.0
+    assert not [c for c in world.contacts() if "cube" in (c[0], c[2])]
+    link.set_collides(True)
+    m.set_pose(((0.0, 0.0, 0.3), (0.0, 0.0, 0.0, 1.0)))
+    world.step(800)
+    assert m.pose[0][2] == pytest.approx(0.05, abs=0.002)
+
+
 def test_mesh_scale_and_resolver():
     calls = []
 

@@ -426,8 +426,8 @@ class PureBackend(object):
         info = w.geom_info
         i1 = info.get(g1)
         i2 = info.get(g2)
-        if i1 is None or i2 is None:
-            return
+        if i1 is None or i2 is None or not (g1.isEnabled() and g2.isEnabled()):
+            return   # (a disabled geom: Link.set_collides; space-against-space collision passes them)
         m = i1.model
         if m is i2.model:
             if not (i1.self_collide or i2.self_collide) or i1.group == i2.group or \

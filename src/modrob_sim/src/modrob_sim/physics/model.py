@@ -234,12 +234,15 @@ class Link(object):
 
     def set_collides(self, on):
         """(addition) Turn every collision of the link on or off (Gazebo's
-        ``Link::SetCollideMode("all")`` / ``("none")``): an off geom makes no contacts."""
+        ``Link::SetCollideMode("all")`` / ``("none")``): an off geom makes no contacts. The body is
+        woken (a resting body that loses its contacts must fall)."""
         for g, _ in self._geoms:
             if on:
                 g.enable()
             else:
                 g.disable()
+        if self._body is not None:
+            self._body.enable()
 
     def add_wrench(self, force, torque, reference_point=(0.0, 0.0, 0.0), duration=None):
         """Force and torque in the WORLD frame; ``reference_point`` in the LINK frame (where the

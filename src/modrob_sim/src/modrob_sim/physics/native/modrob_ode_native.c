@@ -427,6 +427,7 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     r1 = mr_find(c, o1);
     r2 = mr_find(c, o2);
     if (!r1 || !r2) return;
+    if (!dGeomIsEnabled(o1) || !dGeomIsEnabled(o2)) return;   /* Link.set_collides(False) */
     if (r1->model_uid == r2->model_uid) {
         if (!(r1->self_collide || r2->self_collide) || r1->group == r2->group ||
             mr_adj_has(c, mr_adj_key(r1->model_uid, r1->group, r2->group)))
