@@ -25,6 +25,12 @@ from .symbols import global_symbols
 from .yaml_data import load_yaml
 
 ELEMENT, TEXT, COMMENT = xml.dom.Node.ELEMENT_NODE, xml.dom.Node.TEXT_NODE, xml.dom.Node.COMMENT_NODE
+# The URDF format's own elements: a macro named like one of them is meant to be called only with
+# the prefix (no warning when the plain element appears).
+URDF_TAGS = frozenset(
+    "robot link joint inertial origin mass inertia visual collision geometry box cylinder sphere mesh "
+    "material color texture parent child axis calibration dynamics limit mimic safety_controller "
+    "transmission type joint actuator hardwareInterface mechanicalReduction gazebo plugin sensor".split())
 
 
 def as_bool(value, condition):
@@ -157,6 +163,7 @@ class Processor:
         self.includes = []
         self.evaluate = Evaluator(self.args, lambda: self.files[-1])
         self.globals = global_symbols(self)
+        self._unprefixed_warned = set()
 
     # ---- what expressions can call ----
     def abs_filename(self, spec):
@@ -280,6 +287,11 @@ class Processor:
         elif tag.startswith("xacro:"):
             self._call(elt, macros, symbols)
         else:
+            if tag in macros and tag not in URDF_TAGS and tag not in self._unprefixed_warned:
+                self._unprefixed_warned.add(tag)
+                warning("<%s> is kept as an XML element although a macro '%s' is defined: xacro 1.14 (ROS "
+                        "Noetic) calls macros only as <xacro:%s>; xacro 1.13 and older also called them "
+                        "without the prefix. Write <xacro:%s ...> to call it." % (tag, tag, tag, tag))
             self.expand(elt, macros, symbols)
         return False
 

@@ -186,6 +186,21 @@ def test_macro_named_like_a_tag_is_only_called_with_the_prefix():
          '<link name="plain"/><link name="wrapped_a"/>')
 
 
+def test_an_unprefixed_macro_call_is_plain_xml_as_in_noetic_with_a_warning_once(capsys):
+    same('<xacro:macro name="HDL-32E" params="name"><sensor name="${name}"/></xacro:macro>'
+         '<HDL-32E name="a"/><HDL-32E name="b"/><xacro:HDL-32E name="c"/>',
+         '<HDL-32E name="a"/><HDL-32E name="b"/><sensor name="c"/>')
+    err = capsys.readouterr().err
+    assert err.count("<HDL-32E> is kept as an XML element") == 1, err
+    assert "Write <xacro:HDL-32E ...> to call it" in err
+
+
+def test_a_macro_named_like_a_urdf_element_does_not_warn_on_that_element(capsys):
+    same('<xacro:macro name="link" params="name"><link name="w_${name}"/></xacro:macro><link name="p"/>',
+         '<link name="p"/>')
+    assert capsys.readouterr().err == ""
+
+
 def test_unprefixed_xacro_words_are_plain_xml():
     same('<property name="p" value="1"/><macro name="m"/>', '<property name="p" value="1"/><macro name="m"/>')
 
