@@ -19,6 +19,7 @@ from rqt_graph.ros_graph import snapshot
 def publisher_of_the_simulator(graph):
     return "/gazebo_roscpp" if "/gazebo_roscpp" in graph.nodes else "/gazebo"
 
+
 class GraphOfScenario(unittest.TestCase):
     def test_scenario_graph(self):
         rospy.init_node("graph_scenario_check")
