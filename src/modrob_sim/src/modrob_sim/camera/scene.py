@@ -7,7 +7,8 @@
   while someone listens: RViz clears its displays when the clock jumps back (a simulator restart),
   and a latched message that reached it just before that was lost until the scene changed.
 - tf ``world -> <prefix><model>/<link>`` for every link (and camera sensors' optical frames), at
-  ``rate`` per wall-clock second, stamped with sim time, only while someone listens to /tf.
+  ``rate`` per wall-clock second, stamped with sim time (at most once per simulated time), only
+  while someone listens to /tf.
 """
 import time
 import weakref
@@ -103,6 +104,7 @@ class ScenePublisher(object):
         self._next_wall = 0.0
         self._markers_again = 0.0
         self._links = []
+        self._tf_time = None        # the simulated time of the last /tf sent
 
     def link_frame(self, model_name, link_name):
         return link_frame(self.model.prefix, model_name, link_name)
@@ -140,8 +142,12 @@ class ScenePublisher(object):
             del again.markers[:1]           # the same markers again, without DELETEALL: RViz
             self._markers_pub.publish(again)    # modifies them in place, nothing blinks
             self._markers_again = wall + MARKERS_AGAIN
-        if self._tf_pub.get_num_connections() == 0:
+        # once per simulated time: the loop calls this after its steps and after each pass, and a
+        # second message with the same stamp is TF_REPEATED_DATA to every tf listener (also while
+        # paused); after a reset the clock goes back and the frames go out again
+        if self._tf_time == sim_time or self._tf_pub.get_num_connections() == 0:
             return
+        self._tf_time = sim_time
         msg = TFMessage()
         poses = {}
         for m, lname, link in self._links:
