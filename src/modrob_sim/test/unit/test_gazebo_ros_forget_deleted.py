@@ -68,16 +68,18 @@ def test_a_deleted_model_leaves_no_cache_behind_and_is_freed():
 def test_the_scene_sends_its_tf_once_per_simulated_time():
     """The loop hands the scene the same simulated time after its steps and after the pass (and
     again and again while paused): a second /tf with that stamp is TF_REPEATED_DATA to every tf
-    listener (seen on the TurtleBot3 stacks). Once per time; a reset's earlier time goes out."""
+    listener (seen on the TurtleBot3 stacks). Once per time, again for a listener that came since
+    (a renderer started while paused); a reset's earlier time goes out."""
     from modrob_sim.camera.scene import ScenePublisher
     from modrob_sim.physics import World
 
     class Pub(object):
         def __init__(self):
             self.sent = []
+            self.connections = 1
 
         def get_num_connections(self):
-            return 1
+            return self.connections
 
         def publish(self, msg):
             self.sent.append(msg)
@@ -85,9 +87,11 @@ def test_the_scene_sends_its_tf_once_per_simulated_time():
     world.add_urdf("ground", fixture("ground.urdf"))
     scene = ScenePublisher(world, rate=30.0)
     scene._tf_pub, scene._markers_pub = Pub(), Pub()
-    for t in (0.1, 0.1, 0.1, 0.2, 0.05):
+    for t, listeners in ((0.1, 1), (0.1, 1), (0.1, 1), (0.2, 1), (0.2, 2), (0.2, 2), (0.2, 1), (0.2, 1),
+                         (0.05, 1)):
         scene._next_wall = 0.0           # the wall-clock period has passed every time
+        scene._tf_pub.connections = listeners
         scene.after_step(t)
     stamps = [m.transforms[0].header.stamp.to_sec() for m in scene._tf_pub.sent]
-    assert stamps == [0.1, 0.2, 0.05]
+    assert stamps == [0.1, 0.2, 0.2, 0.05]
     world.close()

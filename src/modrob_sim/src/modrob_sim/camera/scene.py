@@ -104,7 +104,8 @@ class ScenePublisher(object):
         self._next_wall = 0.0
         self._markers_again = 0.0
         self._links = []
-        self._tf_time = None        # the simulated time of the last /tf sent
+        self._tf_time = None        # the simulated time of the last /tf sent ...
+        self._tf_listeners = 0      # ... and to how many
 
     def link_frame(self, model_name, link_name):
         return link_frame(self.model.prefix, model_name, link_name)
@@ -144,10 +145,13 @@ class ScenePublisher(object):
             self._markers_again = wall + MARKERS_AGAIN
         # once per simulated time: the loop calls this after its steps and after each pass, and a
         # second message with the same stamp is TF_REPEATED_DATA to every tf listener (also while
-        # paused); after a reset the clock goes back and the frames go out again
-        if self._tf_time == sim_time or self._tf_pub.get_num_connections() == 0:
+        # paused); again only for a listener that came since (a renderer started while paused
+        # needs the frames). After a reset the clock goes back and the frames go out again.
+        listeners = self._tf_pub.get_num_connections()
+        if listeners == 0 or (self._tf_time == sim_time and listeners <= self._tf_listeners):
+            self._tf_listeners = min(self._tf_listeners, listeners)
             return
-        self._tf_time = sim_time
+        self._tf_time, self._tf_listeners = sim_time, listeners
         msg = TFMessage()
         poses = {}
         for m, lname, link in self._links:
