@@ -448,7 +448,6 @@ class PureBackend(object):
         self.ncontacts += n
         i1.entry.ncontacts += n
         i2.entry.ncontacts += n
-        mode = pp.mode
         fdir = None
         world = w.ode_world
         group = w.contact_group
@@ -456,11 +455,13 @@ class PureBackend(object):
             pos, normal, depth, _a, _b = c.getContactGeomParams()
             if k == 0 and (pp.fdir_side or pp.isotropic):
                 if pp.fdir_side:
-                    fdir = _given_fdir(g1 if pp.fdir_side == 1 else g2, pp.fdir, normal)
+                    fdir = _given_fdir(g1 if pp.fdir_side == 1 else g2, pp.fdir)
                 else:
                     fdir = _friction_dir(w.gravity, b1, b2, pos, normal)
-                if fdir is not None:
-                    mode |= ode.ContactFDir1
+            mode = pp.mode
+            f = None if fdir is None else _contact_fdir(fdir, pp.fdir_side, normal)
+            if f is not None:
+                mode |= ode.ContactFDir1
             whole = depth - pp.shift
             if whole < 0.0:
                 whole = 0.0
@@ -475,8 +476,8 @@ class PureBackend(object):
             c.setMu2(pp.mu2)
             c.setSoftERP(pp.erp)
             c.setSoftCFM(pp.cfm)
-            if fdir is not None:
-                c.setFDir1(fdir)
+            if f is not None:
+                c.setFDir1(f)
             j = ode.ContactJoint(world, group, c)
             j.attach(b1, b2)
             j.setFeedback(True)
@@ -534,10 +535,8 @@ def _select_spread(contacts, k):
     return [contacts[i] for i in chosen]
 
 
-def _given_fdir(geom, fdir, n):
-    """<fdir1> (collision frame) in the world as Gazebo hands it to ODE: unit length, NOT projected
-    on the contact plane (a wheel's fdir1 turns with it, and its first friction row leans into
-    the normal as it rolls); None when parallel to the normal (ODE's own directions then)."""
+def _given_fdir(geom, fdir):
+    """<fdir1> (collision frame) in the world, unit length; None if it has none."""
     if isinstance(geom, ode.GeomPlane):  # not placeable: its fdir1 is in the world frame
         r = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
     else:
@@ -546,11 +545,34 @@ def _given_fdir(geom, fdir, n):
          r[3] * fdir[0] + r[4] * fdir[1] + r[5] * fdir[2],
          r[6] * fdir[0] + r[7] * fdir[1] + r[8] * fdir[2])
     f2 = f[0] * f[0] + f[1] * f[1] + f[2] * f[2]
-    c = (n[1] * f[2] - n[2] * f[1], n[2] * f[0] - n[0] * f[2], n[0] * f[1] - n[1] * f[0])
-    if not f2 > 0 or c[0] * c[0] + c[1] * c[1] + c[2] * c[2] <= 1e-12 * f2:
+    if not f2 > 0:
         return None
     k = 1.0 / math.sqrt(f2)
     return (f[0] * k, f[1] * k, f[2] * k)
+
+
+def _contact_fdir(f, given, n):
+    """The first friction direction of one contact of a pair from the pair's (unit) direction
+    ``f``, or None for ODE's own directions; the C loop's mr_contact_fdir, the same rule. Each
+    contact against its OWN normal: one pair's contacts can face different ways (a mesh in a box
+    touches several faces), and a first direction along a contact's normal makes a second normal
+    row whose friction bound mu*N cancels the first, so the solver's impulses grow without bound
+    (NaN, and ODE aborts the process). ``given`` (a surface's <fdir1>, Gazebo's rule): NOT
+    projected on the contact plane (a wheel's fdir1 turns with it, and its first friction row
+    leans into the normal as it rolls); ODE's own directions when parallel to the normal. Else
+    (along the slip): projected on the contact's plane (unchanged where it lies in it)."""
+    fn = f[0] * n[0] + f[1] * n[1] + f[2] * n[2]
+    if given:
+        c = (n[1] * f[2] - n[2] * f[1], n[2] * f[0] - n[0] * f[2], n[0] * f[1] - n[1] * f[0])
+        return f if c[0] * c[0] + c[1] * c[1] + c[2] * c[2] > 1e-12 else None
+    if abs(fn) <= 1e-9:
+        return f
+    t = (f[0] - fn * n[0], f[1] - fn * n[1], f[2] - fn * n[2])
+    t2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2]
+    if not t2 > 1e-12:
+        return None
+    k = 1.0 / math.sqrt(t2)
+    return (t[0] * k, t[1] * k, t[2] * k)
 
 
 def _declare_run(lib):

@@ -410,6 +410,39 @@ static int mr_fdir(MrCtx *c, dBodyID b1, dBodyID b2, const dReal *pos, const dRe
     return 1;
 }
 
+#define MR_FDIR_GIVEN 1   /* a surface's <fdir1>, as Gazebo hands it to ODE */
+#define MR_FDIR_SLIP 2    /* ours: along the slip (or gravity's tangential part) at the first contact */
+
+/* the first friction direction of one contact of a pair, from the pair's direction `f` (unit):
+ * 0 when ODE's own directions are to be used. Each contact against its OWN normal: the contacts of
+ * one pair can face different ways (a mesh in a box touches several faces), and a first direction
+ * along a contact's normal makes a second normal row whose friction bound mu*N cancels the first,
+ * so the solver's impulses grow without bound (NaN, and ODE aborts the process).
+ * Given (Gazebo's rule): not projected on the contact plane (a wheel's fdir1 turns with it, so its
+ * first friction row leans into the normal as it rolls); ODE's own directions when it is parallel
+ * to the normal, as Gazebo's ODE fork falls back. Slip: projected on the contact's plane (contacts
+ * with the first one's normal keep it to the last bit). */
+static int mr_contact_fdir(const double *f, int kind, const dReal *n, dReal *out)
+{
+    double fn = f[0] * n[0] + f[1] * n[1] + f[2] * n[2], t[3], t2;
+    if (kind == MR_FDIR_GIVEN) {
+        double cx = n[1] * f[2] - n[2] * f[1], cy = n[2] * f[0] - n[0] * f[2], cz = n[0] * f[1] - n[1] * f[0];
+        if (!(cx * cx + cy * cy + cz * cz > 1e-12)) return 0;
+        out[0] = f[0]; out[1] = f[1]; out[2] = f[2];
+        return 1;
+    }
+    if (fabs(fn) <= 1e-9) {
+        out[0] = f[0]; out[1] = f[1]; out[2] = f[2];
+        return 1;
+    }
+    t[0] = f[0] - fn * n[0]; t[1] = f[1] - fn * n[1]; t[2] = f[2] - fn * n[2];
+    t2 = t[0] * t[0] + t[1] * t[1] + t[2] * t[2];
+    if (!(t2 > 1e-12)) return 0;
+    t2 = 1.0 / sqrt(t2);
+    out[0] = t[0] * t2; out[1] = t[1] * t2; out[2] = t[2] * t2;
+    return 1;
+}
+
 static void mr_near(void *data, dGeomID o1, dGeomID o2)
 {
     MrCtx *c = (MrCtx *)data;
@@ -471,38 +504,27 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     mode = dContactApprox1_1 | dContactApprox1_2 | dContactSoftERP | dContactSoftCFM;
     if (!isotropic) mode |= dContactMu2;
     if (s1->has_fdir || s2->has_fdir) {
-        /* <fdir1> given (in the collision frame of its geom): rotate to world, project. Both
-         * given: the one of the surface with the smaller mu1 (Gazebo) */
-        const dContactGeom *g0 = &c->gen[sel[0]];
+        /* <fdir1> given (in the collision frame of its geom): rotated to the world. Both given:
+         * the one of the surface with the smaller mu1 (Gazebo) */
         int use2 = s2->has_fdir && (!s1->has_fdir || s1->mu1 > s2->mu1);
         const MrSurface *sf = use2 ? s2 : s1;
         dGeomID og = use2 ? o2 : o1;
-        double fx = sf->fdir[0], fy = sf->fdir[1], fz = sf->fdir[2], fn, f2, cx, cy, cz;
+        double fx = sf->fdir[0], fy = sf->fdir[1], fz = sf->fdir[2], fn;
         if (dGeomGetClass(og) != dPlaneClass) {  /* a plane is not placeable: its fdir is in the world */
             const dReal *R = dGeomGetRotation(og);
             fx = R[0] * sf->fdir[0] + R[1] * sf->fdir[1] + R[2] * sf->fdir[2];
             fy = R[4] * sf->fdir[0] + R[5] * sf->fdir[1] + R[6] * sf->fdir[2];
             fz = R[8] * sf->fdir[0] + R[9] * sf->fdir[1] + R[10] * sf->fdir[2];
         }
-        /* as Gazebo hands it to ODE: not projected on the contact plane (a wheel's fdir1 turns
-         * with it, so its first friction row leans into the normal as it rolls); ODE's own plane
-         * directions when it is parallel to the normal, as Gazebo's ODE fork falls back */
         fn = fx * fx + fy * fy + fz * fz;
-        cx = g0->normal[1] * fz - g0->normal[2] * fy;
-        cy = g0->normal[2] * fx - g0->normal[0] * fz;
-        cz = g0->normal[0] * fy - g0->normal[1] * fx;
-        f2 = cx * cx + cy * cy + cz * cz;
-        if (fn > 0 && f2 > 1e-12 * fn) {
-            f2 = fn;
-            double k = 1.0 / sqrt(f2);
-            fdir[0] = fx * k; fdir[1] = fy * k; fdir[2] = fz * k;
-            has_fdir = 1;
-            mode |= dContactFDir1;
+        if (fn > 0) {
+            double kf = 1.0 / sqrt(fn);
+            fdir[0] = fx * kf; fdir[1] = fy * kf; fdir[2] = fz * kf;
+            has_fdir = MR_FDIR_GIVEN;
         }
     } else if (isotropic) {
         const dContactGeom *g0 = &c->gen[sel[0]];
-        has_fdir = mr_fdir(c, b1, b2, g0->pos, g0->normal, fdir);
-        if (has_fdir) mode |= dContactFDir1;
+        if (mr_fdir(c, b1, b2, g0->pos, g0->normal, fdir)) has_fdir = MR_FDIR_SLIP;
     }
     for (i = 0; i < k; ++i) {
         dContact ct;
@@ -520,7 +542,8 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
         ct.surface.mu2 = mu2;
         ct.surface.soft_erp = erp;
         ct.surface.soft_cfm = cfm;
-        if (has_fdir) { ct.fdir1[0] = fdir[0]; ct.fdir1[1] = fdir[1]; ct.fdir1[2] = fdir[2]; }
+        if (has_fdir && mr_contact_fdir(fdir, has_fdir, ct.geom.normal, ct.fdir1))
+            ct.surface.mode |= dContactFDir1;
         j = dJointCreateContact(c->world, c->contacts, &ct);
         dJointAttach(j, b1, b2);
         if (c->nmade == c->capmade) {
