@@ -18,8 +18,8 @@ like the sensor, so both IMUs read the same physical quantity) in the link frame
 """
 import math
 
-from modrob_sim.physics.transforms import (cross, quat_conj, quat_from_rpy, quat_mul, quat_normalize,
-                                           quat_rotate)
+from modrob_sim.physics.transforms import (cross, pose_mul, quat_conj, quat_from_rpy, quat_mul,
+                                           quat_normalize, quat_rotate)
 
 from .core import MountedSensor, Rate, noise_rng
 from .errors import SensorConfigError
@@ -30,10 +30,11 @@ def _sub(a, b):
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
-def _point_velocity(link, point):
-    """World velocity of a world point rigidly attached to the link."""
-    (v, w) = link.twist
-    r = _sub(point, link.pose[0])
+def _point_velocity(twist, origin, point):
+    """World velocity of a world point rigidly attached to a link whose frame is at ``origin``
+    and moves with ``twist`` (the link's)."""
+    (v, w) = twist
+    r = _sub(point, origin)
     c = cross(w, r)
     return (v[0] + c[0], v[1] + c[1], v[2] + c[2])
 
@@ -48,12 +49,13 @@ class ImuReading(object):
 
 
 class ImuCore(object):
-    """Finite-difference IMU on a frame given by ``pose_fn() -> world pose`` of ``link``."""
+    """Finite-difference IMU on the frame ``offset`` (a pose in the link frame; None: the link
+    frame itself) of ``link``. A measurement reads the link's pose and twist once each."""
 
-    def __init__(self, world, link, pose_fn):
+    def __init__(self, world, link, offset=None):
         self.world = world
         self.link = link
-        self.pose_fn = pose_fn
+        self.offset = offset
         self.reference = (0.0, 0.0, 0.0, 1.0)
         self.reset()
 
@@ -63,8 +65,11 @@ class ImuCore(object):
         self._acc = None
 
     def measure(self, t):
-        pos, rot = self.pose_fn()
-        v = _point_velocity(self.link, pos)
+        link = self.link
+        lp = link.pose
+        pos, rot = lp if self.offset is None else pose_mul(lp, self.offset)
+        twist = link.twist
+        v = _point_velocity(twist, lp[0], pos)
         g = self.world.gravity
         if self._last_t is not None and t > self._last_t:
             dt = t - self._last_t
@@ -77,7 +82,7 @@ class ImuCore(object):
         self._last_v, self._last_t = v, t
         inv = quat_conj(rot)
         spec = quat_rotate(inv, (a[0] - g[0], a[1] - g[1], a[2] - g[2]))
-        w = quat_rotate(inv, self.link.twist[1])
+        w = quat_rotate(inv, twist[1])
         q = quat_normalize(quat_mul(quat_conj(self.reference), rot))
         return ImuReading(q, w, spec)
 
@@ -99,7 +104,7 @@ class ImuSensor(MountedSensor):
         self.rot_offset = quat_from_rpy(*rpy)
         self.initial_reference = p.bool("initialOrientationAsReference", False)
         self.world = world
-        self.core = ImuCore(world, self.link, self.pose)
+        self.core = ImuCore(world, self.link, self.offset)
         self.sensor_rate = Rate(self.update_rate)
         self.publish_gate = Rate(self.publish_rate)
         self.seed = seed
@@ -152,7 +157,7 @@ class ImuModelPlugin(object):
         rpy = p.floats("rpyOffset", 3) or p.floats("rpyOffsets", 3, (0.0, 0.0, 0.0))
         self.rot_offset = quat_from_rpy(*rpy)
         self.rate = Rate(p.float("updateRate", 0.0, nonneg=True))
-        self.core = ImuCore(world, self.link, lambda: self.link.pose)
+        self.core = ImuCore(world, self.link)
         self.rng = noise_rng(world, seed)
 
     def reset(self, reseed=True):
