@@ -6,7 +6,8 @@ process, its own ROS master on a free port), so that units can run side by side 
 
 A unit measures our figure AND its peer in the same process and run, so that a busy machine hits
 both alike; run.py takes the median, min and max over repetitions and the ratio per repetition.
-Units: physics_core, node, sensor_arm, mobile, bulbs_one, bulbs_two, startup, rss, kdl_fk.
+Units: physics_core, node, sensor_arm, mobile, bulbs_one, bulbs_two, startup, rss, kdl_fk,
+polaris_pace, katana_pace, ptrz_pace.
 """
 import argparse
 import json
@@ -688,10 +689,101 @@ def unit_mobile(args):
         master.close()
 
 
+# ---- the scenario launches' pace: simulated s per wall s at real_time_factor 0 -------------------------
+#: scenario -> (roslaunch arguments, topics a demo's nodes listen to: (name, type)); the sensors
+#: and controllers run as in the demo, the launch's own nodes included; no GUI, no renderer
+DEMO_LAUNCHES = {
+    "polaris": (["polaris_description", "polaris.launch", "gui:=false", "velodyne:=true"],
+                [("/velodyne_points2", "sensor_msgs/PointCloud2"), ("/imu", "sensor_msgs/Imu"),
+                 ("/fix", "sensor_msgs/NavSatFix"), ("/joint_states", "sensor_msgs/JointState")]),
+    "katana": (["katana_sim", "katana_stack.launch", "gui:=false", "exit_when_done:=false?"], []),
+    "ptrz": (["ptrz_camera", "ptrz.launch", "gui:=false", "images:=false", "cameras:=3", "world:=indoor"],
+             [("/ptrz/joint_states", "sensor_msgs/JointState")]),
+}
+
+
+def unit_demo_pace(scenario, args):
+    """``roslaunch`` of the scenario's launch file with ``real_time_factor:=0`` on a master of its
+    own (the workspace this process runs in: its ROS_PACKAGE_PATH), the demo's topics subscribed;
+    after 3 wall s of running, the simulated time over ``seconds`` of wall time and the CPU of
+    every process of the launch."""
+    import signal
+    import threading
+    cmd, topics = DEMO_LAUNCHES[scenario]
+    # "name:=value?": only where the launch file declares the argument (older versions of it too)
+    launch_file = subprocess.run(["rospack", "find", cmd[0]], capture_output=True, text=True).stdout.strip()
+    with open(os.path.join(launch_file, "launch", cmd[1])) as f:
+        text = f.read()
+    cmd = [a for a in cmd if not a.endswith("?")] + \
+        [a[:-1] for a in cmd if a.endswith("?") and 'name="%s"' % a.split(":=")[0] in text]
+    port = free_port()
+    os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % port
+    launch = subprocess.Popen(["roslaunch", "-p", str(port)] + cmd + ["real_time_factor:=0"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        import rosgraph
+        import roslib.message
+        import rospy
+        from gazebo_msgs.srv import GetWorldProperties
+        deadline = time.time() + 120
+        while not rosgraph.is_master_online():
+            if time.time() > deadline or launch.poll() is not None:
+                raise RuntimeError("%s: the master did not come up" % scenario)
+            time.sleep(0.2)
+        rospy.init_node("bench_demo_pace", anonymous=True, disable_signals=True, disable_rostime=True)
+        counts = {name: 0 for name, _ in topics}
+        lock = threading.Lock()
+
+        def counter(name):
+            def cb(_msg):
+                with lock:
+                    counts[name] += 1
+            return cb
+        subs = [rospy.Subscriber(name, roslib.message.get_message_class(kind), counter(name), queue_size=2,
+                                 buff_size=2 ** 22)
+                for name, kind in topics]
+        rospy.wait_for_service("/gazebo/get_world_properties", timeout=120)
+        world = rospy.ServiceProxy("/gazebo/get_world_properties", GetWorldProperties)
+        while world().sim_time <= 0.0:
+            if time.time() > deadline:
+                raise RuntimeError("%s: simulated time did not start" % scenario)
+            time.sleep(0.1)
+        time.sleep(3.0)
+        pids = descendants(launch.pid)
+        t0, w0 = world().sim_time, time.perf_counter()
+        c0 = sum(_cpu(p) for p in pids)
+        n0 = dict(counts)
+        time.sleep(args.seconds or 10.0)
+        t1, w1 = world().sim_time, time.perf_counter()
+        c1 = sum(_cpu(p) for p in pids)
+        for sub in subs:
+            sub.unregister()
+        sim, wall = t1 - t0, w1 - w0
+        return {"sim_per_wall": sim / wall, "sim_per_cpu": sim / max(1e-9, c1 - c0),
+                "cpu_load": (c1 - c0) / wall, "sim_time": sim,
+                "rates": {k: (counts[k] - n0[k]) / sim if sim > 0 else 0.0 for k in counts}}
+    finally:
+        try:
+            os.killpg(launch.pid, signal.SIGINT)
+            launch.wait(30)
+        except (subprocess.TimeoutExpired, ProcessLookupError):
+            os.killpg(launch.pid, signal.SIGKILL)
+
+
+def _cpu(pid):
+    try:
+        return cpu_seconds(pid)
+    except OSError:
+        return 0.0
+
+
 UNITS = {"physics_core": unit_physics_core, "node": unit_node, "mobile": unit_mobile,
          "bulbs_one": lambda a: unit_bulbs("one_robot", a),
          "bulbs_two": lambda a: unit_bulbs("two_robots", a),
-         "startup": unit_startup, "rss": unit_rss, "kdl_fk": unit_kdl_fk, "sensor_arm": unit_sensor_arm}
+         "startup": unit_startup, "rss": unit_rss, "kdl_fk": unit_kdl_fk, "sensor_arm": unit_sensor_arm,
+         "polaris_pace": lambda a: unit_demo_pace("polaris", a),
+         "katana_pace": lambda a: unit_demo_pace("katana", a),
+         "ptrz_pace": lambda a: unit_demo_pace("ptrz", a)}
 
 
 def main():

@@ -143,3 +143,108 @@ def test_a_hook_without_a_due_time_runs_at_every_step():
     assert Undeclared.calls == fast.world.iterations == 200
     # each step is made in C and its after-hooks run in Python
     assert len(fast.loaded[2].samples) == 6            # its own gate still decimates (30 Hz, 0.2 s)
+
+
+REAL_SENSORS = """
+  <gazebo reference="l3"><sensor type="imu" name="imu"><always_on>true</always_on>
+    <update_rate>200</update_rate>
+    <plugin name="imu" filename="libgazebo_ros_imu_sensor.so"><topicName>imu</topicName>
+    <updateRateHZ>200</updateRateHZ></plugin></sensor></gazebo>
+  <gazebo reference="base"><sensor type="ray" name="scan"><update_rate>40</update_rate>
+    <ray><scan><horizontal><samples>36</samples><min_angle>-3.14</min_angle><max_angle>3.14</max_angle>
+    </horizontal></scan><range><min>0.1</min><max>5</max></range></ray>
+    <plugin name="scan" filename="libgazebo_ros_laser.so"><topicName>scan</topicName></plugin>
+  </sensor></gazebo>
+</robot>"""
+
+
+class _Listened(object):
+    """A publisher whose subscribers come and go with ``listening[0]``; keeps what it sends."""
+
+    def __init__(self, topic, listening):
+        self.name, self.listening, self.sent = topic, listening, []
+
+    @property
+    def has_subscribers(self):
+        return self.listening[0]
+
+    def publish(self, msg):
+        self.sent.append(msg)
+
+    def publish_later(self, build):
+        self.sent.append(build())
+
+    def unregister(self):
+        pass
+
+
+class SensorArm(ControlRig):
+    """The arm moving (a commanded yaw) with the real IMU (200 Hz) and laser (40 Hz) plugins, their
+    subscribers present while ``listening[0]``."""
+
+    def __init__(self, fast):
+        import modrob_sim.sensors.ros_plugins  # noqa: F401 - registers the sensor plugins
+        with open(os.path.join(FIX, "arm_3dof.urdf")) as f:
+            xml = f.read().replace("PositionJointInterface", "EffortJointInterface")
+        super(SensorArm, self).__init__(xml.replace("</robot>", REAL_SENSORS))
+        self.listening = [True]
+        self.pubs = {}
+
+        def advertise(topic, msg_class, queue_size=1, latch=False):
+            return self.pubs.setdefault(topic, _Listened(topic, self.listening))
+        c = self.mgr.load("yaw", {"type": "effort_controllers/JointPositionController", "joint": "yaw",
+                                  "pid": {"p": 80.0, "d": 4.0}})
+        c.state_wanted = lambda: False
+        self.adapter("yaw")
+        assert self.mgr.switch(["yaw"], [], STRICT)[0]
+        c.set_command(2.0)
+        self.host = PluginHost(self.world, "/gazebo", lambda uri: uri, advertise=advertise)
+        self.host.load(self.model, "/arm")
+        self.start(fast, plugins=self.host)
+
+    def sent(self, topic):
+        key = [k for k in self.pubs if k.endswith(topic)][0]
+        out = []
+        for m in self.pubs[key].sent:
+            fields = (m.linear_acceleration, m.angular_velocity, m.orientation) if topic == "imu" else \
+                (list(m.ranges),)
+            out.append((m.header.stamp.to_sec(), str(fields)))
+        return out
+
+
+@needs_c
+def test_sensors_nobody_listens_to_step_natively_and_send_what_they_would_have_sent(monkeypatch):
+    """While no subscriber listens, the laser and the (noiseless) IMU take no readings: their
+    hooks are due only at a look every IDLE_LOOK s, so the World steps natively through their
+    update times. Once someone listens they send what sensors that never idled send, from at most
+    IDLE_LOOK (and one IMU update) after the subscriber came."""
+    from modrob_sim.sensors import ros_plugins
+    from modrob_sim.sensors.ros_plugins import IDLE_LOOK
+    calls = []
+    for cls in (ros_plugins.ImuSensorPlugin, ros_plugins.LaserPlugin):
+        def counted(self, t, dt, _hook=cls.after_step):
+            calls.append(t)
+            return _hook(self, t, dt)
+        monkeypatch.setattr(cls, "after_step", counted)
+    always = SensorArm(True)
+    always.step(1500)
+    come_and_go = SensorArm(True)
+    come_and_go.listening[0] = False
+    del calls[:]
+    come_and_go.step(500)
+    # the sensors' hooks ran at the first readings and at a look every IDLE_LOOK each (not at the
+    # IMU's 100 and the laser's 20 update times); every step but the first update's was native
+    assert len(calls) <= 2 * (0.5 / IDLE_LOOK + 1), calls
+    assert come_and_go.world.native_steps >= 498
+    come_and_go.listening[0] = True
+    come_and_go.step(500)
+    come_and_go.listening[0] = False
+    come_and_go.step(500)
+    assert always.world.state_digest() == come_and_go.world.state_digest()
+    for topic, period in (("imu", 0.005), ("scan", 0.025)):
+        got, ref = come_and_go.sent(topic), always.sent(topic)
+        assert got, topic
+        first, last = got[0][0], got[-1][0]
+        assert 0.5 <= first <= 0.5 + IDLE_LOOK + 2 * period + 1e-9, (topic, first)
+        assert last >= 1.0 - period - 1e-9, (topic, last)
+        assert got == [r for r in ref if first - 1e-9 <= r[0] <= last + 1e-9], topic

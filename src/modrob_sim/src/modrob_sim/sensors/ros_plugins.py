@@ -7,6 +7,7 @@ time and measures only when its topic has subscribers (a sensor nobody listens t
 bookkeeping only); big messages (LaserScan, PointCloud2) are built and serialised on the node's
 publishing thread (publish_later) from arrays copied in the hook.
 """
+import math
 import threading
 
 import rospy
@@ -66,13 +67,43 @@ def _reseed(context):
     return context.world.time == 0.0
 
 
+#: simulated seconds between two looks for a subscriber while a sensor that keeps no history has
+#: nobody listening (the laser, the Velodyne, a noiseless IMU): meanwhile its hook is not due, so
+#: the World steps natively through its update times; its first message after a subscriber
+#: connects comes at most this much (the IMU: one update more) after the connection
+IDLE_LOOK = 0.1
+
+
+def _on_grid_from(rate, until):
+    """The first time of ``rate``'s grid (its ``next_time`` plus whole ``period``s) from ``until``
+    on: the update times stay those of a sensor that never idled."""
+    nxt = rate.next_time
+    if rate.period <= 0.0 or nxt == -math.inf or nxt >= until:
+        return max(nxt, until) if rate.period <= 0.0 else nxt
+    return nxt + math.ceil((until - nxt) / rate.period - 1e-9) * rate.period
+
+
 class _Publishing(object):
     """Publisher gating shared by the sensor plugins."""
 
     pubs = ()
+    #: while nobody listened at the last look: the simulated time of the next look (else None)
+    idle_until = None
 
     def active(self):
         return any(p.has_subscribers for p in self.pubs)
+
+    def look(self, t):
+        """``active()``, remembering an idle look at simulated time ``t`` (see IDLE_LOOK)."""
+        if self.active():
+            self.idle_until = None
+            return True
+        self.idle_until = t + IDLE_LOOK
+        return False
+
+    def idle_due(self, rate, due):
+        """A hook's due time ``due`` (on ``rate``'s grid), or while idle the next look's."""
+        return due if self.idle_until is None else _on_grid_from(rate, self.idle_until)
 
     def shutdown(self):
         for p in self.pubs:
@@ -103,8 +134,11 @@ class LaserPlugin(_Publishing, SensorPlugin):
         if _reseed(self.context):
             self.ray.reseed()
 
+    def after_due(self):
+        return self.idle_due(self.gate, SensorPlugin.after_due(self))
+
     def sense(self, t):
-        if not self.active():
+        if not self.look(t):
             return
         ranges, intensities = self.ray.scan()
         r32, i32 = ranges.astype("float32"), intensities.astype("float32")
@@ -146,8 +180,11 @@ class VelodynePlugin(_Publishing, SensorPlugin):
         if _reseed(self.context):
             self.ray.reseed()
 
+    def after_due(self):
+        return self.idle_due(self.gate, SensorPlugin.after_due(self))
+
     def sense(self, t):
-        if not self.active():
+        if not self.look(t):
             return
         ranges, intensities = self.ray.scan()      # fresh arrays: safe to use after the hook
         noise = self.ray.rng.normal(0.0, self.cfg.gaussian_noise, ranges.shape) if self.cfg.gaussian_noise \
@@ -205,14 +242,32 @@ class ImuSensorPlugin(_Publishing, SensorPlugin):
     def reset(self):
         SensorPlugin.reset(self)
         self.imu.reset(_reseed(self.context))
+        self.idle_until = None
 
     def after_step(self, t, dt):
-        r = self.imu.step(t)        # keeps the velocity history even without subscribers
-        if r is not None and self.active():
-            self.pub.publish(_imu_msg(r, self.frame, t, self.imu.noise))
+        imu = self.imu
+        if self.idle_until is not None:
+            if t + 1e-9 < self.idle_until or t + 1e-9 < imu.sensor_rate.next_time:
+                return          # idle, or (called early) not an update time of the sensor
+            if not self.look(t):
+                imu.sensor_rate.due(t)          # the update times go on
+                return
+            # back from idle: this reading starts the velocity history, the next one publishes
+            imu.core.reset()
+            imu.step(t)
+            return
+        r = imu.step(t)         # keeps the velocity history while someone listens
+        if r is None:
+            return
+        if imu.noise > 0.0:
+            # a noisy IMU takes every reading: its noise stream is the same whoever listens
+            if self.active():
+                self.pub.publish(_imu_msg(r, self.frame, t, imu.noise))
+        elif self.look(t):
+            self.pub.publish(_imu_msg(r, self.frame, t, imu.noise))
 
     def after_due(self):
-        return self.imu.sensor_rate.next_time
+        return self.idle_due(self.imu.sensor_rate, self.imu.sensor_rate.next_time)
 
 
 class ImuModelRosPlugin(_Publishing, ModelPlugin):
