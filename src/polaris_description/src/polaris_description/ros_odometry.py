@@ -1,4 +1,7 @@
-"""/odom (nav_msgs/Odometry) and the odom -> base tf from /gazebo/model_states (thin ROS layer)."""
+"""/odom (nav_msgs/Odometry) and the odom -> base tf from /gazebo/model_states (thin ROS layer).
+
+The node usually starts before the model is spawned: it says it waits (info) and warns only when
+the model is still missing after ``MISSING_WARN`` s of simulated time (a wrong ~model_name)."""
 import rospy
 import tf2_ros
 from gazebo_msgs.msg import ModelStates
@@ -8,6 +11,9 @@ from nav_msgs.msg import Odometry, Path
 
 from polaris_description.errors import PolarisError
 from polaris_description.odometry import find_model, odom_from_model_state
+
+#: s of simulated time without the model in /gazebo/model_states before that is a warning
+MISSING_WARN = 10.0
 
 
 class OdometryNode(object):
@@ -19,6 +25,7 @@ class OdometryNode(object):
         self.period = rospy.Duration(1.0 / rate) if rate > 0 else rospy.Duration(0)
         self.publish_tf = publish_tf
         self.last = None
+        self.missing_since = None      # simulated time the model was first missing, None while found
         self.warned_missing = False
         self.pub = rospy.Publisher("odom", Odometry, queue_size=10)
         self.path = Path()
@@ -35,12 +42,18 @@ class OdometryNode(object):
             return
         i = find_model(msg.name, self.model_name)
         if i is None:
-            if not self.warned_missing:
-                rospy.logwarn("odometry: model '%s' is not in /gazebo/model_states (models: %s); waiting "
-                              "(set ~model_name)" % (self.model_name, ", ".join(msg.name)))
+            if self.missing_since is None:
+                self.missing_since = now
+                rospy.loginfo("odometry: waiting for model '%s' in /gazebo/model_states" % self.model_name)
+            elif not self.warned_missing and (now - self.missing_since).to_sec() > MISSING_WARN:
+                rospy.logwarn("odometry: model '%s' is still not in /gazebo/model_states after %.0f s "
+                              "(models: %s); waiting (set ~model_name)"
+                              % (self.model_name, MISSING_WARN, ", ".join(msg.name)))
                 self.warned_missing = True
             return
-        self.warned_missing = False
+        if self.missing_since is not None:
+            rospy.loginfo("odometry: model '%s' found" % self.model_name)
+        self.missing_since, self.warned_missing = None, False
         p, t = msg.pose[i], msg.twist[i]
         try:
             s = odom_from_model_state((p.position.x, p.position.y, p.position.z),
