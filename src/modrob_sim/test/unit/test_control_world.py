@@ -244,3 +244,29 @@ def test_effort_gripper_action_controller_closes_on_a_can_stalls_and_opens_to_re
     outcome, result = outcome_of("reopen", 0.04, 5.0, 1000)
     assert outcome == "succeeded" and result["reached_goal"]
     assert world.pop_events() == []
+
+
+def test_an_idle_effort_joint_leaves_the_joint_to_a_model_plugins_actuator():
+    # katana_gazebo_plugins' gripper plugin drives the finger joints that the Katana's URDF also
+    # gives effort transmissions: the hardware (loaded first) must leave them free while no effort
+    # is commanded; a non-zero effort on such a joint is not applied and said once
+    world = physics.World(time_step=0.001)
+    with open(os.path.join(FIX, "arm_1dof_effort.urdf")) as f:
+        model = world.add_urdf("robot", f.read())
+    warnings = []
+    hw = RobotHWSim(model.joints, parse_transmissions(model.source_xml), warn=warnings.append, world=world)
+    mgr = ControllerManager(hw, "/r")
+    world.add_step_hook(before=mgr.update)
+    joint = model.joints["shoulder"]
+    plugin = world.add_actuator(joint, physics.actuators.POSITION_PID,
+                                gains=physics.actuators.PidGains(200.0, 50.0, 10.0, 20.0, -20.0))
+    plugin.command = 0.3
+    world.step(3000)
+    assert joint.actuator is plugin
+    assert joint.position == pytest.approx(0.3, abs=0.01)
+    hw.joints["shoulder"].command = 5.0
+    world.step(200)
+    assert joint.actuator is plugin
+    assert joint.position == pytest.approx(0.3, abs=0.01)
+    said = [w for w in warnings if "shoulder" in w and "effort command" in w]
+    assert len(said) == 1, warnings

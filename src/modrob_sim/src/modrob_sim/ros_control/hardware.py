@@ -26,10 +26,12 @@ transmission and would register a joint named by three transmissions three times
 
 The efforts are applied by the joint's actuator (modrob_sim.physics.actuators): with a ``world``
 the World's own, which it runs at every step, between two updates too (an idle effort joint keeps
-its last command, a PID its target); without one (a test plant, a script that steps joints
-itself) ``write`` runs them. A controller that needs another actuator kind (a PID to a position,
-a trajectory segment) takes the joint's actuator with :meth:`JointResource.actuate` and hands it
-back with :meth:`JointResource.release`; the hardware's write leaves a taken joint alone.
+its last command, a PID its target; an effort joint that has had no effort has no actuator, so a
+model plugin may drive it with its own, as the Katana's gripper plugin drives its fingers);
+without one (a test plant, a script that steps joints itself) ``write`` runs them. A controller
+that needs another actuator kind (a PID to a position, a trajectory segment) takes the joint's
+actuator with :meth:`JointResource.actuate` and hands it back with :meth:`JointResource.release`;
+the hardware's write leaves a taken joint alone.
 """
 import math
 
@@ -55,10 +57,13 @@ class JointResource(object):
     ``method``), its command, and the actuator that applies it (``actuator``; ``owner`` is the
     controller that took it, or None)."""
 
-    def __init__(self, sim_joint, interface, world=None):
-        """``interface``: one interface name or a sequence of them (the first is active)."""
+    def __init__(self, sim_joint, interface, world=None, warn=None):
+        """``interface``: one interface name or a sequence of them (the first is active).
+        ``warn(msg)``: where warnings go."""
         self.sim = sim_joint
         self._world = world
+        self.warn = warn or (lambda msg: None)
+        self._warned_foreign = False
         self.actuator = None
         self.owner = None
         self.synced_gains = None
@@ -188,7 +193,9 @@ class JointResource(object):
         velocity PIDs); none for a kinematic position joint or an ODE motor's velocity joint."""
         m = self.method
         if m == EFFORT:
-            self.actuate(actuators.EFFORT).command = self.command if math.isfinite(self.command) else 0.0
+            cmd = self.command if math.isfinite(self.command) else 0.0
+            if self.actuator is not None or self.needs_effort_actuator(cmd):
+                self.actuate(actuators.EFFORT).command = cmd
         elif m == POSITION_PID:
             self.actuate(actuators.POSITION_PID, self.pid.gains, self.position_rule).command = self.position
         elif m == VELOCITY_PID:
@@ -196,6 +203,23 @@ class JointResource(object):
         else:
             self.remove_actuator()
         self.synced_gains = self.pid.gains if self.pid is not None else None
+
+    def needs_effort_actuator(self, effort):
+        """True when the hardware must take an actuator to hold ``effort`` on an effort joint that
+        has none. A zero effort needs none: the joint stays free for a plugin's own actuator
+        (katana_gazebo_plugins' gripper drives finger joints that also have effort
+        transmissions; in Gazebo both call SetForce, and the forces add). A non-zero effort on a
+        joint another plugin's actuator drives is not applied, with a warning once."""
+        if effort == 0.0:
+            return False
+        other = getattr(self.sim, "actuator", None)
+        if other is None:
+            return True
+        if not self._warned_foreign:
+            self._warned_foreign = True
+            self.warn("joint '%s': its effort command (%g) is not applied while %r drives the joint "
+                      "(Gazebo would add the two); stop one of them" % (self.name, effort, other))
+        return False
 
     def release(self):
         """A controller lets the joint go: the hardware applies the active interface's command
@@ -287,7 +311,7 @@ class RobotHWSim(object):
                                       % (tr.name, act.reduction))
         for name in self.order:
             ifaces = offered[name]
-            res = JointResource(model_joints[name], ifaces, world)
+            res = JointResource(model_joints[name], ifaces, world, warn)
             if (POSITION in ifaces or VELOCITY in ifaces) and pid_gains is not None and pid_gains.has(name):
                 res.set_pid(Pid(PidGains.from_params(pid_gains.child(name))), pid_gains.path(name))
             else:
@@ -384,6 +408,10 @@ class RobotHWSim(object):
                 res.synced_gains = res.pid.gains        # gains changed (dynamic_reconfigure)
                 res.actuator.gains = res.synced_gains
             if m == EFFORT:
+                if res.actuator is None:
+                    if not res.needs_effort_actuator(cmd):
+                        continue
+                    res.actuate(actuators.EFFORT)
                 res.actuator.command = cmd          # the actuator clamps to the effort limit
             elif m in (POSITION, POSITION_PID):
                 cmd = self._saturate_position(res, cmd, dt)
