@@ -135,22 +135,21 @@ def run_rostest(path, timeout):
     return p, f, s, 0, rc, logfile, time.time() - start
 
 
-def docs_jobs(pattern, alone):
-    """The docs test runs with `-k docs` or with no pattern. Its sessions run two at a time when
-    no other job runs beside it (``alone``), else one at a time: the cores are busy already."""
-    return [("docs", run_docs, 2 if alone else 1)] if pattern in "scripts/docs_test.py" else []
+def docs_jobs(pattern):
+    """The docs test runs with `-k docs` or with no pattern (its sessions one at a time: the
+    jobs beside it keep the other core busy)."""
+    return [("docs", run_docs, None)] if pattern in "scripts/docs_test.py" else []
 
 
-def run_docs(inside, timeout):
+def run_docs(_path, timeout):
     """The docs test (scripts/docs_test.py): every shell and Python block of README.md and docs/*.md
-    is run or marked as not run; ``inside`` of its sessions at a time."""
+    is run or marked as not run."""
     xml = os.path.join(RESULTS, "docs.xml")
     logfile = os.path.join(RESULTS, "docs.log")
     start = time.time()
     with open(logfile, "w") as log:
         try:
-            cmd = [sys.executable, os.path.join(ROOT, "scripts", "docs_test.py"), "--junit", xml,
-                   "--jobs", str(inside)]
+            cmd = [sys.executable, os.path.join(ROOT, "scripts", "docs_test.py"), "--junit", xml]
             rc = subprocess.call(cmd, cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, timeout=timeout)
         except subprocess.TimeoutExpired:
             rc = "timeout after %d s" % timeout
@@ -204,8 +203,7 @@ def main():
     if args.tier in (None, 1):
         jobs += unit_jobs(args.pattern)
     if args.tier in (None, 2):
-        others = rostest_jobs(args.pattern)
-        jobs += docs_jobs(args.pattern, alone=args.jobs == 1 or not (jobs or others)) + others
+        jobs += docs_jobs(args.pattern) + rostest_jobs(args.pattern)
     if not jobs:
         print("[tests] nothing matched -k %r" % args.pattern)
         return 1
