@@ -103,12 +103,19 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
                              % (address, exc))
     else:
         n = workers or os.cpu_count() or 1
-        try:
-            ray.init(address="local", num_cpus=max(1, int(round(n * cpus_per_trial))), **kw)
-        except Exception as exc:     # noqa: B902 Ray raises a bare Exception when its node does not start
-            raise SweepError("Ray did not start on this machine: %s. On an overloaded machine its start-up "
-                             "times out: run the sweep again (or with fewer --workers)"
-                             % str(exc).strip().splitlines()[-1])
+        for attempt in (1, 2):
+            try:
+                ray.init(address="local", num_cpus=max(1, int(round(n * cpus_per_trial))), **kw)
+                break
+            except Exception as exc:     # noqa: B902 Ray raises a bare Exception when its node does not start
+                ray.shutdown()           # what did start of it
+                reason = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
+                if attempt == 1:         # Ray gives its node 30 s to register: a loaded machine needs more
+                    print("sweep: Ray did not start on this machine (%s); trying once more" % reason,
+                          file=sys.stderr, flush=True)
+                    continue
+                raise SweepError("Ray did not start on this machine, twice: %s. On an overloaded machine its "
+                                 "start-up times out: run the sweep again (or with fewer --workers)" % reason)
     return ray.cluster_resources().get("CPU", 0)
 
 

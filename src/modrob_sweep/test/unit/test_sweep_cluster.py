@@ -52,8 +52,10 @@ def two_nodes(tmp_path):
              ["ip", "netns", "exec", ns, "ip", "addr", "add", node_ip + "/24", "dev", veth_b],
              ["ip", "netns", "exec", ns, "ip", "link", "set", veth_b, "up"],
              ["ip", "netns", "exec", ns, "ip", "link", "set", "lo", "up"]]
+    # RAY_raylet_start_wait_time_s: a node's raylet has 10 s to register by default, too few for the
+    # second node on a loaded 2-core machine
     env = dict(os.environ, RAY_AUTH_MODE="token", RAY_kill_child_processes_on_worker_exit="0",
-               MODROB_SWEEP_TEST_CLUSTER=tag)
+               RAY_raylet_start_wait_time_s="120", MODROB_SWEEP_TEST_CLUSTER=tag)
     procs = []
     try:
         for cmd in setup:

@@ -137,3 +137,35 @@ def test_ctrl_c_leaves_no_process_of_the_sweep(tmp_path):
     # the trials' reapers stopped them, not the driver's last-resort sweep of the machine
     assert "left on this machine" not in out, out[-2000:]
     assert processes_of(name) == [], cmdlines(processes_of(name))
+
+
+class _Ray(object):
+    """A stand-in for the ray module whose local node fails to start ``failures`` times."""
+
+    def __init__(self, failures):
+        self.failures, self.inits, self.shutdowns = failures, 0, 0
+
+    def init(self, **kw):
+        self.inits += 1
+        if self.inits <= self.failures:
+            raise Exception("The current node timed out during startup. This could happen because ...")
+
+    def shutdown(self):
+        self.shutdowns += 1
+
+    def cluster_resources(self):
+        return {"CPU": 2.0}
+
+
+@pytest.mark.parametrize("failures", [1, 2])
+def test_a_local_ray_that_times_out_at_start_is_tried_once_more(monkeypatch, capsys, failures):
+    from modrob_sweep import SweepError, runner
+    fake = _Ray(failures)
+    monkeypatch.setitem(sys.modules, "ray", fake)
+    if failures == 1:
+        assert runner.connect(workers=2) == 2.0
+        assert "trying once more" in capsys.readouterr().err
+    else:
+        with pytest.raises(SweepError, match="twice: The current node timed out"):
+            runner.connect(workers=2)
+    assert (fake.inits, fake.shutdowns) == (2, failures)
