@@ -123,15 +123,22 @@ def renderer(tmp_path):
     """A RendererProcess whose 'renderer' is a Python child that writes its argv and waits."""
     script = tmp_path / "renderer.py"
     script.write_text("import sys, json, signal, time\n"
-                      "open(sys.argv[1], 'w').write(json.dumps(sys.argv[2:]))\n"
                       "signal.signal(signal.SIGINT, lambda *a: sys.exit(0))\n"
+                      "open(sys.argv[1] + '.tmp', 'w').write(json.dumps(sys.argv[2:]))\n"
+                      "import os; os.rename(sys.argv[1] + '.tmp', sys.argv[1])\n"
                       "while True: time.sleep(0.05)\n")
     out = tmp_path / "argv.json"
     started = []
 
     def popen(argv, env):
+        # returns once the child has its SIGINT handler (a SIGINT before that would find it ignored
+        # when the tests run in a background job): as a real renderer, it is up when it answers
         started.append((argv, env.get("ROS_NAMESPACE")))
-        return subprocess.Popen([sys.executable, str(script), str(out)] + argv[1:])
+        if out.exists():
+            out.unlink()
+        child = subprocess.Popen([sys.executable, str(script), str(out)] + argv[1:])
+        _wait(lambda: out.exists() or child.poll() is not None, 60.0)
+        return child
 
     from modrob_sim.gazebo_ros.package_exports import RendererExport
     pubs = [FakePublisher(), FakePublisher()]
