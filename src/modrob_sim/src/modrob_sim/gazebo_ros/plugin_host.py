@@ -11,31 +11,17 @@ import traceback
 from modrob_sim.errors import ModrobError
 from modrob_sim.gazebo_ros import plugins
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
+from modrob_sim.physics.world import earliest_due
 
 LOG = logging.getLogger("modrob_sim.gazebo_ros.plugins")
 
 _Loaded = collections.namedtuple("_Loaded", "model_name spec plugin context")
 
 
-INF = float("inf")
-
-
 def _overrides(plugin, hook):
     """True when the plugin's class overrides the base's no-op ``hook`` (only those are called,
     so a plugin pays nothing for the hooks it does not use)."""
     return getattr(type(plugin), hook) is not getattr(ModelPlugin, hook)
-
-
-def _earliest(fns):
-    """The earliest due time of the hooks' due functions (None from one of them: now)."""
-    due = INF
-    for f in fns:
-        d = f()
-        if d is None:
-            return -INF
-        if d < due:
-            due = d
-    return due
 
 
 class PluginHost(object):
@@ -169,11 +155,11 @@ class PluginHost(object):
     def before_due(self):
         """The earliest simulated time from which a plugin's before_step has work (-inf: now;
         a plugin that declares no due time is due at every step)."""
-        return _earliest(self._before_due)
+        return earliest_due(self._before_due)
 
     def after_due(self):
         """The same for after_step."""
-        return _earliest(self._after_due)
+        return earliest_due(self._after_due)
 
     def plugins_of(self, model_name):
         return [item.plugin for item in self._loaded.get(model_name, [])]

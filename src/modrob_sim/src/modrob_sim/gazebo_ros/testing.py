@@ -7,22 +7,13 @@ bit for bit."""
 import types
 
 from modrob_sim import physics
+from modrob_sim.physics.world import earliest_due
 from modrob_sim.ros_control.control_loop import ControlLoop
 from modrob_sim.ros_control.hardware import RobotHWSim
 from modrob_sim.ros_control.manager import ControllerManager
 from modrob_sim.ros_control.transmissions import parse_transmissions
 
 INF = float("inf")
-
-
-def _earliest(*fns):
-    due = INF
-    for f in fns:
-        d = f()
-        if d is None:
-            return -INF
-        due = min(due, d)
-    return due
 
 
 class ControlRig(object):
@@ -83,8 +74,8 @@ class ControlRig(object):
         never = lambda: INF  # noqa: E731
         pb, pa = (plugins.before_due, plugins.after_due) if plugins is not None else (never, never)
         self.world.add_step_hook(before=loop.before_step, after=after_hook,
-                                 before_due=lambda: _earliest(pb, loop.before_due),
-                                 after_due=lambda: _earliest(pa, loop.after_due, batch_after_due))
+                                 before_due=lambda: earliest_due((pb, loop.before_due)),
+                                 after_due=lambda: earliest_due((pa, loop.after_due, batch_after_due)))
         self.fast = True
 
     def step(self, n):

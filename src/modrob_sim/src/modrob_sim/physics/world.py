@@ -863,9 +863,9 @@ class World(object):
         the World needs Python, else one step in Python. Returns the steps made."""
         t = self.time
         if self._backend.native and self._stretch_ok():
-            before = _earliest(self._before_dues) - DUE_MARGIN
+            before = earliest_due(self._before_dues) - DUE_MARGIN
             if before > t:
-                after = _earliest(self._after_dues) - DUE_MARGIN
+                after = earliest_due(self._after_dues) - DUE_MARGIN
                 r = self._backend.run(n, t, self.iterations, before, after)
                 if r is not None:
                     self._after_stretch(r)
@@ -1220,8 +1220,9 @@ def _NOW():
     return None
 
 
-def _earliest(dues):
-    """The earliest of the hooks' due times (None from one of them: now, -inf)."""
+def earliest_due(dues):
+    """The earliest of the due functions' times (None from one of them: now, -inf). The one rule of
+    combining due times, for the World's hooks and for whoever gathers hooks into one."""
     due = INF
     for f in dues:
         d = f()
@@ -1232,4 +1233,5 @@ def _earliest(dues):
     return due
 
 
-__all__ = ["World", "Weld", "GuardEvent", "ContactPoint", "DEFAULT_PARAMS", "FORCE_CAP", "SimulationError"]
+__all__ = ["World", "earliest_due", "Weld", "GuardEvent", "ContactPoint", "DEFAULT_PARAMS", "FORCE_CAP",
+           "SimulationError"]
