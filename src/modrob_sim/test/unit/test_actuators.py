@@ -119,3 +119,86 @@ def test_bad_requests_say_what_to_do():
         other.add_actuator(m.joints["elbow"], A.EFFORT)
     w.remove_model("arm")
     assert w.actuators == () and om.joints["yaw"].actuator is None
+
+
+PLANAR_BOT = """<robot name="base">
+  <link name="base"><inertial><origin xyz="0.05 -0.02 0.1"/><mass value="8"/>
+    <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.15" iyz="0" izz="0.2"/></inertial></link>
+  <link name="flap"><inertial><origin xyz="0 0 0.1"/><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="hinge" type="revolute"><parent link="base"/><child link="flap"/><origin xyz="0.3 0 0.2"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="2"/></joint>
+</robot>"""
+
+
+def planar_run(native):
+    """A two-body base driven by a PLANAR_VELOCITY actuator, its command changed twice; the
+    links' poses and twists every 50 steps."""
+    w = World(gravity=(0.0, 0.0, 0.0), native=native)
+    m = w.add_urdf("base", PLANAR_BOT, pose=((0.0, 0.0, 0.5), (0.0, 0.0, 0.38941834, 0.92106099)))
+    a = w.add_model_actuator(m, A.PLANAR_VELOCITY)
+    seen = []
+    for k in range(900):
+        if k == 0:
+            a.command = (0.3, -0.1, 0.5)
+        if k == 500:
+            a.command = (0.0, 0.2, -1.0)
+        w.step(1)
+        if k % 50 == 49:
+            seen.append([(ln.pose, ln.twist) for ln in m.links.values()])
+    return w, m, a, seen
+
+
+@needs_c
+def test_the_planar_velocity_actuator_is_the_same_on_both_backends_bit_for_bit():
+    assert planar_run(None)[3] == planar_run(False)[3]
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_the_planar_velocity_actuator_moves_the_model_in_its_heading(native):
+    """Each step starts with the rigid twist of the base moving at (vx, vy) in its heading and
+    turning at wz (Model.set_twist's), vertical 0: 0.5 s at (0.3, -0.1, 0.5) from a heading of
+    0.8 rad goes along the arc of that twist; the flap on its hinge turns with the base."""
+    w, m, a, _seen = planar_run(native)
+    assert w.model_actuators == (a,)
+    w2 = World(gravity=(0.0, 0.0, 0.0), native=native)
+    m2 = w2.add_urdf("base", PLANAR_BOT, pose=((0.0, 0.0, 0.5), (0.0, 0.0, 0.38941834, 0.92106099)))
+    a2 = w2.add_model_actuator(m2, A.PLANAR_VELOCITY)
+    a2.command = (0.3, -0.1, 0.5)
+    w2.step(500)
+    (p, q) = m2.pose
+    yaw0, yaw1 = 0.8, 0.8 + 0.5 * 0.5
+    # the arc of a body-frame velocity (vx, vy) turning at wz, from yaw0 to yaw1
+    x = (0.3 * (math.sin(yaw1) - math.sin(yaw0)) + (-0.1) * (math.cos(yaw1) - math.cos(yaw0))) / 0.5
+    y = (-0.3 * (math.cos(yaw1) - math.cos(yaw0)) + (-0.1) * (math.sin(yaw1) - math.sin(yaw0))) / 0.5
+    assert p[0] == pytest.approx(x, abs=1e-3) and p[1] == pytest.approx(y, abs=1e-3)
+    assert p[2] == pytest.approx(0.5, abs=1e-6)     # the hinge's constraint drifts it by ~2e-7
+    assert 2.0 * math.atan2(q[2], q[3]) == pytest.approx(yaw1, abs=1e-3)
+    assert abs(m2.joints["hinge"].position) < 1e-3     # carried along (7e-5 rad of constraint drift)
+    (v, wv) = m2.links["flap"].twist
+    assert wv == pytest.approx((0.0, 0.0, 0.5), abs=1e-3)    # after the step: what the solver left
+    a.command = (0.0, 0.0, 0.0)      # would stop it at the next step; removed, it coasts on
+    w.remove_model_actuator(a)
+    w.step(100)
+    assert math.hypot(*m.twist[0][:2]) > 0.1 and abs(m.twist[1][2]) > 0.5
+
+
+def test_model_actuator_requests_say_what_to_do():
+    w, m = arm(False)
+    with pytest.raises(InputError, match="canonical link 'world' is static|canonical link '.*' is static"):
+        w.add_model_actuator(m, A.PLANAR_VELOCITY)
+    free = w.add_urdf("base", PLANAR_BOT, pose=((2.0, 0.0, 0.5), (0.0, 0.0, 0.0, 1.0)))
+    with pytest.raises(InputError, match="unknown kind 7"):
+        w.add_model_actuator(free, 7)
+    a = w.add_model_actuator(free, A.PLANAR_VELOCITY)
+    with pytest.raises(InputError, match="already has a model actuator: remove it first"):
+        w.add_model_actuator(free, A.PLANAR_VELOCITY)
+    with pytest.raises(InputError, match="non-finite"):
+        a.command = (float("nan"), 0.0, 0.0)
+    with pytest.raises(InputError, match="beyond"):
+        a.command = (0.0, 0.0, 1e7)
+    other, _om = arm(False)
+    with pytest.raises(InputError, match="not in this World"):
+        other.add_model_actuator(free, A.PLANAR_VELOCITY)
+    w.remove_model("base")
+    assert w.model_actuators == ()

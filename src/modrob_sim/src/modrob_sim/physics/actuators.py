@@ -21,6 +21,16 @@ MOTOR           ODE joint motor: velocity ramped towards command by at most acce
 then the effort the joint gets: joint_limit(hardware_clamp(out, finite) + efforts given with
 set_effort/add_effort in that step), capped at FORCE_CAP.
 
+Model actuators (``World.add_model_actuator``: :class:`ModelActuator`) act on a whole model, before
+the joint actuators of each step: :func:`step_model_python` here, ``mr_apply_model_actuators`` in C.
+
+==================  ===================================================================
+PLANAR_VELOCITY     command (vx, vy, wz): every body of the model gets the rigid twist of
+                    the base link moving at (vx, vy) in its heading (the yaw of its pose
+                    at the step's start), vertical velocity 0, turning at wz about z
+                    (a planar move plugin's base)
+==================  ===================================================================
+
 :class:`Pid` is control_toolbox::Pid (ROS Noetic, control_toolbox 1.18):
 
 * gains ``p`` (required), ``i``, ``d`` (default 0), ``i_max``, ``i_min``, ``antiwindup`` (false);
@@ -36,6 +46,8 @@ import weakref
 from collections import namedtuple
 
 from .angles import shortest_angular_distance
+from .model import check_twist
+from .transforms import check_vec3, rpy_from_quat
 
 #: actuator kinds (the numbers are the C loop's)
 EFFORT, POSITION_PID, SEGMENT_PID, VELOCITY_PID, MOTOR = 0, 1, 2, 3, 4
@@ -47,6 +59,10 @@ PLAIN, CLAMPED, SHORTEST = 0, 1, 2
 ABSOLUTE, RELATIVE, HOLD = 0, 1, 2
 MAX_COEFFS = 6
 INF = float("inf")
+
+#: model actuator kinds (World.add_model_actuator; numbered apart from the joint kinds)
+PLANAR_VELOCITY = 0
+MODEL_KIND_NAMES = {PLANAR_VELOCITY: "PLANAR_VELOCITY"}
 
 #: what one step of an actuator did (``Actuator.last``)
 ActuatorSample = namedtuple("ActuatorSample", "t position velocity set_point desired_velocity error "
@@ -400,3 +416,61 @@ class Actuator(object):
         world = self._world() if self._world is not None else None
         if world is not None:
             world.remove_actuator(self)
+
+
+class PyModelRecord(object):
+    """A model actuator's data on the pure-Python backend (the native backend's is the C struct
+    MrModelActuator with the same command fields)."""
+    __slots__ = ("kind", "vx", "vy", "wz")
+
+    def __init__(self, kind):
+        self.kind = kind
+        self.vx = self.vy = self.wz = 0.0
+
+
+def step_model_python(r, model):
+    """One step of the model actuator ``r`` (a PyModelRecord) on ``model``, before the physics."""
+    yaw = rpy_from_quat(model.pose[1])[2]
+    c, s = math.cos(yaw), math.sin(yaw)
+    model.apply_twist((r.vx * c - r.vy * s, r.vy * c + r.vx * s, 0.0), (0.0, 0.0, r.wz))
+
+
+class ModelActuator(object):
+    """The handle of one model actuator (``world.add_model_actuator``); loop thread only."""
+
+    def __init__(self, world, model, kind, record):
+        self._world = weakref.ref(world)
+        self.model = model
+        self._kind = kind
+        self._r = record
+
+    def __repr__(self):
+        return "<ModelActuator %s on %s>" % (MODEL_KIND_NAMES.get(self._kind, self._kind), self.model.name)
+
+    @property
+    def kind(self):
+        return self._kind
+
+    @property
+    def record(self):
+        """The backend's data of this actuator (physics side: the World's backends)."""
+        return self._r
+
+    @property
+    def command(self):
+        """PLANAR_VELOCITY: (vx, vy, wz), m/s in the base's heading and rad/s about z."""
+        r = self._r
+        return (r.vx, r.vy, r.wz)
+
+    @command.setter
+    def command(self, value):
+        what = "%r command" % self
+        vx, vy, wz = check_vec3(value, what)
+        check_twist((vx, vy, 0.0), (0.0, 0.0, wz), what)
+        r = self._r
+        r.vx, r.vy, r.wz = vx, vy, wz
+
+    def remove(self):
+        world = self._world()
+        if world is not None:
+            world.remove_model_actuator(self)

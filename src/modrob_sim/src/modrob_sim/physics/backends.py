@@ -31,6 +31,9 @@ only the physics-side interface of Model, Link and Joint (model.py):
     actuators_changed(actuators)    the World's list of actuators changed
     apply_actuators(actuators, t, dt)   every actuator's effort for the step starting at t
     track_turns(joints)             after a step: the turn counts of these joints
+    new_model_actuator(model, kind) -> record   a model actuator's data (actuators.py)
+    model_actuators_changed(actuators)   the World's list of model actuators changed
+    apply_model_actuators(actuators)     every model actuator, before the joint actuators
     actuator_gains(r), set_actuator_gains(r, g), reset_actuator_pid(r), actuator_pid_state(r),
     actuator_terms(r), set_actuator_coeffs(r, coeffs)   an actuator's PID and segment
 """
@@ -97,6 +100,14 @@ class MrActuator(ctypes.Structure):
                                         "rel_until", "max_force", "accel", "motor_vel")]
 
 
+class MrModelActuator(ctypes.Structure):
+    """native/modrob_ode_native.c's MrModelActuator: one model actuator (actuators.PyModelRecord's
+    command fields, the model's bodies and its canonical link's frame)."""
+    _fields_ = [("kind", ctypes.c_int), ("nbodies", ctypes.c_int), ("base", ctypes.c_void_p),
+                ("bodies", ctypes.POINTER(ctypes.c_void_p)), ("T", ctypes.c_double * 7)] + \
+        [(n, ctypes.c_double) for n in ("vx", "vy", "wz")]
+
+
 class _Mimic(ctypes.Structure):
     """MrStretchMimic: a mimic joint (Joint.drive_mimic) and its master."""
     _fields_ = [("joint", ctypes.c_void_p), ("master", ctypes.c_void_p), ("turn", ctypes.POINTER(MrTurn)),
@@ -128,7 +139,8 @@ class _Stretch(ctypes.Structure):
          ("nmimic", ctypes.c_int), ("mimics", ctypes.POINTER(_Mimic)), ("nsoft", ctypes.c_int),
          ("softs", ctypes.POINTER(_Soft))] + \
         [(n, ctypes.c_int) for n in ("param_vel", "param_fmax", "param_lo_stop", "param_hi_stop")] + \
-        [("mimic_gain", ctypes.c_double), ("mimic_force", ctypes.c_double)]
+        [("mimic_gain", ctypes.c_double), ("mimic_force", ctypes.c_double),
+         ("macts", ctypes.c_void_p), ("nmacts", ctypes.c_int)]
 
 
 class Stretch(object):
@@ -164,6 +176,18 @@ class PureBackend(object):
         for a in actuators:
             j = a.joint
             act.step_python(a.record, j, t, dt, j.limit_effort)
+
+    @staticmethod
+    def new_model_actuator(model, kind):
+        return act.PyModelRecord(kind)
+
+    def model_actuators_changed(self, actuators):
+        pass
+
+    @staticmethod
+    def apply_model_actuators(actuators):
+        for a in actuators:
+            act.step_model_python(a.record, a.model)
 
     @staticmethod
     def track_turns(joints):
@@ -612,6 +636,8 @@ class NativeBackend(object):
         self._nturns = 0
         self._acts = ()
         self._act_array = (ctypes.POINTER(MrActuator) * 1)()
+        self._macts = ()
+        self._macts_array = (ctypes.POINTER(MrModelActuator) * 1)()
         self._stretch = _Stretch()
         self._stretch_ref = ctypes.byref(self._stretch)
         self._wake = ctypes.c_int(0)        # World.wake, from any thread; mr_run_steps reads it
@@ -653,6 +679,29 @@ class NativeBackend(object):
         if actuators:
             self.nat.mr_apply_actuators(self._act_array, len(self._acts), t, dt, odelib.PARAM_VEL,
                                         odelib.PARAM_FMAX)
+
+    # ---- model actuators (mr_apply_model_actuators) -------------------------------------------
+    def new_model_actuator(self, model, kind):
+        r = MrModelActuator()
+        base = model.canonical_link
+        bodies = model.bodies
+        r.kind = kind
+        r.base = odelib.raw_pointer(base.body)
+        r.nbodies = len(bodies)
+        r.keepalive = (ctypes.c_void_p * max(1, len(bodies)))(*[odelib.raw_pointer(b) for b in bodies])
+        r.bodies = ctypes.cast(r.keepalive, ctypes.POINTER(ctypes.c_void_p))
+        (p, q) = base.body_offset
+        r.T[:] = tuple(p) + tuple(q)
+        return r
+
+    def model_actuators_changed(self, actuators):
+        self._macts = tuple(actuators)
+        self._macts_array = (ctypes.POINTER(MrModelActuator) * max(1, len(self._macts)))(
+            *[ctypes.pointer(a.record) for a in self._macts])
+
+    def apply_model_actuators(self, actuators):
+        if self._macts:
+            self.nat.mr_apply_model_actuators(self._macts_array, len(self._macts))
 
     def track_turns(self, joints):
         if self._nturns:
@@ -821,6 +870,7 @@ class NativeBackend(object):
         self._wake.value = 0
         n_damp, dj, dk, dc = self._damp_arrays
         b.acts, b.nacts = ctypes.addressof(self._act_array), len(self._acts)
+        b.macts, b.nmacts = ctypes.addressof(self._macts_array), len(self._macts)
         b.turns, b.nturns = ctypes.addressof(self._turn_array), self._nturns
         b.ndamp = n_damp
         b.damp_joints, b.damp_kinds, b.damp_coef = (ctypes.addressof(dj), ctypes.addressof(dk),

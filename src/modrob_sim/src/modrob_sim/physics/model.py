@@ -48,7 +48,8 @@ def _capped(v):
     return v
 
 
-def _check_twist(lin, ang, what):
+def check_twist(lin, ang, what):
+    """InputError naming ``what`` when a component of the twist is beyond TWIST_CAP."""
     for v, unit in ((lin, "m/s"), (ang, "rad/s")):
         if max(abs(x) for x in v) > TWIST_CAP:
             raise InputError("%s: %r %s is beyond %g: refused" % (what, v, unit, TWIST_CAP))
@@ -155,7 +156,7 @@ class Link(object):
     def set_twist(self, twist):
         lin = check_vec3(twist[0], "link '%s' twist linear" % self.name)
         ang = check_vec3(twist[1], "link '%s' twist angular" % self.name)
-        _check_twist(lin, ang, "link '%s' set_twist" % self.name)
+        check_twist(lin, ang, "link '%s' set_twist" % self.name)
         b = self._body
         if b is None:
             return
@@ -725,7 +726,12 @@ class Model(object):
     def set_twist(self, twist):
         lin = check_vec3(twist[0], "model '%s' twist linear" % self.name)
         ang = check_vec3(twist[1], "model '%s' twist angular" % self.name)
-        _check_twist(lin, ang, "model '%s' set_twist" % self.name)
+        check_twist(lin, ang, "model '%s' set_twist" % self.name)
+        self.apply_twist(lin, ang)
+
+    def apply_twist(self, lin, ang):
+        """set_twist past its checks (physics side: the World's model actuators at every step):
+        every body moves with the rigid twist of the canonical link's frame."""
         p0 = self.canonical_link.pose[0]
         for b in self._bodies:
             p = b.getPosition()

@@ -156,6 +156,7 @@ class World(object):
         self._effort_joints = []
         self._last_effort_joints = []
         self._actuators = []
+        self._model_actuators = []
         self._wrench_links = _OrderedSet()
         self._events = []
         self._used_slots = set()
@@ -406,6 +407,37 @@ class World(object):
         """Every actuator of the World, in the order they run."""
         return tuple(self._actuators)
 
+    def add_model_actuator(self, model, kind):
+        """A model actuator of ``model`` (a model in this World whose canonical link moves): it
+        drives the whole model at every step, before the joint actuators, until removed
+        (physics.actuators: PLANAR_VELOCITY). InputError when the model cannot take one."""
+        what = "add_model_actuator: model '%s'" % getattr(model, "name", model)
+        if kind not in actuators_mod.MODEL_KIND_NAMES:
+            raise InputError("%s: unknown kind %r (physics.actuators: PLANAR_VELOCITY)" % (what, kind))
+        if model is None or self.models.get(getattr(model, "name", None)) is not model:
+            raise InputError("%s: the model is not in this World" % what)
+        if model.canonical_link.body is None:
+            raise InputError("%s: its canonical link '%s' is static (fixed to the world): nothing to move"
+                             % (what, model.canonical_link.name))
+        if any(a.model is model for a in self._model_actuators):
+            raise InputError("%s already has a model actuator: remove it first" % what)
+        a = actuators_mod.ModelActuator(self, model, kind, self._backend.new_model_actuator(model, kind))
+        self._model_actuators.append(a)
+        self._backend.model_actuators_changed(self._model_actuators)
+        return a
+
+    def remove_model_actuator(self, actuator):
+        """The model is free again from the next step on (a removed model's go with it)."""
+        if actuator not in self._model_actuators:
+            return
+        self._model_actuators.remove(actuator)
+        self._backend.model_actuators_changed(self._model_actuators)
+
+    @property
+    def model_actuators(self):
+        """Every model actuator of the World, in the order they run."""
+        return tuple(self._model_actuators)
+
     def weld(self, link, to=None):
         """(addition) Hold ``link`` where it is relative to the link ``to`` (None: the world) with
         an ODE fixed joint until ``release()`` of the returned :class:`Weld` (a grasp that
@@ -638,6 +670,9 @@ class World(object):
         LOG.info("removed model '%s'", name)
 
     def _destroy_model_objects(self, model):
+        if any(a.model is model for a in self._model_actuators):
+            self._model_actuators = [a for a in self._model_actuators if a.model is not model]
+            self._backend.model_actuators_changed(self._model_actuators)
         gone = [a for a in self._actuators if a.joint.model is model]
         if gone:
             self._actuators = [a for a in self._actuators if a.joint.model is not model]
@@ -848,9 +883,9 @@ class World(object):
 
     # ---- stepping ----------------------------------------------------------------------------
     def step(self, n=1):
-        """n steps: for each, before-hooks(t, dt), actuators and forces, collide + ODE quickStep,
-        guard, after-hooks(t + dt, dt); on the native backend the steps at which no hook is due
-        run in C, in stretches up to the next due hook (docs/physics.md, "One step")."""
+        """n steps: for each, before-hooks(t, dt), model and joint actuators and forces, collide +
+        ODE quickStep, guard, after-hooks(t + dt, dt); on the native backend the steps at which no
+        hook is due run in C, in stretches up to the next due hook (docs/physics.md, "One step")."""
         n = int(n)
         if n < 0:
             raise InputError("step(n): n must not be negative")
@@ -912,6 +947,8 @@ class World(object):
             h(self.time, dt)
 
     def _apply_forces(self, t, dt):
+        if self._model_actuators:
+            self._backend.apply_model_actuators(self._model_actuators)
         for j in self._last_effort_joints:
             j.effort = 0.0
         if self._effort_joints:

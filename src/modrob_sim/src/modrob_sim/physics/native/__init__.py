@@ -86,6 +86,7 @@ def _declare(lib):
         "mr_max_depth": (d, [vp, vp]),
         "mr_apply_actuators": (None, [vp, i, d, d, i, i]),
         "mr_track_turns": (None, [vp, i]),
+        "mr_apply_model_actuators": (None, [vp, i]),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)

@@ -912,6 +912,75 @@ double mr_max_depth(dGeomID a, dGeomID b)
     return d;
 }
 
+/* ---- link poses and twists -----------------------------------------------------------------
+ * The pose and twist of links in the world, as Link.pose (pose_mul(body pose, T)) and Link.twist
+ * (v + w x R(q) T.p, w) of physics/model.py compute them, with the same operations in the same
+ * order as transforms.py, so the doubles are bit for bit those of the Python properties: 7 doubles
+ * (x y z qx qy qz qw) per link into `poses`, 6 (v, w) into `twists`. A static link (body NULL) has
+ * its world pose in `T` (the caller keeps it current) and a zero twist. (gazebo_ros's ModelStates
+ * and LinkStates keep their poses and twists in such arrays: it points them into its message.) */
+typedef struct {
+    dBodyID body;
+    double T[7];         /* link frame in the body frame: x y z qx qy qz qw (static: world pose) */
+} MrLinkEntry;
+
+/* transforms.quat_rotate(q = (x, y, z, w), v) */
+static inline void mr_quat_rotate(const double *q, const double *v, double *out)
+{
+    double qx = q[0], qy = q[1], qz = q[2], qw = q[3];
+    double vx = v[0], vy = v[1], vz = v[2];
+    double tx = 2.0 * (qy * vz - qz * vy);
+    double ty = 2.0 * (qz * vx - qx * vz);
+    double tz = 2.0 * (qx * vy - qy * vx);
+    out[0] = vx + qw * tx + (qy * tz - qz * ty);
+    out[1] = vy + qw * ty + (qz * tx - qx * tz);
+    out[2] = vz + qw * tz + (qx * ty - qy * tx);
+}
+
+/* Link.pose of a link on `body` with frame T in the body (pose_mul(body pose, T)): x y z qx qy qz qw
+ * into pose; the link frame's offset R(q) T.p into r (for its twist) */
+static void mr_body_link_pose(dBodyID body, const double *T, double *pose, double *r)
+{
+    const dReal *p = dBodyGetPosition(body);
+    const dReal *qo = dBodyGetQuaternion(body);      /* ODE: w x y z */
+    double qa[4] = {qo[1], qo[2], qo[3], qo[0]};
+    const double *qb = T + 3;
+    double ax = qa[0], ay = qa[1], az = qa[2], aw = qa[3];
+    double bx = qb[0], by = qb[1], bz = qb[2], bw = qb[3];
+    mr_quat_rotate(qa, T, r);
+    pose[0] = p[0] + r[0]; pose[1] = p[1] + r[1]; pose[2] = p[2] + r[2];
+    /* transforms.quat_mul(qa, qb) */
+    pose[3] = aw * bx + ax * bw + ay * bz - az * by;
+    pose[4] = aw * by - ax * bz + ay * bw + az * bx;
+    pose[5] = aw * bz + ax * by - ay * bx + az * bw;
+    pose[6] = aw * bw - ax * bx - ay * by - az * bz;
+}
+
+/* `poses` and `twists` need not be aligned (a message's bytes): the doubles are copied in */
+void mr_link_poses(const MrLinkEntry *e, int n, void *poses, void *twists)
+{
+    int k;
+    for (k = 0; k < n; ++k, ++e) {
+        double pose[7], twist[6];
+        if (!e->body) {
+            memcpy(pose, e->T, 7 * sizeof(double));
+            memset(twist, 0, 6 * sizeof(double));
+        } else {
+            const dReal *v = dBodyGetLinearVel(e->body);
+            const dReal *w = dBodyGetAngularVel(e->body);
+            double r[3];
+            mr_body_link_pose(e->body, e->T, pose, r);
+            /* Link.twist: r = quat_rotate(q, T.p); (v + cross(w, r), w) */
+            twist[0] = v[0] + (w[1] * r[2] - w[2] * r[1]);
+            twist[1] = v[1] + (w[2] * r[0] - w[0] * r[2]);
+            twist[2] = v[2] + (w[0] * r[1] - w[1] * r[0]);
+            twist[3] = w[0]; twist[4] = w[1]; twist[5] = w[2];
+        }
+        memcpy((char *)poses + 7 * sizeof(double) * (size_t)k, pose, sizeof(pose));
+        memcpy((char *)twists + 6 * sizeof(double) * (size_t)k, twist, sizeof(twist));
+    }
+}
+
 /* ---- actuators and turn counts ------------------------------------------------------------
  * The World's actuators (physics/actuators.py: one per driven joint, owned by the native backend in
  * this C memory): at every step, from the joint's state at the step's start, an effort (EFFORT: the
@@ -1122,11 +1191,59 @@ void mr_track_turns(MrTurn **turns, int n)
     }
 }
 
+/* ---- model actuators ----------------------------------------------------------------------
+ * The World's model-level actuators (physics/actuators.py, World.add_model_actuator), before the
+ * joint actuators of every step. PLANAR_VELOCITY (0): the model moves at (vx, vy) in its base
+ * link's heading and turns at wz about the vertical, its vertical velocity 0: every body of the
+ * model gets the rigid twist of the base link's frame (Model.set_twist), the heading (the yaw of
+ * transforms.rpy_from_quat) read from the base's pose at the step's start. The pure-Python
+ * backend does the same in actuators.step_model_python. */
+typedef struct {
+    int kind;            /* 0 PLANAR_VELOCITY */
+    int nbodies;
+    dBodyID base;        /* the body of the model's canonical link */
+    dBodyID *bodies;     /* every body of the model (Model.bodies) */
+    double T[7];         /* the canonical link's frame in its body: x y z qx qy qz qw */
+    double vx, vy, wz;   /* the command: m/s in the heading, rad/s */
+} MrModelActuator;
+
+void mr_apply_model_actuators(MrModelActuator **acts, int n)
+{
+    int k, i;
+    for (k = 0; k < n; ++k) {
+        const MrModelActuator *a = acts[k];
+        double pose[7], r[3], yaw, c, s, lin[3], ang[3];
+        double x, y, z, w;
+        mr_body_link_pose(a->base, a->T, pose, r);
+        x = pose[3]; y = pose[4]; z = pose[5]; w = pose[6];
+        yaw = atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+        c = cos(yaw);
+        s = sin(yaw);
+        lin[0] = a->vx * c - a->vy * s;
+        lin[1] = a->vy * c + a->vx * s;
+        lin[2] = 0.0;
+        ang[0] = 0.0; ang[1] = 0.0; ang[2] = a->wz;
+        for (i = 0; i < a->nbodies; ++i) {
+            dBodyID b = a->bodies[i];
+            const dReal *p = dBodyGetPosition(b);
+            double d[3] = {p[0] - pose[0], p[1] - pose[1], p[2] - pose[2]};
+            /* transforms.cross(ang, d) */
+            double cx = ang[1] * d[2] - ang[2] * d[1];
+            double cy = ang[2] * d[0] - ang[0] * d[2];
+            double cz = ang[0] * d[1] - ang[1] * d[0];
+            dBodySetLinearVel(b, lin[0] + cx, lin[1] + cy, lin[2] + cz);
+            dBodySetAngularVel(b, ang[0], ang[1], ang[2]);
+            dBodyEnable(b);
+        }
+    }
+}
+
 /* ---- native stretches of steps ------------------------------------------------------------
  * Several whole steps in one call, up to the first step at which a Python hook of the World is due
  * (World.step decides that from the hooks' due times: docs/design/sim_core_api.md). Each step does
  * what World._step_once does for a world without wrenches, anti-gravity groups, frozen models or
- * queued efforts: the actuators (mr_apply_actuators), explicit damping, the mimic joints' couplings
+ * queued efforts: the model actuators (mr_apply_model_actuators), the joint actuators
+ * (mr_apply_actuators), explicit damping, the mimic joints' couplings
  * and the soft limits' stops (MrStretchMimic, MrStretchSoft), collide + quickStep or dWorldStep
  * with the guard's velocity scan (mr_step_checked), time and iteration count, the turn counts, then
  * the observer (a C function the World was given, e.g. gazebo_ros's /clock: physics knows nothing
@@ -1189,6 +1306,8 @@ typedef struct {
     MrStretchSoft *softs;
     int param_vel, param_fmax, param_lo_stop, param_hi_stop;   /* odelib.PARAM_* of this libode */
     double mimic_gain, mimic_force;                           /* MIMIC_GAIN, MIMIC_COUPLING_FORCE */
+    MrModelActuator **macts;                                  /* the model actuators, before the joints' */
+    int nmacts;
 } MrStretch;
 
 /* World._apply_forces after the damping: Joint.drive_mimic of every mimic joint, then
@@ -1241,6 +1360,7 @@ int mr_run_steps(MrCtx *c, MrStretch *b, int n)
         int after = tn + 1e-12 >= b->after_due;
         if (t >= b->before_due || mr_stretch_pieces_end(b, t) || (b->wake && *b->wake)) break;
         b->last_start = t;
+        if (b->nmacts) mr_apply_model_actuators(b->macts, b->nmacts);
         mr_apply_actuators(b->acts, b->nacts, t, b->dt, b->param_vel, b->param_fmax);
         if (b->ndamp) mr_apply_damping(b->damp_joints, b->damp_kinds, b->damp_coef, b->ndamp);
         if (b->nmimic || b->nsoft) mr_stretch_mimics_and_soft_limits(b);
@@ -1262,66 +1382,4 @@ int mr_run_steps(MrCtx *c, MrStretch *b, int n)
         }
     }
     return k;
-}
-
-/* ---- link poses and twists -----------------------------------------------------------------
- * The pose and twist of links in the world, as Link.pose (pose_mul(body pose, T)) and Link.twist
- * (v + w x R(q) T.p, w) of physics/model.py compute them, with the same operations in the same
- * order as transforms.py, so the doubles are bit for bit those of the Python properties: 7 doubles
- * (x y z qx qy qz qw) per link into `poses`, 6 (v, w) into `twists`. A static link (body NULL) has
- * its world pose in `T` (the caller keeps it current) and a zero twist. (gazebo_ros's ModelStates
- * and LinkStates keep their poses and twists in such arrays: it points them into its message.) */
-typedef struct {
-    dBodyID body;
-    double T[7];         /* link frame in the body frame: x y z qx qy qz qw (static: world pose) */
-} MrLinkEntry;
-
-/* transforms.quat_rotate(q = (x, y, z, w), v) */
-static inline void mr_quat_rotate(const double *q, const double *v, double *out)
-{
-    double qx = q[0], qy = q[1], qz = q[2], qw = q[3];
-    double vx = v[0], vy = v[1], vz = v[2];
-    double tx = 2.0 * (qy * vz - qz * vy);
-    double ty = 2.0 * (qz * vx - qx * vz);
-    double tz = 2.0 * (qx * vy - qy * vx);
-    out[0] = vx + qw * tx + (qy * tz - qz * ty);
-    out[1] = vy + qw * ty + (qz * tx - qx * tz);
-    out[2] = vz + qw * tz + (qx * ty - qy * tx);
-}
-
-/* `poses` and `twists` need not be aligned (a message's bytes): the doubles are copied in */
-void mr_link_poses(const MrLinkEntry *e, int n, void *poses, void *twists)
-{
-    int k;
-    for (k = 0; k < n; ++k, ++e) {
-        double pose[7], twist[6];
-        if (!e->body) {
-            memcpy(pose, e->T, 7 * sizeof(double));
-            memset(twist, 0, 6 * sizeof(double));
-        } else {
-            const dReal *p = dBodyGetPosition(e->body);
-            const dReal *qo = dBodyGetQuaternion(e->body);      /* ODE: w x y z */
-            const dReal *v = dBodyGetLinearVel(e->body);
-            const dReal *w = dBodyGetAngularVel(e->body);
-            double qa[4] = {qo[1], qo[2], qo[3], qo[0]};
-            double r[3];
-            const double *qb = e->T + 3;
-            double ax = qa[0], ay = qa[1], az = qa[2], aw = qa[3];
-            double bx = qb[0], by = qb[1], bz = qb[2], bw = qb[3];
-            mr_quat_rotate(qa, e->T, r);
-            pose[0] = p[0] + r[0]; pose[1] = p[1] + r[1]; pose[2] = p[2] + r[2];
-            /* transforms.quat_mul(qa, qb) */
-            pose[3] = aw * bx + ax * bw + ay * bz - az * by;
-            pose[4] = aw * by - ax * bz + ay * bw + az * bx;
-            pose[5] = aw * bz + ax * by - ay * bx + az * bw;
-            pose[6] = aw * bw - ax * bx - ay * by - az * bz;
-            /* Link.twist: r = quat_rotate(q, T.p); (v + cross(w, r), w) */
-            twist[0] = v[0] + (w[1] * r[2] - w[2] * r[1]);
-            twist[1] = v[1] + (w[2] * r[0] - w[0] * r[2]);
-            twist[2] = v[2] + (w[0] * r[1] - w[1] * r[0]);
-            twist[3] = w[0]; twist[4] = w[1]; twist[5] = w[2];
-        }
-        memcpy((char *)poses + 7 * sizeof(double) * (size_t)k, pose, sizeof(pose));
-        memcpy((char *)twists + 6 * sizeof(double) * (size_t)k, twist, sizeof(twist));
-    }
 }
