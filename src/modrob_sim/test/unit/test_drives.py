@@ -33,7 +33,9 @@ class Bot(object):
     driven by ``command``, and the plugin host stepping it as the /gazebo node does."""
 
     def __init__(self, urdf, filename, core_class, props="", native=None, edit=None, command=(0.0, 0.0),
-                 seed=0):
+                 seed=0, due=False):
+        """``due``: the core's update runs at its due times (``core.next_due()``, and at the next
+        step after :meth:`send`), as its ROS plugin declares them; else at every step."""
         bot = self
 
         class CorePlugin(ModelPlugin):
@@ -41,10 +43,18 @@ class Bot(object):
                 bot.core = core_class(self)
 
             def before_step(self, t, dt):
+                bot.calls += 1
+                bot.fresh = False
                 bot.core.update(t, dt, bot.command, *bot.extra)
+
+            if due:
+                def before_due(self):
+                    return None if bot.fresh else bot.core.next_due()
 
         self.command = command
         self.extra = ()
+        self.calls = 0
+        self.fresh = False
         self.filename = filename
         register_plugin(filename, CorePlugin)
         self.world = World(native=native, seed=seed)
@@ -55,7 +65,12 @@ class Bot(object):
         self.model = self.world.add_urdf("bot", text)
         self.host = PluginHost(self.world, "/gazebo", lambda uri: uri)
         self.host.load(self.model)
-        self.world.add_step_hook(before=self.host.before_step, after=self.host.after_step)
+        self.world.add_step_hook(before=self.host.before_step, after=self.host.after_step,
+                                 before_due=self.host.before_due, after_due=self.host.after_due)
+
+    def send(self, command, *extra):
+        """A new command, as a ROS callback stores it (and wakes the loop)."""
+        self.command, self.extra, self.fresh = command, extra, True
 
     def close(self):
         unregister_plugin(self.filename)
@@ -338,6 +353,52 @@ def test_planar_move_moves_the_base_holonomically_and_times_out():
         assert math.hypot(*b.model.twist[0][:2]) < 0.01
     finally:
         b.close()
+
+
+class EveryStepPlanarMove(object):
+    """The reference: gazebo_plugins' planar move as it ran here before the World's model
+    actuator, the base's velocity set from Python before every step (same cmdTimeout rule)."""
+    joints = ()
+
+    def __init__(self, plugin):
+        self.model = plugin.model
+
+    def update(self, t, dt, command, command_time=None):
+        vx, vy, wz = command if command_time is not None and t - command_time <= 0.5 else (0.0, 0.0, 0.0)
+        yaw = rpy_from_quat(self.model.pose[1])[2]
+        c, s = math.cos(yaw), math.sin(yaw)
+        self.model.set_twist(((vx * c - vy * s, vy * c + vx * s, 0.0), (0.0, 0.0, wz)))
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_planar_move_runs_in_python_at_its_due_times_and_moves_as_at_every_step(native):
+    """The World's PLANAR_VELOCITY actuator holds the base's velocity between the plugin's
+    updates: the plugin's Python runs at its 20 Hz odometry, at a new command and at the 0.5 s
+    cmdTimeout (at most 25 times per simulated second, where it ran 1000; on the native backend),
+    and the base moves bit for bit as setting its twist in Python before every step moves it."""
+    from modrob_sim.drives.planar_move import PlanarMove
+    timeout = dict(edit=lambda text: text.replace("<cmdTimeout>8.0</cmdTimeout>",
+                                                  "<cmdTimeout>0.5</cmdTimeout>"),
+                   command=(0.0, 0.0, 0.0), native=native)
+    due = Bot("planar_bot.urdf", "libgazebo_ros_planar_move.so", PlanarMove, due=True, **timeout)
+    due.close()
+    ref = Bot("planar_bot.urdf", "libgazebo_ros_planar_move.so", EveryStepPlanarMove, **timeout)
+    ref.close()
+    for b in (due, ref):
+        b.world.step(200)
+        b.send((0.2, 0.1, 0.3), b.world.time)
+        b.world.step(400)
+        b.send((-0.1, 0.2, -0.5), b.world.time)
+        b.world.step(1400)           # 0.5 s of it, then stopped by the timeout
+    assert ref.calls == 2000
+    if due.world.native:           # (the pure-Python backend calls every hook at every step)
+        assert due.calls <= 25 * 2.0, due.calls
+        assert due.world.native_steps >= 2000 - due.calls
+    assert due.model.pose == ref.model.pose and due.model.twist == ref.model.twist
+    assert math.hypot(*due.model.twist[0][:2]) < 0.01          # stopped
+    assert math.hypot(*due.model.pose[0][:2]) > 0.1            # after moving
+    odom = due.core.odometry()
+    assert odom.position[:2] == pytest.approx(due.model.pose[0][:2], abs=1e-3)
 
 
 def test_tricycle_drives_straight_and_turns_on_its_steering_angle():

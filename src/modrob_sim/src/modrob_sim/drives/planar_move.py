@@ -1,7 +1,9 @@
 """gazebo_ros_planar_move (libgazebo_ros_planar_move.so) without ROS: a holonomic base moved by
 setting its velocity (x, y in its heading, the yaw rate; vertical velocity 0) before every
 physics step, as the original sets the model's velocity at each world update: no wheels, so
-contacts push the model only within a step. Odometry from the world at ``odometryRate``.
+contacts push the model only within a step. The World does that at every step (a PLANAR_VELOCITY
+model actuator, physics.actuators); the plugin's Python runs only when the command changes, at
+``cmdTimeout`` and at ``odometryRate`` (odometry from the world).
 
 Parameters (defaults as gazebo_plugins'): commandTopic cmd_vel, odometryTopic odom,
 odometryFrame odom, robotBaseFrame base_footprint, odometryRate 20 Hz (0: none),
@@ -9,10 +11,14 @@ cmdTimeout -1 s (negative: the command stays until the next).
 """
 import math
 
+from modrob_sim.errors import InputError
 from modrob_sim.gazebo_ros.plugin_base import RateGate
+from modrob_sim.physics.actuators import PLANAR_VELOCITY
 from modrob_sim.physics.transforms import rpy_from_quat
 
 from .common import Odom, check_values
+
+INF = float("inf")
 
 
 class PlanarMoveConfig(object):
@@ -35,29 +41,50 @@ class PlanarMove(object):
         self.cfg = PlanarMoveConfig(plugin)
         self.model = plugin.model
         self.gate = RateGate(self.cfg.odometry_rate) if self.cfg.odometry_rate > 0 else None
+        #: why the base cannot move (its canonical link is static), else None: the ROS side warns
+        self.problem = None
+        try:
+            self.actuator = plugin.context.world.add_model_actuator(self.model, PLANAR_VELOCITY)
+        except InputError as e:      # Gazebo's SetLinearVel moves a static model no more
+            self.actuator = None
+            self.problem = str(e)
         self.reset()
 
     def reset(self):
         self.last_pose = None
         self.last_time = None
         self.reading = None
+        self.expires = INF
+        if self.actuator is not None:
+            self.actuator.command = (0.0, 0.0, 0.0)
         if self.gate is not None:
             self.gate.reset()
 
     def update(self, t, dt, command, command_time=None):
         """``command`` = (x, y, yaw rate); ``command_time`` the simulated time it came (for
-        cmdTimeout). Sets the model's velocity; returns True when odometry is due."""
+        cmdTimeout). Gives the model actuator the velocity it holds at every step until the next
+        update; returns True when odometry is due."""
         vx, vy, wz = command
-        if self.cfg.cmd_timeout >= 0 and (command_time is None or t - command_time > self.cfg.cmd_timeout):
-            vx = vy = wz = 0.0
-        (_p, q) = self.model.pose
-        yaw = rpy_from_quat(q)[2]
-        c, s = math.cos(yaw), math.sin(yaw)
-        self.model.set_twist(((vx * c - vy * s, vy * c + vx * s, 0.0), (0.0, 0.0, wz)))
+        timeout = self.cfg.cmd_timeout
+        self.expires = INF
+        if timeout >= 0:
+            if command_time is None or t - command_time > timeout:
+                vx = vy = wz = 0.0
+            else:
+                self.expires = command_time + timeout
+        if self.actuator is not None:
+            self.actuator.command = (vx, vy, wz)
         if self.gate is None or not self.gate.due(t):
             return False
         self.reading = self._odometry(t, wz)
         return True
+
+    def next_due(self):
+        """When :meth:`update` next has work without a new command: the odometry's next reading,
+        or the step after ``cmdTimeout`` ends (the hook is asked again at each step from then on
+        until the timeout holds, ``t - command_time > cmdTimeout``, which is at most two steps)."""
+        due = self.gate.next_time if self.gate is not None else INF
+        return min(due, self.expires)
 
     def _odometry(self, t, wz):
         """Pose from the world; twist from the pose's change since the last reading, turned into
@@ -80,3 +107,8 @@ class PlanarMove(object):
 
     def odometry(self):
         return self.reading
+
+    def shutdown(self):
+        if self.actuator is not None:
+            self.actuator.remove()
+            self.actuator = None

@@ -203,25 +203,42 @@ class SkidSteerPlugin(DrivePlugin):
 
 
 class PlanarMovePlugin(DrivePlugin):
-    """libgazebo_ros_planar_move.so: linear.x, linear.y and angular.z of cmd_vel move the model;
-    odometry and its transform at odometryRate."""
+    """libgazebo_ros_planar_move.so: linear.x, linear.y and angular.z of cmd_vel move the model
+    (its model actuator holds the velocity at every step); odometry and its transform at
+    odometryRate. A new command wakes the loop, so it acts from the next step on."""
 
     def make_core(self):
-        return PlanarMove(self)
+        core = PlanarMove(self)
+        if core.problem:
+            _warn_once(("planar static", self.model.name), "%s: the base does not move: %s"
+                       % (self.name, core.problem))
+        return core
 
     def load(self, model, spec, context):
         DrivePlugin.load(self, model, spec, context)
         self._command = ((0.0, 0.0, 0.0), None)
+        self._fresh = False
         self.pose_covariance = diagonal(POSE_COVARIANCE)
 
     def command(self, msg):
         return ((msg.linear.x, msg.linear.y, msg.angular.z), rospy.Time.now().to_sec())
 
+    def _on_command(self, msg):
+        value = self.command(msg)
+        with self._lock:
+            self._command = value
+            self._fresh = True
+        self.context.wake()
+
     def before_due(self):
-        return None        # it sets the base's velocity before every step
+        if self._fresh:
+            return None
+        return self.core.next_due()
 
     def before_step(self, t, dt):
-        command, received = self.latest_command()
+        with self._lock:
+            command, received = self._command
+            self._fresh = False
         if self.core.update(t, dt, command, received):
             self.publish_odometry(t, self.core.odometry(), self.pose_covariance)
 
@@ -229,6 +246,10 @@ class PlanarMovePlugin(DrivePlugin):
         DrivePlugin.reset(self)
         with self._lock:
             self._command = ((0.0, 0.0, 0.0), None)
+
+    def shutdown(self):
+        DrivePlugin.shutdown(self)
+        self.core.shutdown()
 
 
 class TricyclePlugin(DrivePlugin):
