@@ -5,6 +5,7 @@ import math
 
 from modrob_sim.errors import PluginError
 from modrob_sim.physics.transforms import pose_inv, pose_mul, quat_from_rpy, rpy_from_quat
+from modrob_sim.ros_control.controllers.mobile_base import Odometry as ArcOdometry
 
 #: One odometry reading: pose (position, quaternion x y z w) in the odometry frame, twist in the
 #: robot's base frame (linear x y z, angular x y z), as nav_msgs/Odometry carries them.
@@ -81,36 +82,38 @@ def joint_transforms(model, joints):
 
 
 class EncoderOdometry(object):
-    """Dead reckoning of a differential pair of wheels (gazebo_plugins' encoder odometry, after
-    Siegwart's Autonomous Mobile Robots): integrated at every step from the two wheels' angular
-    velocities, radius ``r`` and track ``b``. The pose stays in the plane (z, roll, pitch 0)."""
+    """Dead reckoning of a differential pair of wheels of radius ``r`` and track ``b``
+    (gazebo_plugins' encoder odometry): at each :meth:`update`, the wheels' travel since the last
+    one moves the pose along one arc (DiffDriveController's rule, the one implementation:
+    ros_control's mobile_base.Odometry), so it may run at the plugin's updates only; the twist is
+    the wheels' speeds then. The pose stays in the plane (z, roll, pitch 0) and starts at zero at
+    the first update after a reset."""
 
     def __init__(self, radius, separation):
         self.r = radius
         self.b = separation
+        self.arc = ArcOdometry()
         self.reset()
 
     def reset(self):
-        self.x = self.y = self.theta = 0.0
+        self.arc.reset()
+        self.last = None             # the wheels' positions at the last update
         self.v = self.w = 0.0
 
-    def update(self, w_left, w_right, dt):
-        if dt <= 0.0:
-            return
-        sl = w_left * self.r * dt
-        sr = w_right * self.r * dt
-        ssum, sdiff = sl + sr, sr - sl
-        heading = self.theta + sdiff / (2.0 * self.b)
-        dx = 0.5 * ssum * math.cos(heading)
-        dy = 0.5 * ssum * math.sin(heading)
-        dtheta = sdiff / self.b
-        self.x += dx
-        self.y += dy
-        self.theta += dtheta
-        self.w = dtheta / dt
+    def update(self, left, right):
+        """The travel of the joints ``left`` and ``right`` since the last update."""
+        ql, qr = left.position, right.position
+        if self.last is not None:
+            sl = (ql - self.last[0]) * self.r
+            sr = (qr - self.last[1]) * self.r
+            self.arc.integrate(0.5 * (sl + sr), (sr - sl) / self.b)
+        self.last = (ql, qr)
+        vl, vr = left.velocity * self.r, right.velocity * self.r
         # signed, along the heading (gazebo_plugins report the speed without its sign)
-        self.v = 0.5 * ssum / dt
+        self.v = 0.5 * (vl + vr)
+        self.w = (vr - vl) / self.b
 
     def reading(self):
-        return Odom((self.x, self.y, 0.0), quat_from_rpy(0.0, 0.0, self.theta), (self.v, 0.0, 0.0),
+        a = self.arc
+        return Odom((a.x, a.y, 0.0), quat_from_rpy(0.0, 0.0, a.heading), (self.v, 0.0, 0.0),
                     (0.0, 0.0, self.w))

@@ -47,8 +47,9 @@ class DiffDriveConfig(object):
 
 
 class DiffDrive(object):
-    """The drive of one model. ``update`` runs before every physics step; it returns True at the
-    steps at which the plugin publishes (``updateRate``)."""
+    """The drive of one model. ``update`` runs before a physics step, at least at its due times
+    (:meth:`next_due`); it returns True at the steps at which the plugin publishes
+    (``updateRate``)."""
 
     def __init__(self, plugin):
         self.cfg = cfg = DiffDriveConfig(plugin)
@@ -72,7 +73,7 @@ class DiffDrive(object):
     def update(self, t, dt, command):
         """``command`` = (linear x, angular z) of the latest cmd_vel. Returns True when due."""
         if self.cfg.odometry_source == "encoder":
-            self.encoder.update(self.joints[LEFT].velocity, self.joints[RIGHT].velocity, dt)
+            self.encoder.update(self.joints[LEFT], self.joints[RIGHT])
         if not self.gate.due(t):
             return False
         since = t - self.last_update if self.last_update is not None else self.gate.period or dt
@@ -93,6 +94,11 @@ class DiffDrive(object):
         for i, j in enumerate(self.joints):
             j.set_velocity_target(self.instructed[i] / r, self.cfg.wheel_torque)
         return True
+
+    def next_due(self):
+        """When :meth:`update` next has work: the next update (the motors hold the wheels'
+        targets and the encoders' travel adds up in between)."""
+        return self.gate.next_time
 
     def odometry(self):
         """The reading the plugin publishes (an Odom of modrob_sim.drives.common)."""

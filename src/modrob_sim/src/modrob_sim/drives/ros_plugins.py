@@ -96,10 +96,8 @@ class DrivePlugin(ModelPlugin):
         return True
 
     def before_due(self):
-        """The drive's update times; at every step while it integrates wheel encoders."""
-        if getattr(self.core.cfg, "odometry_source", "world") == "encoder":
-            return None
-        return self.core.gate.next_time
+        """The drive's update times (its core's ``next_due``)."""
+        return self.core.next_due()
 
     def _on_command(self, msg):
         value = self.command(msg)

@@ -65,6 +65,10 @@ class SkidSteer(object):
             j.set_velocity_target((v + side * half) / self.radius, self.cfg.torque)
         return True
 
+    def next_due(self):
+        """The next update (the motors hold the wheels' targets in between)."""
+        return self.gate.next_time
+
     def odometry(self):
         """The model's pose and velocity; the position's z is left at 0 as gazebo_plugins do."""
         o = world_odometry(self.model)

@@ -73,7 +73,7 @@ class Tricycle(object):
         """``command`` = (rim speed, steering angle). Returns True when due."""
         cfg = self.cfg
         if cfg.odometry_source == "encoder":
-            self.encoder.update(self.left.velocity, self.right.velocity, dt)
+            self.encoder.update(self.left, self.right)
         if not self.gate.due(t):
             return False
         since = t - self.last_update if self.last_update is not None else (self.gate.period or dt)
@@ -100,6 +100,10 @@ class Tricycle(object):
             rate = error / max(since, dt)       # there within one update, as far as the torque allows
         self.steering.set_velocity_target(rate, cfg.wheel_torque)
         return True
+
+    def next_due(self):
+        """The next update (the motors hold the targets, the encoders' travel adds up)."""
+        return self.gate.next_time
 
     def odometry(self):
         if self.cfg.odometry_source == "encoder":
