@@ -102,6 +102,34 @@ def test_free_fall_matches_g_and_link_twist():
     assert box.twist[0][2] == pytest.approx(-9.81 * t, rel=1e-6)
 
 
+INERTIAL = ('<inertial><mass value="1.0"/>'
+            '<inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial>')
+WELDED = """<robot name="welded">
+  <link name="arm">%s<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+  <joint name="weld" type="fixed"><parent link="arm"/><child link="tip"/><origin xyz="0.2 0 0"/></joint>
+  <link name="tip">%%s</link>
+  <gazebo reference="arm"><turnGravityOff>true</turnGravityOff></gazebo>
+</robot>""" % INERTIAL
+
+
+@pytest.mark.parametrize("tip, g_share", [("", 0.0), (INERTIAL, 0.5)])
+def test_gravity_of_a_welded_body_is_that_of_its_massive_links(tip, g_share):
+    """A massless link welded on (a tool frame, gravity on by default) leaves a gravity-off body
+    floating, and natively stepped; a massive one with gravity on pulls with its share of g."""
+    world = World()
+    body = world.add_urdf("welded", WELDED % tip, pose=((0, 0, 10.0), (0, 0, 0, 1)))
+    n, dt = 500, world.time_step
+    world.step(n)
+    # the centre of mass (both links' inertial frames are their link frames; the pull of the tip
+    # alone also turns the body)
+    links = [body.links["arm"]] + ([body.links["tip"]] if tip else [])
+    z = sum(ln.pose[0][2] for ln in links) / len(links)
+    # (semi-implicit Euler: after n steps the fall is g dt^2 n (n + 1) / 2)
+    assert z == pytest.approx(10.0 - 0.5 * g_share * 9.81 * dt * dt * n * (n + 1), abs=2e-4)
+    if world.native and not tip:
+        assert world.native_steps == n
+
+
 def test_gazebo_plugins_are_listed_with_their_namespace():
     xml = fixture("pendulum.urdf").replace("</robot>", """
   <gazebo><plugin name="gazebo_ros_control" filename="libgazebo_ros_control.so">

@@ -747,7 +747,10 @@ class World(object):
         body = group.body
         if body is None:
             return
-        flags = [ln.gravity_enabled for ln in group.links]
+        # gravity acts on mass: a massless link (a tool frame welded on) has no say in the body's
+        # mode, else its default "on" would make a body of gravity-off links a mixed one
+        flags = [ln.gravity_enabled for ln in group.links if ln.mass > 0] or \
+            [ln.gravity_enabled for ln in group.links]
         if all(flags):
             body.setGravityMode(True)
             group.anti_gravity = ()
