@@ -84,10 +84,12 @@ class KatanaGripperPlugin(ModelPlugin):
         self._done = threading.Condition(self.lock)
         self._next_js = 0.0
         self._next_state = 0.0
-        self._js_pub = rospy.Publisher("joint_states", JointState, queue_size=5)
+        # the node's publishers (roscpp's transport): a rospy publish from the loop thread hands
+        # the GIL to rospy's writer thread and waits to get it back
+        self._js_pub = context.advertise("joint_states", JointState, queue_size=5)
         ns = cfg["node_namespace"].strip("/")
-        self._state_pub = rospy.Publisher(("/%s/" % ns if ns else "/") + "gripper_controller_state",
-                                          JointTrajectoryControllerState, queue_size=1)
+        self._state_pub = context.advertise(("/%s/" % ns if ns else "/") + "gripper_controller_state",
+                                            JointTrajectoryControllerState, queue_size=1)
         self.action_name = rospy.resolve_name("posture_action_name")
         self.server = actionlib.SimpleActionServer(self.action_name, GripperCommandAction,
                                                    execute_cb=self._execute, auto_start=False)
@@ -153,6 +155,8 @@ class KatanaGripperPlugin(ModelPlugin):
         with self.lock:
             self.core.cancel(0.0)
             self._done.notify_all()
+        self._js_pub.unregister()
+        self._state_pub.unregister()
         # actionlib has no clean way to stop a SimpleActionServer; its topics go with the node
 
     # -- action (actionlib's thread) ---------------------------------------------------------
