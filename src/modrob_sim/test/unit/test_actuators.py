@@ -4,7 +4,9 @@ native one (mr_apply_actuators in C) give the same steps bit for bit for every k
 PID to a position with each error rule, PID to a velocity, PID along absolute, relative and held
 trajectory segments with feed-forward, a wheel motor with an acceleration ramp), with gains and
 set-points changed mid-run, efforts given with set_effort added before the joint's clamp, and a
-continuous joint counting turns; bad requests are refused with messages that say what to do."""
+continuous joint counting turns; the same for an output that drives the joint's ODE motor's velocity
+(OUT_VELOCITY: gazebo_ros_control's velocity joint) instead of its effort; bad requests are refused
+with messages that say what to do."""
 import math
 import os
 
@@ -79,6 +81,86 @@ def test_the_two_backends_step_every_kind_alike_bit_for_bit():
     assert wp.state_digest() == wn.state_digest()
 
 
+def velocity_scenario(native):
+    """PIDs and a trajectory segment whose outputs are the joints' motor velocities, switched to
+    effort and back, limits and gains changed mid-run; what was seen at every 20th step."""
+    w, m = arm(native)
+    yaw, shoulder, elbow = (m.joints[n] for n in ("yaw", "shoulder", "elbow"))
+    a_yaw = w.add_actuator(yaw, A.POSITION_PID, gains=A.PidGains(5.0, 1.0, 0.05, 0.5, -0.5), error=A.SHORTEST,
+                           output=A.OUT_VELOCITY)
+    a_yaw.velocity_limit = 1.5
+    a_yaw.max_force = 40.0
+    a_yaw.command = 7.0
+    a_sh = w.add_actuator(shoulder, A.SEGMENT_PID, gains=A.PidGains(8.0, 0.0, 0.1), output=A.OUT_VELOCITY)
+    a_sh.max_force = 50.0
+    a_sh.set_segment([0.0, 0.4, 0.0, -0.05], 0.0, 2.0, until=0.6)
+    a_sh.feedforward = 1.0
+    a_el = w.add_actuator(elbow, A.VELOCITY_PID, gains=A.PidGains(3.0), output=A.OUT_VELOCITY)
+    a_el.max_force = 20.0
+    a_el.command = 0.8                              # the PID's output is the motor's velocity
+    seen = []
+    for k in range(1200):
+        t = w.time
+        if k == 300:
+            a_yaw.velocity_limit = None
+            a_yaw.gains = A.PidGains(4.0, 0.0, 0.0)
+            a_el.output = A.OUT_EFFORT              # now an effort PID on the velocity error
+            a_el.effort_limit = 5.0
+        if k == 600:
+            a_sh.set_segment([0.1, -0.3, 0.2], 0.0, 0.5, base=t, offset=0.25, rel_until=0.4)
+            a_el.output = A.OUT_VELOCITY
+        if 700 <= k < 705:
+            shoulder.set_effort(4.0)                # an effort beside the motor
+        if k == 900:
+            w.remove_actuator(a_el)
+        w.step(1)
+        if k % 20 == 0 or 700 <= k < 706:
+            seen.append((k, [(j.position, j.velocity, j.effort) for j in (yaw, shoulder, elbow)],
+                         [(a.pid_state(), a.last) for a in w.actuators], yaw.turn_state))
+    return w, seen
+
+
+@needs_c
+def test_velocity_outputs_step_alike_on_both_backends_bit_for_bit():
+    wp, pure = velocity_scenario(False)
+    wn, nat = velocity_scenario(True)
+    assert len(pure) == len(nat) > 60
+    for a, b in zip(pure, nat):
+        assert a == b, "step %d differs" % a[0]
+    assert wp.state_digest() == wn.state_digest()
+
+
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_a_velocity_output_drives_the_motor(native):
+    w, m = arm(native)
+    yaw, elbow = m.joints["yaw"], m.joints["elbow"]
+    a = w.add_actuator(yaw, A.POSITION_PID, gains=A.PidGains(10.0), output=A.OUT_VELOCITY)
+    a.velocity_limit = 0.5
+    a.max_force = 50.0
+    a.command = 1.0
+    w.step(200)
+    # far from the target the PID asks 10 rad/s; the motor runs at the clamp
+    assert yaw.velocity == pytest.approx(0.5, abs=1e-3)
+    assert a.last.output == pytest.approx(10.0 * (1.0 - a.last.position))
+    assert a.last.applied == 0.0 == yaw.effort       # no effort: the motor moves the joint
+    w.step(3000)
+    assert yaw.position == pytest.approx(1.0, abs=1e-3) and abs(yaw.velocity) < 1e-2
+    # while it runs, the motor holds its velocity against an effort (max_force 50 N m) ...
+    a.command = -2.0
+    w.step(300)
+    assert yaw.velocity == pytest.approx(-0.5, abs=1e-3)
+    for _ in range(100):
+        yaw.set_effort(5.0)
+        w.step(1)
+    assert yaw.velocity == pytest.approx(-0.5, abs=0.02)
+    # ... and removed, it gives the joint its own (frictionless) motor back: the effort turns it
+    w.remove_actuator(a)
+    for _ in range(100):
+        yaw.set_effort(5.0)
+        w.step(1)
+    assert yaw.velocity > 0.0
+
+
 @pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
 def test_what_the_actuators_do(native):
     w, m = arm(native)
@@ -112,6 +194,10 @@ def test_bad_requests_say_what_to_do():
         w.add_actuator(m.joints["base_fixed"], A.EFFORT)
     with pytest.raises(InputError, match="unknown kind 99"):
         w.add_actuator(m.joints["elbow"], 99)
+    with pytest.raises(InputError, match="unknown output 7.*OUT_VELOCITY"):
+        w.add_actuator(m.joints["elbow"], A.EFFORT, output=7)
+    with pytest.raises(ValueError, match="OUT_EFFORT or OUT_VELOCITY"):
+        a.output = 3
     with pytest.raises(ValueError, match="1 to 6 coefficients"):
         a.set_segment([0.0] * 7, 0.0, 1.0)
     other, om = arm(False)

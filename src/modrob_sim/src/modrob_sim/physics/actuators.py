@@ -18,8 +18,16 @@ MOTOR           ODE joint motor: velocity ramped towards command by at most acce
                 force at most max_force (a wheel's motor); out = 0
 ==============  ========================================================================
 
-then the effort the joint gets: joint_limit(hardware_clamp(out, finite) + efforts given with
-set_effort/add_effort in that step), capped at FORCE_CAP.
+then what the joint gets depends on the actuator's OUTPUT:
+
+==============  ========================================================================
+OUT_EFFORT      the effort joint_limit(hardware_clamp(out, finite) + efforts given with
+                set_effort/add_effort in that step), capped at FORCE_CAP (the default)
+OUT_VELOCITY    out (finite) is a velocity: the joint's ODE motor drives towards
+                clamp(out, +-velocity_limit) with at most max_force, as gazebo_ros_control's
+                velocity joint without pid_gains; efforts given with set_effort are applied
+                as efforts beside it (joint_limit, FORCE_CAP)
+==============  ========================================================================
 
 Model actuators (``World.add_model_actuator``: :class:`ModelActuator`) act on a whole model, before
 the joint actuators of each step: :func:`step_model_python` here, ``mr_apply_model_actuators`` in C.
@@ -46,13 +54,17 @@ import weakref
 from collections import namedtuple
 
 from .angles import shortest_angular_distance
-from .model import check_twist
+from .model import FORCE_CAP, check_twist
 from .transforms import check_vec3, rpy_from_quat
 
 #: actuator kinds (the numbers are the C loop's)
 EFFORT, POSITION_PID, SEGMENT_PID, VELOCITY_PID, MOTOR = 0, 1, 2, 3, 4
 KIND_NAMES = {EFFORT: "EFFORT", POSITION_PID: "POSITION_PID", SEGMENT_PID: "SEGMENT_PID",
               VELOCITY_PID: "VELOCITY_PID", MOTOR: "MOTOR"}
+#: what an actuator's output drives: the joint's effort, or its ODE motor's velocity (the numbers
+#: are the C loop's)
+OUT_EFFORT, OUT_VELOCITY = 0, 1
+OUTPUT_NAMES = {OUT_EFFORT: "OUT_EFFORT", OUT_VELOCITY: "OUT_VELOCITY"}
 #: position error rules: target - q; the target clamped to [lower, upper] first; shortest angle
 PLAIN, CLAMPED, SHORTEST = 0, 1, 2
 #: segment kinds: polynomial in absolute time, in time relative to ``base``, holding a position
@@ -166,7 +178,8 @@ class PyRecord(object):
     __slots__ = ("kind", "err_kind", "has_hw_limit", "has_extra", "lower", "upper", "hw_limit", "command",
                  "extra", "t", "position", "velocity", "set_point", "desired_velocity", "out", "applied",
                  "traj_kind", "coef", "seg_t0", "seg_t1", "rel_base", "offset", "has_offset", "ff",
-                 "abs_until", "rel_until", "max_force", "accel", "motor_vel", "pid")
+                 "abs_until", "rel_until", "max_force", "accel", "motor_vel", "out_kind", "vel_limit",
+                 "pid")
 
     def __init__(self, kind):
         self.kind = kind
@@ -183,6 +196,8 @@ class PyRecord(object):
         self.has_offset = 0
         self.abs_until = self.rel_until = INF
         self.max_force = self.accel = self.motor_vel = 0.0
+        self.out_kind = OUT_EFFORT
+        self.vel_limit = INF
         self.pid = Pid(PidGains(0.0))
 
 
@@ -196,9 +211,10 @@ def segment_sample(r, t):
 
 
 def step_python(r, joint, t, dt, limit):
-    """One step of the actuator ``r`` (a PyRecord) on the physics Joint ``joint``: its effort from
-    the joint's state now, applied through the joint's ODE joint; ``limit(f)`` is the joint's own
-    clamp (Joint.limit_effort). Returns the effort applied (MOTOR: None, the motor acts)."""
+    """One step of the actuator ``r`` (a PyRecord) on the physics Joint ``joint``: its output from
+    the joint's state now, applied through the joint's ODE joint (an effort, or the motor's
+    velocity); ``limit(f)`` is the joint's own clamp (Joint.limit_effort). Returns the effort
+    applied (MOTOR: None, the motor acts)."""
     q = joint.position
     v = joint.velocity
     r.t, r.position, r.velocity = t, q, v
@@ -233,7 +249,10 @@ def step_python(r, joint, t, dt, limit):
     r.out = f
     if not math.isfinite(f):
         f = 0.0
-    if r.has_hw_limit:
+    if r.out_kind == OUT_VELOCITY:
+        joint.drive_motor(min(max(f, -r.vel_limit), r.vel_limit), r.max_force)
+        f = 0.0
+    elif r.has_hw_limit:
         f = min(max(f, -r.hw_limit), r.hw_limit)
     if r.has_extra:
         f += r.extra
@@ -276,8 +295,11 @@ class Actuator(object):
         """Switch kind (a controller taking the joint over); the PID state starts from zero."""
         if kind not in KIND_NAMES:
             raise ValueError("unknown actuator kind %r (known: %s)" % (kind, ", ".join(KIND_NAMES.values())))
+        motor = self.drives_motor
         self._kind = kind
         self._r.kind = kind
+        if motor and not self.drives_motor:
+            self.joint.release_motor()
         if kind == MOTOR:
             self._r.motor_vel = self.joint.velocity
         self.reset()
@@ -314,6 +336,36 @@ class Actuator(object):
         self._r.hw_limit = 0.0 if limit is None else float(limit)
 
     @property
+    def output(self):
+        return self._r.out_kind
+
+    @output.setter
+    def output(self, output):
+        """OUT_EFFORT or OUT_VELOCITY (what the kind's output drives; MOTOR always drives the
+        motor). Leaving OUT_VELOCITY gives the joint its own motor back (its friction)."""
+        if output not in OUTPUT_NAMES:
+            raise ValueError("actuator output must be OUT_EFFORT or OUT_VELOCITY, got %r" % (output,))
+        was = self._r.out_kind
+        self._r.out_kind = output
+        if was == OUT_VELOCITY and output != OUT_VELOCITY and self._kind != MOTOR:
+            self.joint.release_motor()
+
+    @property
+    def velocity_limit(self):
+        """OUT_VELOCITY: the velocity is clamped to +-velocity_limit (None: not clamped)."""
+        v = self._r.vel_limit
+        return None if v == INF else v
+
+    @velocity_limit.setter
+    def velocity_limit(self, limit):
+        self._r.vel_limit = INF if limit is None else abs(float(limit))
+
+    @property
+    def drives_motor(self):
+        """True when the actuator sets the joint's ODE motor (MOTOR, or OUT_VELOCITY)."""
+        return self._kind == MOTOR or self._r.out_kind == OUT_VELOCITY
+
+    @property
     def feedforward(self):
         return self._r.ff
 
@@ -327,7 +379,8 @@ class Actuator(object):
 
     @max_force.setter
     def max_force(self, f):
-        self._r.max_force = float(f)
+        """The motor's force bound (MOTOR, OUT_VELOCITY): at most FORCE_CAP, as for every force."""
+        self._r.max_force = min(float(f), FORCE_CAP)
 
     @property
     def acceleration(self):

@@ -97,7 +97,8 @@ class MrActuator(ctypes.Structure):
         [("traj_kind", ctypes.c_int), ("ncoef", ctypes.c_int), ("has_offset", ctypes.c_int),
          ("coef", ctypes.c_double * act.MAX_COEFFS)] + \
         [(n, ctypes.c_double) for n in ("seg_t0", "seg_t1", "rel_base", "offset", "ff", "abs_until",
-                                        "rel_until", "max_force", "accel", "motor_vel")]
+                                        "rel_until", "max_force", "accel", "motor_vel")] + \
+        [("out_kind", ctypes.c_int), ("vel_limit", ctypes.c_double)]
 
 
 class MrModelActuator(ctypes.Structure):
@@ -661,6 +662,8 @@ class NativeBackend(object):
         r.traj_kind = act.HOLD
         r.ncoef = 1
         r.abs_until = r.rel_until = act.INF
+        r.out_kind = act.OUT_EFFORT
+        r.vel_limit = act.INF
         self._bind_turn(r, joint)
         return r
 

@@ -564,9 +564,14 @@ class Joint(object):
 
     def drive_motor(self, v, max_force):
         """The ODE joint motor towards velocity ``v`` with at most ``max_force`` this step (MOTOR
-        actuators)."""
+        actuators and OUT_VELOCITY outputs)."""
         self._ode.setParam(odelib.PARAM_VEL, v)
         self._ode.setParam(odelib.PARAM_FMAX, max_force)
+
+    def release_motor(self):
+        """An actuator stopped driving the ODE motor: the joint's own motor again (its
+        set_velocity_target, else its <dynamics friction>)."""
+        self._apply_motor()
 
     @property
     def has_soft_limits(self):

@@ -361,7 +361,8 @@ class World(object):
         self._after_dues = tuple(h[3] or _NOW for h in hooks if h[1] is not None)
 
     # ---- actuators ---------------------------------------------------------------------------
-    def add_actuator(self, joint, kind, gains=None, effort_limit=None, error=actuators_mod.PLAIN):
+    def add_actuator(self, joint, kind, gains=None, effort_limit=None, error=actuators_mod.PLAIN,
+                     output=actuators_mod.OUT_EFFORT):
         """The actuator of ``joint`` (a revolute, continuous or prismatic Joint of a model in this
         World): it drives the joint at every step until removed (docs/design/sim_core_api.md,
         "Actuators"). InputError when the joint cannot take one or already has one."""
@@ -371,6 +372,9 @@ class World(object):
         if kind not in actuators_mod.KIND_NAMES:
             raise InputError("%s: unknown kind %r (physics.actuators: EFFORT, POSITION_PID, VELOCITY_PID, "
                              "SEGMENT_PID, MOTOR)" % (what, kind))
+        if output not in actuators_mod.OUTPUT_NAMES:
+            raise InputError("%s: unknown output %r (physics.actuators: OUT_EFFORT, OUT_VELOCITY)"
+                             % (what, output))
         if model is None or self.models.get(model.name) is not model:
             raise InputError("%s: the joint's model is not in this World" % what)
         if joint.ode_joint is None or joint.type not in ("revolute", "continuous", "prismatic"):
@@ -384,6 +388,7 @@ class World(object):
         if gains is not None:
             a.gains = gains
         a.effort_limit = effort_limit
+        a.output = output
         if kind == actuators_mod.MOTOR:
             record.motor_vel = joint.velocity
         joint.bind_actuator(a)
@@ -392,7 +397,8 @@ class World(object):
         return a
 
     def remove_actuator(self, actuator):
-        """The joint is free again (no effort from the actuator from the next step on)."""
+        """The joint is free again (no effort from the actuator from the next step on; an actuator
+        that drove the ODE motor gives the joint its own motor back)."""
         if actuator not in self._actuators:
             raise InputError("remove_actuator: %r is not an actuator of this World" % (actuator,))
         self._actuators.remove(actuator)
@@ -400,6 +406,8 @@ class World(object):
         if joint.actuator is actuator:
             joint.bind_actuator(None)
             joint.effort = 0.0
+            if actuator.drives_motor:
+                joint.release_motor()
         self._backend.actuators_changed(self._actuators)
 
     @property

@@ -983,11 +983,12 @@ void mr_link_poses(const MrLinkEntry *e, int n, void *poses, void *twists)
 
 /* ---- actuators and turn counts ------------------------------------------------------------
  * The World's actuators (physics/actuators.py: one per driven joint, owned by the native backend in
- * this C memory): at every step, from the joint's state at the step's start, an effort (EFFORT: the
+ * this C memory): at every step, from the joint's state at the step's start, an output (EFFORT: the
  * command; POSITION_PID: PID on the position error; VELOCITY_PID: PID on the velocity error;
  * SEGMENT_PID: PID along a trajectory segment plus velocity feed-forward) or an ODE joint motor
- * (MOTOR), then the hardware clamp, the efforts given with set_effort in that step, the joint's
- * own clamp (Joint.limit_effort) and FORCE_CAP. The pure-Python backend does the same in
+ * (MOTOR); the output is an effort (OUT_EFFORT: the hardware clamp) or the ODE motor's velocity
+ * (OUT_VELOCITY), then the efforts given with set_effort in that step, the joint's own clamp
+ * (Joint.limit_effort) and FORCE_CAP. The pure-Python backend does the same in
  * actuators.step_python; test_actuators.py runs both on the same worlds. */
 typedef struct {
     dJointID joint;      /* a hinge whose position counts whole turns (Joint.track_turns) */
@@ -1015,7 +1016,10 @@ typedef struct {
     int traj_kind, ncoef, has_offset;
     double coef[6];
     double seg_t0, seg_t1, rel_base, offset, ff, abs_until, rel_until;
-    double max_force, accel, motor_vel;   /* MOTOR */
+    double max_force, accel, motor_vel;   /* MOTOR; max_force also OUT_VELOCITY's */
+    int out_kind;        /* what the output drives: 0 the effort (OUT_EFFORT), 1 the ODE motor's
+                          * velocity, clamped to +-vel_limit, with at most max_force (OUT_VELOCITY) */
+    double vel_limit;
 } MrActuator;
 
 #define MR_TWO_PI 6.283185307179586
@@ -1158,7 +1162,11 @@ void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param
         }
         j->out = f;
         if (!isfinite(f)) f = 0.0;
-        if (j->has_hw_limit) f = mr_clamp(f, -j->hw_limit, j->hw_limit);
+        if (j->out_kind == 1) {
+            mr_set_param(j->joint, j->slider, param_vel, mr_clamp(f, -j->vel_limit, j->vel_limit));
+            mr_set_param(j->joint, j->slider, param_fmax, j->max_force);
+            f = 0.0;
+        } else if (j->has_hw_limit) f = mr_clamp(f, -j->hw_limit, j->hw_limit);
         if (j->has_extra) {
             f += j->extra;
             j->has_extra = 0;
