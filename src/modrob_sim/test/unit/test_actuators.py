@@ -133,7 +133,7 @@ def test_velocity_outputs_step_alike_on_both_backends_bit_for_bit():
 @pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
 def test_a_velocity_output_drives_the_motor(native):
     w, m = arm(native)
-    yaw, elbow = m.joints["yaw"], m.joints["elbow"]
+    yaw = m.joints["yaw"]
     a = w.add_actuator(yaw, A.POSITION_PID, gains=A.PidGains(10.0), output=A.OUT_VELOCITY)
     a.velocity_limit = 0.5
     a.max_force = 50.0

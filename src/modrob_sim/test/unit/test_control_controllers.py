@@ -221,9 +221,14 @@ def test_velocity_position_controller_writes_the_pids_velocity():
     res = c.set_command(0.6)
     assert res.accepted and res.value == 0.6
     model.run(mgr, 0.001)
-    assert hw.joints["j1"].command == pytest.approx(8.0 * 0.6)       # rad/s, not N m
+    # the joint's actuator: the PID's output is the motor's velocity (rad/s, not N m), with the
+    # effort limit as its force, as the hardware's velocity write would set it
+    assert joint._motor == (pytest.approx(8.0 * 0.6), 20.0) and joint.effort == 0.0
     model.run(mgr, 2.0)
     assert joint.position == pytest.approx(0.6, abs=0.005)
+    mgr.switch([], ["vp"], 2)                  # stopped: the hardware keeps the last velocity
+    last = hw.joints["j1"].command
+    assert hw.joints["j1"].actuator is None and abs(last) < 0.05 and joint._motor == (last, 20.0)
     assert c.set_command(3.0).value == 2.0                              # clamped to the joint limits
     with pytest.raises(ControllerError, match="not hardware_interface/VelocityJointInterface"):
         rig()[2].load("vp", {"type": "velocity_controllers/JointPositionController", "joint": "j1",

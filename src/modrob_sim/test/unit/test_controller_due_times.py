@@ -207,3 +207,57 @@ def test_pid_gains_position_joints_step_natively_once_the_rate_limit_reaches_the
     # Python: the yaw command's 500 rate-limited steps, the others' ~130; the holds natively
     assert 0.3 * 1200 < fast.world.native_steps < 0.6 * 1200, fast.world.native_steps
     assert abs(fast.model.joints["yaw"].position - 1.5) < 0.05
+
+
+class VelocityPositionArm(ControlRig):
+    """The 3-joint arm on velocity joints, velocity_controllers/JointPositionController on each
+    (the PID's output the joint's motor velocity: an OUT_VELOCITY actuator); ``python_pids``: the
+    controllers run their PIDs in Python and write the hardware's velocity commands, as where a
+    joint cannot take that actuator. The state messages go to ``log``."""
+
+    def __init__(self, fast, python_pids=False):
+        super(VelocityPositionArm, self).__init__(fixture("arm_3dof.urdf").replace("PositionJointInterface",
+                                                                                   "VelocityJointInterface"))
+        if python_pids:
+            for res in self.hw.joints.values():
+                res.can_drive = lambda output: False
+        gains = {"yaw": {"p": 6.0, "d": 0.02}, "shoulder": {"p": 10.0, "d": 0.05},
+                 "elbow": {"p": 8.0, "i": 2.0, "i_clamp": 0.5, "antiwindup": True}}
+        for name in ("yaw", "shoulder", "elbow"):
+            c = self.mgr.load(name, {"type": "velocity_controllers/JointPositionController", "joint": name,
+                                     "pid": gains[name]})
+            self.adapter(name, after_update=lambda t, c=c: self._state(c))
+        assert self.mgr.switch(["yaw", "shoulder", "elbow"], [], STRICT)[0]
+        self.start(fast)
+
+    def _state(self, c):
+        data, c.pending = c.pending, None
+        if data is not None:
+            self.log.append((c.name, data))
+
+
+VELOCITY_POSITION_EVENTS = {
+    100: lambda r: r.mgr.get("yaw").set_command(1.5),        # 0.5 s at the velocity limit 3 rad/s
+    400: lambda r: r.mgr.get("shoulder").set_command(-0.6),
+    401: lambda r: r.mgr.get("elbow").set_command(0.9),
+    700: lambda r: r.mgr.get("elbow").pid.set_gains(type(r.mgr.get("elbow").pid.gains)(4.0)),
+    900: lambda r: r.mgr.switch([], ["shoulder"], STRICT),   # its joint keeps the last velocity
+}
+
+
+@needs_c
+def test_velocity_position_controllers_step_natively_and_equal_their_python_pids_bit_for_bit():
+    ref = run(VelocityPositionArm(False), 1200, VELOCITY_POSITION_EVENTS)
+    fast = run(VelocityPositionArm(True), 1200, VELOCITY_POSITION_EVENTS)
+    python = run(VelocityPositionArm(False, python_pids=True), 1200, VELOCITY_POSITION_EVENTS)
+    assert snapshot(ref) == snapshot(fast)
+    assert ref.log == fast.log == python.log and len(fast.log) > 300
+    joints = [(j.position, j.velocity, j.effort) for j in python.model.joints_in_order]
+    assert joints == snapshot(fast)[4] and python.world.state_digest() == fast.world.state_digest()
+    assert python.world.actuators == () and len(fast.world.actuators) == 2
+    # the PIDs run in the actuators: Python only for commands, new gains and the state messages
+    # (every 10th step; a stand-in adapter always wants them)
+    assert fast.world.native_steps > 0.85 * fast.world.iterations, fast.world.native_steps
+    m = fast.model.joints
+    # (the elbow, on p alone after 0.7 s, sags under gravity by what the motor's softness gives)
+    assert abs(m["yaw"].position - 1.5) < 0.01 and abs(m["elbow"].position - 0.9) < 0.03

@@ -28,11 +28,15 @@ needs_c = pytest.mark.skipif(native_mod.LIB is None, reason="the C loop is not b
 
 class Rig(ControlRig):
     """The 3-joint effort arm (yaw continuous) with a joint_state_controller and an effort
-    trajectory controller; the adapter records what the ROS layer would publish."""
+    trajectory controller; the adapter records what the ROS layer would publish. ``velocity``:
+    velocity joints and velocity_controllers/JointTrajectoryController instead (its PIDs' outputs
+    the joints' motor velocities); ``python_pids`` makes it run its PIDs in Python at every
+    update, as it does where the joints cannot take an OUT_VELOCITY actuator."""
 
-    def __init__(self, fast, gripper=False):
+    def __init__(self, fast, gripper=False, velocity=False, python_pids=False):
+        iface = "VelocityJointInterface" if velocity else "EffortJointInterface"
         with open(os.path.join(FIX, "arm_3dof.urdf")) as f:
-            xml = f.read().replace("PositionJointInterface", "EffortJointInterface")
+            xml = f.read().replace("PositionJointInterface", iface)
         if gripper:     # yaw with limits beyond +-pi (soft limits), two fingers, one a mimic
             xml = xml.replace('<limit lower="-3" upper="3" effort="50"',
                               '<limit lower="-4.5" upper="4.5" effort="50"')
@@ -44,9 +48,19 @@ class Rig(ControlRig):
         gains = {"yaw": {"p": 80.0, "i": 30.0, "d": 4.0, "i_clamp": 5.0, "antiwindup": True},
                  "shoulder": {"p": 200.0, "i": 50.0, "d": 10.0, "i_clamp": 8.0},
                  "elbow": {"p": 120.0, "d": 6.0}}
+        ff = {"shoulder": 0.5}
+        if velocity:    # rad/s per rad; the desired velocity fed forward
+            ff = {j: 1.0 for j in JOINTS}
+            gains = {"yaw": {"p": 12.0, "i": 2.0, "i_clamp": 0.5, "antiwindup": True},
+                     "shoulder": {"p": 20.0, "i": 4.0, "d": 0.05, "i_clamp": 0.5},
+                     "elbow": {"p": 15.0}}
+        if python_pids:
+            for res in self.hw.joints.values():
+                res.can_drive = lambda output: False
         self.jtc = self.mgr.load("arm_controller", {
-            "type": "effort_controllers/JointTrajectoryController", "joints": JOINTS, "gains": gains,
-            "velocity_ff": {"shoulder": 0.5}, "stop_trajectory_duration": 0.15,
+            "type": "%s_controllers/JointTrajectoryController" % ("velocity" if velocity else "effort"),
+            "joints": JOINTS, "gains": gains,
+            "velocity_ff": ff, "stop_trajectory_duration": 0.15,
             "state_publish_rate": 25.0, "action_monitor_rate": 10.0, "allow_partial_joints_goal": True,
             "constraints": {"goal_time": 0.5, "stopped_velocity_tolerance": 0.2, "elbow": {"goal": 0.05}}})
         if gripper:
@@ -115,8 +129,8 @@ def _points(kind, scale, n=6, dt=0.06, joints=3):
     return pts
 
 
-def run(fast):
-    rig = Rig(fast)
+def run(fast, **rig_kw):
+    rig = Rig(fast, **rig_kw)
 
     def goal(gid, names, pts, **kw):
         rig.inbox.append(("goal", (names, pts, dict(goal_id=gid, **kw))))
@@ -159,6 +173,37 @@ def test_trajectory_controller_batches_equal_python_steps_bit_for_bit():
         fast.world.native_steps, fast.world.iterations)
     q = ref.yaw_after_wrap
     assert abs(math.remainder(q - 6.0, 2 * math.pi)) < 0.2, "yaw did not follow the short way to 6.0 (%g)" % q
+
+
+@needs_c
+def test_velocity_trajectory_controller_batches_equal_python_steps_bit_for_bit():
+    ref, fast = run(False, velocity=True), run(True, velocity=True)
+    assert len(ref.log) == len(fast.log) > 200
+    for a, b in zip(ref.log, fast.log):
+        assert a == b
+    assert ref.snapshot() == fast.snapshot()
+    outcomes = {e[2]: e[3] for e in ref.log if e[0] == "event"}
+    assert outcomes["linear"] == "preempted" and outcomes["canceled"] == "canceled", outcomes
+    # the PIDs are the joints' actuators: most steps in C, as for the effort controller
+    assert fast.world.native_steps > 0.65 * fast.world.iterations, "%d of %d steps batched" % (
+        fast.world.native_steps, fast.world.iterations)
+    q = ref.yaw_after_wrap
+    assert abs(math.remainder(q - 6.0, 2 * math.pi)) < 0.2, "yaw did not follow the short way to 6.0 (%g)" % q
+
+
+@needs_c
+def test_velocity_trajectory_actuators_equal_the_controllers_python_pids_bit_for_bit():
+    # the same controller running its PIDs in Python at every update and writing the hardware's
+    # velocity commands (the motor set by the hardware's write) gives the same steps
+    python, fast = run(False, velocity=True, python_pids=True), run(True, velocity=True)
+    assert python.world.actuators == () and len(fast.world.actuators) == 3
+    assert python.world.native_steps == 0
+    assert len(python.log) == len(fast.log) > 200
+    for a, b in zip(python.log, fast.log):
+        assert a == b
+    assert python.world.state_digest() == fast.world.state_digest()
+    assert ([(j.position, j.velocity) for j in python.model.joints_in_order]
+            == [(j.position, j.velocity) for j in fast.model.joints_in_order])
 
 
 @needs_c

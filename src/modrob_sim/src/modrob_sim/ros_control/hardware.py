@@ -15,6 +15,7 @@ POSITION       no ``pid_gains/<joint>``: the joint is set kinematically to the c
 POSITION_PID   with ``pid_gains/<joint>``: effort = clamp(PID(position error), +-effort limit);
                continuous joints take the shortest angular way
 VELOCITY       no gains: ODE joint motor to the command with max force = effort limit
+               (a controller's PID may drive it at every step: an OUT_VELOCITY actuator)
 VELOCITY_PID   with gains: effort = clamp(PID(velocity error), +-effort limit)
 =============  ==========================================================================
 
@@ -163,11 +164,36 @@ class JointResource(object):
     def position_error(self, target):
         return actuators.position_error(self.position_rule, target, self.position, self.lower, self.upper)
 
+    # ---- the velocity interface's ODE motor ------------------------------------------------------
+    def motor_force(self):
+        """The force bound of the velocity interface's motor: the effort limit (Gazebo's "fmax"),
+        1e6 without one."""
+        return self.effort_limit if self.effort_limit is not None else 1e6
+
+    def apply_velocity(self, cmd):
+        """DefaultRobotHWSim's write of a velocity command without pid_gains: the joint's ODE
+        motor to ``cmd`` (0 when not finite), clamped to +-velocity limit, with motor_force()."""
+        if not math.isfinite(cmd):
+            cmd = 0.0
+        if self.velocity_limit is not None:
+            cmd = min(max(cmd, -self.velocity_limit), self.velocity_limit)
+        self.sim.set_velocity_target(cmd, self.motor_force())
+
+    def can_drive(self, output):
+        """True when a controller's PID may write ``output`` (actuators.OUT_EFFORT, OUT_VELOCITY)
+        through the joint's actuator, as the active interface would take it: an effort joint's
+        effort, or the motor of a velocity joint without pid_gains (one with pid_gains puts its
+        own PID after the controller's: that chain runs in Python at every update)."""
+        if output == actuators.OUT_EFFORT:
+            return self.method == EFFORT
+        return output == actuators.OUT_VELOCITY and self.method == VELOCITY and self.motor_force() > 0.0
+
     # ---- the joint's actuator ------------------------------------------------------------------
-    def actuate(self, kind, gains=None, error=actuators.PLAIN, owner=None):
+    def actuate(self, kind, gains=None, error=actuators.PLAIN, owner=None, output=actuators.OUT_EFFORT):
         """The joint's actuator, switched to ``kind`` (its PID state from zero) with ``gains`` and
         the position error rule ``error``; ``owner`` (a controller) takes it: the hardware's write
-        leaves it alone until :meth:`release`."""
+        leaves it alone until :meth:`release`. ``output`` OUT_VELOCITY: the output is the velocity
+        interface's command, applied as :meth:`apply_velocity` applies it, at every step."""
         a = self.actuator
         if a is None:
             if self._world is not None:
@@ -184,6 +210,10 @@ class JointResource(object):
         if gains is not None:
             a.gains = gains
         a.effort_limit = self.effort_limit
+        a.output = output
+        if output == actuators.OUT_VELOCITY:
+            a.velocity_limit = self.velocity_limit
+            a.max_force = self.motor_force()
         self.owner = owner
         return a
 
@@ -223,9 +253,12 @@ class JointResource(object):
 
     def release(self):
         """A controller lets the joint go: the hardware applies the active interface's command
-        again (an effort joint keeps the last effort, as ros_control's hardware does)."""
+        again (an effort joint keeps the last effort, a velocity joint its motor at the last
+        velocity, as ros_control's hardware does)."""
         self.owner = None
         self.hardware_actuator()
+        if self.method == VELOCITY:
+            self.apply_velocity(self.command)
 
     def remove_actuator(self):
         """No actuator on the joint (its interface needs none, or the hardware goes)."""
@@ -420,10 +453,7 @@ class RobotHWSim(object):
                 else:
                     res.actuator.command = cmd
             elif m == VELOCITY:
-                if res.velocity_limit is not None:
-                    cmd = min(max(cmd, -res.velocity_limit), res.velocity_limit)
-                fmax = res.effort_limit if res.effort_limit is not None else 1e6
-                res.sim.set_velocity_target(cmd, fmax)
+                res.apply_velocity(cmd)
             elif m == VELOCITY_PID:
                 if res.velocity_limit is not None:
                     cmd = min(max(cmd, -res.velocity_limit), res.velocity_limit)

@@ -16,6 +16,7 @@ class IntegratorJoint(object):
         self._effort = 0.0
         self._kinematic = None
         self._motor = None
+        self._own_motor = None
 
     def set_effort(self, f):
         if not math.isfinite(f):
@@ -34,13 +35,18 @@ class IntegratorJoint(object):
         self._effort += f
 
     def drive_motor(self, v, max_force):
+        """An actuator's motor velocity for this step (OUT_VELOCITY, MOTOR)."""
         self._motor = None if max_force <= 0 else (float(v), float(max_force))
+
+    def release_motor(self):
+        """The actuator lets the motor go: the joint's own (set_velocity_target) again."""
+        self._motor = self._own_motor
 
     def set_position(self, q):
         self._kinematic = float(q)
 
     def set_velocity_target(self, v, max_force):
-        self._motor = None if max_force <= 0 else (float(v), float(max_force))
+        self._motor = self._own_motor = None if max_force <= 0 else (float(v), float(max_force))
 
     def step(self, dt):
         if self._kinematic is not None:

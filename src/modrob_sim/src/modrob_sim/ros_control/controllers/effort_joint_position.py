@@ -9,7 +9,10 @@ writes the target and the gains; the state message is built from what the actuat
 update's step. Between updates with nothing to publish nothing of this runs in Python.
 
 velocity_controllers/JointPositionController is the same loop writing the PID's output to the
-velocity interface (a velocity command): it runs the PID itself, at every update."""
+velocity interface: the actuator's output is the joint's motor velocity (OUT_VELOCITY), as the
+hardware's velocity write would apply it. On a velocity joint with the hardware's own pid_gains
+PID (whose PID would take the controller's output as its target) the controller runs its PID in
+Python at every update and writes the joint's command instead."""
 from modrob_sim.physics import actuators
 from modrob_sim.ros_control.controllers.base import CommandBuffer, CommandResult, Controller, check_finite
 from modrob_sim.ros_control.pid import Pid, PidGains
@@ -20,9 +23,11 @@ INF = float("inf")
 
 
 class _PidController(Controller):
-    """A single-joint PID controller whose PID is the joint's actuator (position or velocity)."""
+    """A single-joint PID controller whose PID is the joint's actuator (position or velocity),
+    its output driving what OUTPUT says."""
     INTERFACE = EFFORT
     KIND = actuators.POSITION_PID
+    OUTPUT = actuators.OUT_EFFORT
 
     def __init__(self, name, hw, params):
         super(_PidController, self).__init__(name, hw, params)
@@ -49,15 +54,17 @@ class _PidController(Controller):
     def starting(self, t):
         self.command.write(self._initial())
         self.pid.reset()
-        self.act = self.joint.actuate(self.KIND, self.pid.gains, self._error_rule(), owner=self)
+        self.act = self.joint.actuate(self.KIND, self.pid.gains, self._error_rule(), owner=self,
+                                      output=self.OUTPUT)
         self._gains = self.pid.gains
         self._start = None
         self.collect_due = False
 
     def stopping(self, t):
-        if self.joint.owner is self:
-            # the hardware keeps applying the last effort, as ros_control's does
-            self.joint.command = self.act.last.output
+        if self.act is not None and self.joint.owner is self:
+            # the hardware keeps applying the last command, as ros_control's does
+            if self.joint.interface == self.INTERFACE:
+                self.joint.command = self.act.last.output
             self.joint.release()
         self.act = None
 
@@ -118,23 +125,30 @@ class EffortJointPositionController(_PidController):
 
 
 class VelocityJointPositionController(EffortJointPositionController):
-    """The PID's output is a velocity command for the hardware: computed here at every update
-    (the World's actuators apply efforts)."""
+    """The PID's output is the velocity joint's motor velocity (an OUT_VELOCITY actuator), or,
+    where the joint cannot take one, a velocity command computed here at every update."""
     TYPE = "velocity_controllers/JointPositionController"
     INTERFACE = VELOCITY
+    OUTPUT = actuators.OUT_VELOCITY
 
     def starting(self, t):
+        if self.joint.can_drive(self.OUTPUT):
+            super(VelocityJointPositionController, self).starting(t)
+            return
         self.command.write(self._initial())
         self.pid.reset()
+        self.act = None
         self._count = 0
 
-    def stopping(self, t):
-        pass
-
     def update_due(self, t, iteration, dt):
-        return t
+        if self.act is None:
+            return t
+        return super(VelocityJointPositionController, self).update_due(t, iteration, dt)
 
     def update(self, t, dt):
+        if self.act is not None:
+            super(VelocityJointPositionController, self).update(t, dt)
+            return
         target = self.command.read()
         error = self.joint.position_error(target)
         command = self.pid.compute(error, dt)

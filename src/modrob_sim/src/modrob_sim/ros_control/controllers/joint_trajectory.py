@@ -454,7 +454,14 @@ class PositionJointTrajectoryController(JointTrajectoryControllerBase):
 class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
     """ros_controllers' ClosedLoopHardwareInterfaceAdapter: per joint, command =
     velocity_ff * desired velocity + PID(position error, velocity error); an effort or a velocity
-    depending on the interface."""
+    depending on the interface.
+
+    The PIDs run in the joints' actuators (SEGMENT_PID with the interface's OUTPUT: the piece of
+    the trajectory that holds, at every step, natively); an update places the next piece when the
+    last one ends. A joint whose interface the actuator cannot drive (a velocity joint with the
+    hardware's own pid_gains PID after the controller's) makes the controller run its PIDs in
+    Python at every update instead, writing the joints' commands."""
+    OUTPUT = actuators.OUT_EFFORT
 
     def __init__(self, name, hw, params):
         super(_ClosedLoopTrajectoryController, self).__init__(name, hw, params)
@@ -464,48 +471,38 @@ class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
         self.pids = [Pid(PidGains.from_params(gains.child(j, required=True))) for j in self.joint_names]
         self.pid_namespaces = [gains.path(j) for j in self.joint_names]
         self.velocity_ff = [ff.get(j, 0.0, kind=float) for j in self.joint_names]
-
-    def _reset_pids(self):
-        for p in self.pids:
-            p.reset()
-
-    def _write(self, dpos, dvel, epos, evel, dt):
-        for j, pid, ff, ep, ev, v in zip(self.joints, self.pids, self.velocity_ff, epos, evel, dvel):
-            j.command = pid.compute(ep, dt, ev) + ff * v
-
-
-class EffortJointTrajectoryController(_ClosedLoopTrajectoryController):
-    """The PIDs run in the joints' actuators (SEGMENT_PID: the piece of the trajectory that holds,
-    at every step, natively); an update places the next piece when the last one ends."""
-    TYPE = "effort_controllers/JointTrajectoryController"
-    INTERFACE = EFFORT
-
-    def __init__(self, name, hw, params):
-        super(EffortJointTrajectoryController, self).__init__(name, hw, params)
         self.acts = []
         self._gains = []
         self._piece = None      # (trajectory, Piece, time) placed in the actuators
 
     def _reset_pids(self):
-        super(EffortJointTrajectoryController, self)._reset_pids()
+        for p in self.pids:
+            p.reset()
         self.acts = []
+        self._piece = None
+        if not all(j.can_drive(self.OUTPUT) for j in self.joints):
+            return
         for j, pid, ff in zip(self.joints, self.pids, self.velocity_ff):
             rule = actuators.SHORTEST if j.type == "continuous" else actuators.PLAIN
-            a = j.actuate(actuators.SEGMENT_PID, pid.gains, rule, owner=self)
+            a = j.actuate(actuators.SEGMENT_PID, pid.gains, rule, owner=self, output=self.OUTPUT)
             a.feedforward = ff
             self.acts.append(a)
         self._gains = [p.gains for p in self.pids]
-        self._piece = None
 
     def stopping(self, t):
-        super(EffortJointTrajectoryController, self).stopping(t)
+        super(_ClosedLoopTrajectoryController, self).stopping(t)
         for j, a in zip(self.joints, self.acts):
             if j.owner is self:
-                j.command = a.last.output
+                if j.interface == self.INTERFACE:   # the hardware keeps the last command
+                    j.command = a.last.output
                 j.release()
         self.acts = []
 
     def _write(self, dpos, dvel, epos, evel, dt):
+        if not self.acts:
+            for j, pid, ff, ep, ev, v in zip(self.joints, self.pids, self.velocity_ff, epos, evel, dvel):
+                j.command = pid.compute(ep, dt, ev) + ff * v
+            return
         t = self._now
         for k, (a, pid) in enumerate(zip(self.acts, self.pids)):
             if pid.gains is not self._gains[k]:
@@ -528,6 +525,8 @@ class EffortJointTrajectoryController(_ClosedLoopTrajectoryController):
                               rel_until=piece.rel_until)
 
     def update_due(self, t, iteration, dt):
+        if not self.acts:
+            return t
         if self.trajectory is None or self._piece is None or self._piece[0] is not self.trajectory:
             return t
         if any(p.gains is not g for p, g in zip(self.pids, self._gains)):
@@ -539,6 +538,13 @@ class EffortJointTrajectoryController(_ClosedLoopTrajectoryController):
         return min(ends - 0.5 * dt, self._samples_due_from(), self._goal_due(t))
 
 
+class EffortJointTrajectoryController(_ClosedLoopTrajectoryController):
+    TYPE = "effort_controllers/JointTrajectoryController"
+    INTERFACE = EFFORT
+
+
 class VelocityJointTrajectoryController(_ClosedLoopTrajectoryController):
+    """The PIDs' outputs are the velocity joints' motor velocities (OUT_VELOCITY actuators)."""
     TYPE = "velocity_controllers/JointTrajectoryController"
     INTERFACE = VELOCITY
+    OUTPUT = actuators.OUT_VELOCITY
