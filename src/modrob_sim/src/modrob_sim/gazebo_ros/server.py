@@ -64,7 +64,7 @@ def report_physics_backend(world):
         return
     text = "physics: pure-Python path (slower; triangle meshes collide as their bounding boxes): %s" % (
         native.REASON or "the native loop is off")
-    if native.REASON and "MODROB_PHYSICS_NATIVE" in native.REASON:
+    if native.DISABLED:
         rospy.loginfo(text)
     else:
         rospy.logwarn(text)

@@ -135,6 +135,8 @@ class World(object):
         self._p.contact_group = ode.JointGroup()
         if native and native_mod.LIB is None:
             raise SimulationError("the native physics loop is not available: %s" % native_mod.REASON)
+        if native is None and native_mod.STALE:      # not the pure-Python path unnoticed
+            raise SimulationError(native_mod.REASON)
         self._p.params = OrderedDict(DEFAULT_PARAMS)
         self._p.entries = {}       # model -> _ModelEntry
         self._p.geom_info = {}

@@ -220,7 +220,10 @@ def _hit_cylinder_many(o, d, r, length, caps=True):
 
 
 def make_caster(world, exclude=(), kind=None):
-    """The ODE caster when the native library is available (or ``kind="ode"``), else numpy."""
+    """The ODE caster when the native library is available (or ``kind="ode"``), else numpy; a
+    library built from another source (sensors.native.STALE): RuntimeError saying to build."""
+    if kind is None and native.STALE:
+        raise RuntimeError(native.REASON)
     if kind == "numpy" or (kind is None and not NATIVE_AVAILABLE):
         return NumpyRayCaster(world, exclude)
     return OdeRayCaster(world, exclude)

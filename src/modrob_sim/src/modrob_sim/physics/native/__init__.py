@@ -8,14 +8,21 @@ install space that ``setup.bash`` put there). Nothing is compiled at run time. W
 :data:`LIB` is None and :data:`REASON` says why and how to build it; the World then uses the
 pure-Python path (same semantics, slower; triangle meshes collide as their bounding boxes), and
 the /gazebo node says so in one line at start-up. ``MODROB_PHYSICS_NATIVE=0`` selects the
-pure-Python path on purpose.
+pure-Python path on purpose (:data:`DISABLED`).
+
+A library built from another ``modrob_ode_native.c`` than the one next to this module (a pull or
+rebase without a build: its compiled-in SHA-256, :func:`source_mismatch`) is not loaded:
+:data:`STALE` is True, :data:`REASON` names the files and says to build, and a World that would
+use the native loop refuses to start rather than run on the pure-Python path unnoticed.
 """
 import ctypes
+import hashlib
 import os
 
 from .. import odelib
 
 LIBRARY = "libmodrob_ode_native.so"
+SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "modrob_ode_native.c")
 BUILD_HINT = ("build the workspace (catkin_make, or colcon build and source install/setup.bash), "
               "then start again")
 
@@ -24,6 +31,10 @@ LIB = None
 #: that the simulation thread makes between batches); its users declare the signatures they call
 LIB_HELD = None
 REASON = None
+#: the native loop is off on purpose (MODROB_PHYSICS_NATIVE=0)
+DISABLED = False
+#: the library was built from another source than SOURCE: it must be built again
+STALE = False
 
 
 def library_dirs():
@@ -48,6 +59,31 @@ def find_library(name):
             return path
     raise FileNotFoundError("%s is not built (looked in %s); %s"
                             % (name, ", ".join(dirs) or "CMAKE_PREFIX_PATH, which is empty", BUILD_HINT))
+
+
+def source_mismatch(lib, path, source):
+    """Why the library ``lib`` (loaded from ``path``) was not built from ``source``, or None when
+    it was: the SHA-256 the build compiled in (``modrob_source_sha256()``) against the file's. None
+    too when ``source`` is not there to compare (an install space without sources)."""
+    if not os.path.isfile(source):
+        return None
+    with open(source, "rb") as f:
+        want = hashlib.sha256(f.read()).hexdigest()
+    try:
+        fn = lib.modrob_source_sha256
+    except AttributeError:
+        built = None
+    else:
+        fn.restype = ctypes.c_char_p
+        fn.argtypes = []
+        built = fn().decode("ascii", "replace")
+    if built == want:
+        return None
+    return ("%s is out of date: it was built from another %s than the one there now (%s: sha256 %s; "
+            "the library: %s). Build again: `make build` in the workspace (or catkin_make / colcon "
+            "build), then start again; MODROB_PHYSICS_NATIVE=0 runs the pure-Python physics on purpose"
+            % (path, os.path.basename(source), source, want[:12],
+               "built from %s" % built[:12] if built else "no checksum, built before they had one"))
 
 
 def _declare(lib):
@@ -96,17 +132,23 @@ def _declare(lib):
 
 
 def load():
-    global LIB, LIB_HELD, REASON
-    LIB, LIB_HELD, REASON = None, None, None
+    global LIB, LIB_HELD, REASON, DISABLED, STALE
+    LIB, LIB_HELD, REASON, DISABLED, STALE = None, None, None, False, False
     if os.environ.get("MODROB_PHYSICS_NATIVE", "1").strip().lower() in ("0", "false", "no", "off"):
         REASON = "disabled by MODROB_PHYSICS_NATIVE=0"
+        DISABLED = True
         return None
     if not odelib.AVAILABLE:
         REASON = "PyODE's object layout could not be verified"
         return None
     try:
         path = find_library(LIBRARY)
-        LIB = _declare(ctypes.CDLL(path))
+        lib = ctypes.CDLL(path)
+        stale = source_mismatch(lib, path, SOURCE)
+        if stale:
+            REASON, STALE = stale, True
+            return None
+        LIB = _declare(lib)
         LIB_HELD = ctypes.PyDLL(path)
     except FileNotFoundError as e:
         REASON = str(e)

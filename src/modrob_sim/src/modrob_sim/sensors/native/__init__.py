@@ -3,18 +3,23 @@ target ``modrob_raycast`` of modrob_sim, found like the physics' native loop: se
 :func:`modrob_sim.physics.native.find_library`) with ctypes.
 
 :data:`LIB` is the loaded library or None; :data:`REASON` says why it is None (the ray sensors
-then use the numpy caster, which knows boxes, spheres, cylinders, capsules and planes only).
+then use the numpy caster, which knows boxes, spheres, cylinders, capsules and planes only). A
+library built from another ``modrob_raycast.c`` than the one next to this module is not loaded
+(:data:`STALE`, as the physics' loop): ray sensors then refuse to start, naming the files.
 """
 import ctypes
 import logging
+import os
 
 from modrob_sim.physics import native as physics_native
 
 LOG = logging.getLogger("modrob_sim.sensors")
 LIBRARY = "libmodrob_raycast.so"
+SOURCE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "modrob_raycast.c")
 
 LIB = None
 REASON = None
+STALE = False
 
 
 def _declare(lib):
@@ -27,12 +32,19 @@ def _declare(lib):
 
 
 def load():
-    global LIB, REASON
+    global LIB, REASON, STALE
+    LIB, REASON, STALE = None, None, False
     if physics_native.LIB is None:
         REASON = "the physics' native loop is off (%s)" % (physics_native.REASON or "unavailable")
         return None
     try:
-        LIB = _declare(ctypes.CDLL(physics_native.find_library(LIBRARY)))
+        path = physics_native.find_library(LIBRARY)
+        lib = ctypes.CDLL(path)
+        stale = physics_native.source_mismatch(lib, path, SOURCE)
+        if stale:
+            REASON, STALE = stale, True
+            return None
+        LIB = _declare(lib)
     except (FileNotFoundError, OSError, AttributeError) as e:
         REASON = str(e)
         LOG.warning("native ray caster unavailable (%s): ray sensors use the numpy caster", e)

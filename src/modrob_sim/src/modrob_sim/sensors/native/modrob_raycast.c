@@ -207,3 +207,10 @@ void rc_geom_aabb(dGeomID g, double *out6)
     dGeomGetAABB(g, a);
     for (int k = 0; k < 6; ++k) out6[k] = a[k];
 }
+
+/* the SHA-256 of this file as the build saw it (CMakeLists.txt): the loader compares it with the
+ * source next to it and refuses a library built from another one */
+#ifndef MODROB_SOURCE_SHA256
+#define MODROB_SOURCE_SHA256 ""
+#endif
+const char *modrob_source_sha256(void) { return MODROB_SOURCE_SHA256; }
