@@ -51,7 +51,8 @@ def test_a_library_built_from_another_source_is_refused(tmp_path, reload_after):
     reload_after.setattr(native, "SOURCE", str(changed))
     native.load()
     assert native.STALE and native.LIB is None and not native.DISABLED
-    for text in (built(native.LIBRARY), str(changed), "out of date", "`make build`", "MODROB_PHYSICS_NATIVE=0"):
+    for text in (built(native.LIBRARY), str(changed), "out of date", "`make build`",
+                 "MODROB_PHYSICS_NATIVE=0"):
         assert text in native.REASON
     with pytest.raises(SimulationError, match="out of date.*make build"):
         World()
