@@ -1,7 +1,8 @@
 """Process helpers the benchmark scripts share: a free port for a ROS master, a process's CPU
-time, the processes below one, and starting/stopping a command in a session of its own
-(roslaunch and its nodes end together)."""
+time, the processes below one, starting/stopping a command in a session of its own (roslaunch
+and its nodes end together), and ending a child started in the bench's own session."""
 import os
+import signal
 import socket
 import subprocess
 
@@ -47,13 +48,26 @@ def start(cmd, env, log=None):
                             start_new_session=True)
 
 
-def stop(proc):
-    """SIGINT to the process group (as Ctrl-C), SIGKILL after 20 s."""
+def stop(proc, timeout=20.0):
+    """SIGINT to the process group (as Ctrl-C), SIGKILL after ``timeout`` s."""
     if proc is None or proc.poll() is not None:
         return
     os.killpg(proc.pid, 2)
     try:
-        proc.wait(20)
+        proc.wait(timeout)
     except subprocess.TimeoutExpired:
         os.killpg(proc.pid, 9)
+        proc.wait()
+
+
+def terminate(proc, timeout=10.0, sig=signal.SIGTERM):
+    """``sig`` to ``proc`` alone (a node started in the bench's own session, where a signal to the
+    group would reach the bench), SIGKILL when it has not ended within ``timeout`` s."""
+    if proc is None or proc.poll() is not None:
+        return
+    proc.send_signal(sig)
+    try:
+        proc.wait(timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
         proc.wait()

@@ -97,8 +97,7 @@ def main():
             for s in subs:
                 s.unregister()
         finally:
-            node.terminate()
-            node.wait(10)
+            units.terminate(node)
     finally:
         master.close()
     summarise(args.out)

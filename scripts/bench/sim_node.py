@@ -24,7 +24,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import physics_core as scene  # noqa: E402  (the same scene and PD gains)
-from procs import cpu_seconds, free_port  # noqa: E402
+from procs import cpu_seconds, free_port, terminate  # noqa: E402
 
 SECTION = "Simulator node"
 PLUGIN = "libmodrob_bench_pd.so"
@@ -110,11 +110,7 @@ def run_node(seconds, clock_hz, subscribe, env):
                 "rtf": (t1 - t0) / wall, "cpu_load": (c1 - c0) / wall,
                 "rates": {k: (counts[k] - n0[k]) / wall for k in counts}}
     finally:
-        node.terminate()
-        try:
-            node.wait(10)
-        except subprocess.TimeoutExpired:
-            node.kill()
+        terminate(node)
 
 
 def write_section(text):
@@ -173,8 +169,7 @@ def main():
                 except ImportError:
                     print("[bench] pybullet not importable: run through sim_node.sh", file=sys.stderr)
     finally:
-        core.terminate()
-        core.wait(10)
+        terminate(core)
 
     ref = max(bullet, key=lambda b: b["steps_per_s"]) if bullet else None
     lines = ["| configuration | steps/s per CPU s (best of %d) | vs PyBullet (CPU) | steps/s wall | "

@@ -26,7 +26,7 @@ import subprocess
 import sys
 import time
 
-from procs import free_port
+from procs import free_port, stop, terminate
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -134,12 +134,7 @@ def run(root, cycles, every, memdebug, log, env):
             assert r.success, r.status_message
         return samples, reports
     finally:
-        if node is not None:
-            node.send_signal(signal.SIGINT)
-            try:
-                node.wait(30)
-            except subprocess.TimeoutExpired:
-                node.kill()
+        terminate(node, 30.0, signal.SIGINT)
 
 
 def growth(samples, skip):
@@ -220,9 +215,7 @@ def main():
                 print("---- node's memory report at cycle %d\n%s" % (cycle, text))
             curves.append((label, samples, time.time() - t0))
     finally:
-        if core is not None:
-            os.killpg(core.pid, signal.SIGINT)
-            core.wait(30)
+        stop(core, 30.0)
     skip = min(args.cycles // 3, 500)
     rows = []
     for label, samples, secs in curves:

@@ -22,7 +22,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import physics_core as scene  # noqa: E402  (the scene, the PD gains, our engine and PyBullet's runs)
-from procs import cpu_seconds, descendants, free_port  # noqa: E402
+from procs import cpu_seconds, descendants, free_port, stop, terminate  # noqa: E402
 
 N = scene.N_JOINTS
 JOINTS = ["joint%d" % (i + 1) for i in range(N)]
@@ -64,12 +64,7 @@ class Master(object):
             time.sleep(0.1)
 
     def close(self):
-        import signal
-        try:
-            os.killpg(self.proc.pid, signal.SIGINT)
-            self.proc.wait(15)
-        except (subprocess.TimeoutExpired, ProcessLookupError):
-            os.killpg(self.proc.pid, signal.SIGKILL)
+        stop(self.proc, 15.0)
 
 
 # ---- MuJoCo: the same URDF files, the same PD law ----------------------------------------------------
@@ -241,11 +236,7 @@ def run_node_once(seconds, clock_hz, ns="/arm", env=None, roscpp=True):
                 "rtf": (t1 - t0) / wall, "cpu_load": (c1 - c0) / wall, "rss_mb": rss,
                 "rates": {k: (counts[k] - n0[k]) / wall for k in counts}}
     finally:
-        node.terminate()
-        try:
-            node.wait(10)
-        except subprocess.TimeoutExpired:
-            node.kill()
+        terminate(node)
 
 
 def unit_node(args):
@@ -349,11 +340,7 @@ def run_sensor_arm_once(seconds, sensors, subscribe, env=None):
         return {"sim_per_cpu": (t1 - t0) / max(1e-9, c1 - c0), "rtf": (t1 - t0) / wall,
                 "cpu_load": (c1 - c0) / wall, "rates": {k: (got[k] - n0[k]) / wall for k in got}}
     finally:
-        node.terminate()
-        try:
-            node.wait(10)
-        except subprocess.TimeoutExpired:
-            node.kill()
+        terminate(node)
 
 
 def unit_sensor_arm(args):
@@ -527,8 +514,7 @@ def unit_rss(args):
             time.sleep(args.seconds or 2.0)
             ours = rss_mb(node.pid)
         finally:
-            node.terminate()
-            node.wait(10)
+            terminate(node)
     finally:
         master.close()
     peer = float(subprocess.run([sys.executable, "-c", PYBULLET_RSS, HERE], capture_output=True, text=True,
@@ -667,11 +653,7 @@ def run_mobile_once(seconds, plugins, depth=False, watch_camera=True):
         return {"rtf": sim / wall, "sim_per_cpu": sim / max(1e-9, c1 - c0), "cpu_load": (c1 - c0) / wall,
                 "rates": {k: (counts[k] - n0[k]) / sim for k in counts}}
     finally:
-        node.terminate()
-        try:
-            node.wait(10)
-        except subprocess.TimeoutExpired:
-            node.kill()
+        terminate(node)
 
 
 def unit_mobile(args):
