@@ -5,11 +5,11 @@ rospkg over package trees in a temporary folder) and the process manager with st
 cameras' publishers (their subscriber counts) and a real child process (a Python script that waits
 for its signal) in place of the renderer.
 """
+import importlib.util
 import logging
 import os
 import subprocess
 import sys
-import textwrap
 import threading
 import time
 
@@ -18,6 +18,12 @@ import rospkg
 
 from modrob_sim.camera.renderer_process import Demand, RendererProcess, check_display
 from modrob_sim.gazebo_ros.package_exports import PackageExports
+
+_FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures")
+_spec = importlib.util.spec_from_file_location("package_trees", os.path.join(_FIXTURES, "package_trees.py"))
+package_trees = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(package_trees)
+make_package = package_trees.make_package
 
 
 # ---- the rule ----------------------------------------------------------------------------------
@@ -60,25 +66,11 @@ def test_bad_display_is_refused_by_name(value):
 
 
 # ---- the export --------------------------------------------------------------------------------
-def _package(root, name, exports):
-    pdir = os.path.join(root, name)
-    os.makedirs(pdir)
-    with open(os.path.join(pdir, "package.xml"), "w") as f:
-        f.write(textwrap.dedent("""\
-            <?xml version="1.0"?>
-            <package format="2"><name>%s</name><version>0.0.1</version><description>fixture</description>
-              <maintainer email="fixture@example.org">a</maintainer><license>BSD</license>
-              <buildtool_depend>catkin</buildtool_depend>
-              <export>%s</export>
-            </package>
-            """) % (name, exports))
-
-
 def test_camera_renderer_export_is_read(tmp_path, caplog):
     root = str(tmp_path)
-    _package(root, "viz_a", '<modrob_sim camera_renderer="my_renderer"/>'
-                            '<modrob_sim filename="libp.so" module="viz_a.p"/>')
-    _package(root, "viz_b", '<modrob_sim camera_renderer="a/b"/>')
+    make_package(root, "viz_a", '<modrob_sim camera_renderer="my_renderer"/>'
+                                '<modrob_sim filename="libp.so" module="viz_a.p"/>')
+    make_package(root, "viz_b", '<modrob_sim camera_renderer="a/b"/>')
     exports = PackageExports(rospkg.RosPack([root]))
     with caplog.at_level(logging.WARNING):
         found = exports.camera_renderers()

@@ -7,10 +7,10 @@ plugin_path gazebo_model_path gazebo_media_path/>`` are read with ``${prefix}`` 
 An unknown plugin is warned about once, naming the model, the file and where it was looked for.
 Packages are real package trees in a temporary folder, read by a real rospkg.RosPack.
 """
+import importlib.util
 import logging
 import os
 import sys
-import textwrap
 
 import pytest
 import rospkg
@@ -19,6 +19,12 @@ from modrob_sim.gazebo_ros import plugins
 from modrob_sim.gazebo_ros.package_exports import PackageExports
 from modrob_sim.gazebo_ros.plugin_host import PluginHost
 from modrob_sim.physics import World
+
+_FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures")
+_spec = importlib.util.spec_from_file_location("package_trees", os.path.join(_FIXTURES, "package_trees.py"))
+package_trees = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(package_trees)
+make_package = package_trees.make_package
 
 MODULE = '''
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
@@ -38,28 +44,6 @@ class Counter(ModelPlugin):
 
 register_plugin("{filename}", Counter)
 '''
-
-
-def make_package(root, name, exports, modules=None):
-    """A package tree: <root>/<name>/package.xml with the export lines, src/<name>/<module>.py."""
-    pdir = os.path.join(root, name)
-    os.makedirs(pdir)
-    with open(os.path.join(pdir, "package.xml"), "w") as f:
-        f.write(textwrap.dedent("""\
-            <?xml version="1.0"?>
-            <package format="2"><name>%s</name><version>0.0.1</version><description>fixture</description>
-              <maintainer email="fixture@example.org">a</maintainer><license>BSD</license>
-              <buildtool_depend>catkin</buildtool_depend>
-              <export>%s</export>
-            </package>
-            """) % (name, exports))
-    for mod, text in (modules or {}).items():
-        mdir = os.path.join(pdir, "src", name)
-        os.makedirs(mdir, exist_ok=True)
-        open(os.path.join(mdir, "__init__.py"), "a").close()
-        with open(os.path.join(mdir, mod + ".py"), "w") as f:
-            f.write(text)
-    return pdir
 
 
 URDF = """<robot name="r"><link name="base"><inertial><mass value="1"/>

@@ -2,44 +2,27 @@
 backends: a can squeezed between two fingers is attached to the palm after the grip count passes
 its threshold and lifted with it (its own friction could not), released when the fingers open and
 falls back; collisions off while held when asked; bad configuration is named."""
+import importlib.util
 import os
 
 import pytest
 
 from modrob_sim.arm_plugins import grasp_fix
-from modrob_sim.gazebo_ros.plugin_host import PluginHost
-from modrob_sim.physics import World
 from modrob_sim.physics.actuators import EFFORT, POSITION_PID, PidGains
 
-FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "force")
+_FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures")
+_spec = importlib.util.spec_from_file_location("plugin_rig", os.path.join(_FIXTURES, "plugin_rig.py"))
+plugin_rig = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(plugin_rig)
+close_worlds = plugin_rig.close_worlds          # (autouse: the Worlds of a test closed after it)
+plugin_world = plugin_rig.plugin_world
 BACKENDS = [None, False]
-WORLDS = []
-
-
-@pytest.fixture(autouse=True)
-def _close_worlds():
-    yield
-    while WORLDS:
-        WORLDS.pop().close()
-
-
-def read(name):
-    with open(os.path.join(FIX, name)) as f:
-        return f.read()
 
 
 def rig(native, replace=()):
-    urdf = read("grasp_rig.urdf")
-    for a, b in replace:
-        urdf = urdf.replace(a, b)
-    w = World(native=native)
-    WORLDS.append(w)
-    w.add_urdf("ground", read("../physics/ground_box.urdf"))
-    host = PluginHost(w, "/gazebo", lambda uri: uri)
-    w.add_step_hook(host.before_step, host.after_step, host.before_due, host.after_due)   # as the node
-    m = w.add_urdf("grasp_rig", urdf)
-    loaded = host.load(m)
-    can = w.add_urdf("can", read("can.urdf"))
+    w, host, m, loaded = plugin_world(native, "force/grasp_rig.urdf", "grasp_rig", replace,
+                                      before=[("ground", "physics/ground_box.urdf")])
+    can = w.add_urdf("can", plugin_rig.fixture_text("force/can.urdf"))
     lift = w.add_actuator(m.joints["lift"], POSITION_PID, gains=PidGains(3000.0, 2000.0, 120.0, 50.0, -50.0))
     fingers = [w.add_actuator(m.joints[j], EFFORT) for j in ("left_finger_joint", "right_finger_joint")]
     return w, host, m, loaded, can, lift, fingers

@@ -2,40 +2,26 @@
 both physics backends: the follower keeps within 1 mrad of multiplier * master + offset while the
 master moves (the World's coupling, natively between hooks), with <hasPID> its PID holds it there,
 bad configuration names the joint, and unloading gives the joint back."""
+import importlib.util
 import os
 
 import pytest
 
 from modrob_sim.arm_plugins import mimic_joint
-from modrob_sim.gazebo_ros.plugin_host import PluginHost
-from modrob_sim.physics import World
 from modrob_sim.physics.actuators import POSITION_PID, PidGains
 
-FIXTURE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "force",
-                       "mimic_fingers.urdf")
+_FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures")
+_spec = importlib.util.spec_from_file_location("plugin_rig", os.path.join(_FIXTURES, "plugin_rig.py"))
+plugin_rig = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(plugin_rig)
+close_worlds = plugin_rig.close_worlds          # (autouse: the Worlds of a test closed after it)
 BACKENDS = [None, False]
-WORLDS = []
-
-
-@pytest.fixture(autouse=True)
-def _close_worlds():
-    yield
-    while WORLDS:
-        WORLDS.pop().close()
 
 
 def fingers(native, plugin_extra="", replace=None):
-    with open(FIXTURE) as f:
-        urdf = f.read()
-    urdf = urdf.replace("<maxEffort>5.0</maxEffort>", "<maxEffort>5.0</maxEffort>" + plugin_extra)
-    for a, b in (replace or ()):
-        urdf = urdf.replace(a, b)
-    w = World(native=native)
-    WORLDS.append(w)
-    host = PluginHost(w, "/gazebo", lambda uri: uri)
-    w.add_step_hook(host.before_step, host.after_step, host.before_due, host.after_due)   # as the node
-    m = w.add_urdf("fingers", urdf)
-    loaded = host.load(m)
+    edits = [("<maxEffort>5.0</maxEffort>", "<maxEffort>5.0</maxEffort>" + plugin_extra)]
+    edits += list(replace or ())
+    w, host, m, loaded = plugin_rig.plugin_world(native, "force/mimic_fingers.urdf", "fingers", edits)
     drive = w.add_actuator(m.joints["right_finger_joint"], POSITION_PID, gains=PidGains(1.0, 0.0, 0.01))
     return w, host, m, loaded, drive
 
