@@ -59,15 +59,16 @@ class CanStackNode(object):
         self.stacker = Stacker(self.arm, self.planner, log=progress)
 
     # -- where are the cans ----------------------------------------------------------------------
-    def can_names(self):
+    def can_poses(self):
+        """{name: pose} of the simulator's models with 'can' in the name, once there are two (or
+        after ``wait`` s: what there is)."""
         end = rospy.get_time() + self.wait
         while not rospy.is_shutdown():
-            with self.arm.lock:
-                names = sorted(n for n in self.arm.models if "can" in n)
-            if len(names) >= 2 or rospy.get_time() > end:
-                return names
+            cans = {n: p for n, p in self.arm.model_poses().items() if "can" in n}
+            if len(cans) >= 2 or rospy.get_time() > end:
+                return cans
             rospy.sleep(0.1)
-        return []
+        return {}
 
     def jitter_cans(self):
         """Move every can by a seeded random offset (benchmarks); returns the offsets."""
@@ -75,8 +76,7 @@ class CanStackNode(object):
         set_state = rospy.ServiceProxy("/gazebo/set_model_state", SetModelState)
         set_state.wait_for_service(self.wait)
         moved = {}
-        for name in self.can_names():
-            (p, _) = self.arm.model_pose(name)
+        for name, (p, _) in sorted(self.can_poses().items()):
             dx, dy = rng.uniform(-self.jitter, self.jitter), rng.uniform(-self.jitter, self.jitter)
             st = ModelState(model_name=name, reference_frame="world")
             st.pose.position.x, st.pose.position.y, st.pose.position.z = p[0] + dx, p[1] + dy, p[2]
@@ -92,14 +92,14 @@ class CanStackNode(object):
         return moved
 
     def cans_from_model_states(self):
-        names = self.can_names()
-        if len(names) < 2:
+        poses = self.can_poses()
+        if len(poses) < 2:
             raise StackError("the simulator reports %d models with 'can' in the name (%s); two are needed"
-                             % (len(names), ", ".join(names)))
+                             % (len(poses), ", ".join(sorted(poses))))
         tf = _lookup(self.tf_buffer, BASE_FRAME, "world", self.wait)
         cans = []
-        for n in names:
-            (p, _) = self.arm.model_pose(n)
+        for n in sorted(poses):
+            (p, _) = poses[n]
             c = apply_transform(tf, p)
             cans.append(Can(c[0], c[1], c[2] - 0.5 * CAN_HEIGHT, CAN_RADIUS, CAN_HEIGHT))
         return cans
@@ -127,20 +127,15 @@ class CanStackNode(object):
             cans.append(Can(c[0], c[1], 0.0, CAN_RADIUS, CAN_HEIGHT))
         return cans
 
-    def model_near(self, can):
-        """The simulator's can model nearest to a can (for judging the result). The detector's
-        message can come before the first /gazebo/model_states: this waits for the cans there."""
-        names = self.can_names()
-        if not names:
+    def model_near(self, can, poses):
+        """The simulator's can model nearest to a can (for judging the result), of ``poses``
+        (:meth:`can_poses`)."""
+        if not poses:
             raise StackError("/gazebo/model_states named no model with 'can' in its name within %.0f s "
                              "(is the simulator running?)" % self.wait)
         tf = _lookup(self.tf_buffer, BASE_FRAME, "world", self.wait)
         best, dist = None, float("inf")
-        with self.arm.lock:
-            items = list(self.arm.models.items())
-        for name, (p, _) in items:
-            if name not in names:
-                continue
+        for name, (p, _) in sorted(poses.items()):
             c = apply_transform(tf, p)
             d = math.hypot(c[0] - can.x, c[1] - can.y)
             if d < dist:
@@ -169,8 +164,11 @@ class CanStackNode(object):
         cans = self.cans_from_detection() if self.source == "detection" else self.cans_from_model_states()
         cans.sort(key=lambda c: -math.hypot(c.x, c.y))
         top, bottom = cans[0], cans[1]
-        top_name, top_err = self.model_near(top)
-        bottom_name, bottom_err = self.model_near(bottom)
+        poses = self.can_poses()
+        top_name, top_err = self.model_near(top, poses)
+        bottom_name, bottom_err = self.model_near(bottom, poses)
+        # the frames are known (static ones): the arm's moving frames need not come in any more
+        self.tf_listener.unregister()
         progress("cans (%s): pick the farther at (%.3f, %.3f) [%s, %.1f mm off], stack it on the nearer at "
                  "(%.3f, %.3f) [%s, %.1f mm off]"
                  % (self.source, top.x, top.y, top_name, top_err * 1000,

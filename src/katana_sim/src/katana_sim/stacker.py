@@ -39,16 +39,17 @@ class StackError(KatanaError):
 
 
 class ArmInterface(object):
-    """katana_arm_gazebo's arm and gripper actions, joint states and the simulator's model states."""
+    """katana_arm_gazebo's arm and gripper actions, joint states and the simulator's model states
+    (read when asked: the stacker needs them before the plan and for the judgement, and the
+    simulator sends them 100 times per simulated second to whoever subscribes)."""
 
     def __init__(self, wait=120.0):
         self.lock = threading.Lock()
+        self.wait = wait
         self.q = {}
-        self.models = {}
         self.joint_log = []          # (t, desired, actual) samples for the tracking plot
         self.desired = None
         rospy.Subscriber("/joint_states", JointState, self._joint_states, queue_size=5)
-        rospy.Subscriber("/gazebo/model_states", ModelStates, self._model_states, queue_size=1)
         self.arm = SimpleActionClient("/katana_arm_controller/follow_joint_trajectory",
                                       FollowJointTrajectoryAction)
         self.gripper = SimpleActionClient("/gripper_grasp_posture_controller", GripperCommandAction)
@@ -72,20 +73,22 @@ class ArmInterface(object):
                 self.joint_log.append((msg.header.stamp.to_sec(), list(self.desired),
                                        [self.q[j] for j in kin.JOINTS]))
 
-    def _model_states(self, msg):
-        with self.lock:
-            for name, pose in zip(msg.name, msg.pose):
-                self.models[name] = ((pose.position.x, pose.position.y, pose.position.z),
-                                     (pose.orientation.x, pose.orientation.y, pose.orientation.z,
-                                      pose.orientation.w))
-
     def joints(self):
         with self.lock:
             return [self.q[j] for j in kin.JOINTS]
 
+    def model_poses(self):
+        """{model name: ((x, y, z), (qx, qy, qz, qw))} of the next /gazebo/model_states."""
+        try:
+            msg = rospy.wait_for_message("/gazebo/model_states", ModelStates, timeout=self.wait)
+        except rospy.ROSException:
+            raise StackError("no /gazebo/model_states within %.0f s: is the simulator running?" % self.wait)
+        return {name: ((pose.position.x, pose.position.y, pose.position.z),
+                       (pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w))
+                for name, pose in zip(msg.name, msg.pose)}
+
     def model_pose(self, name):
-        with self.lock:
-            return self.models.get(name)
+        return self.model_poses().get(name)
 
     def follow(self, points, timeout_margin=20.0, tolerance=None):
         """points [(t, q)]; ``tolerance`` (rad): the goal's position tolerance for every joint
@@ -204,7 +207,8 @@ class Stacker(object):
         start = self.release_time if self.release_time is not None else rospy.get_time()
         while not rospy.is_shutdown() and rospy.get_time() < start + wait:
             rospy.sleep(0.1)
-        top, bottom = self.arm.model_pose(top_name), self.arm.model_pose(bottom_name)
+        poses = self.arm.model_poses()
+        top, bottom = poses.get(top_name), poses.get(bottom_name)
         if top is None or bottom is None:
             raise StackError("the simulator reports no model '%s' or '%s'" % (top_name, bottom_name))
         return judge_stack(top, bottom, can_height=can_height)
