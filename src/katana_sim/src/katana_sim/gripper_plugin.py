@@ -13,8 +13,8 @@ ROS interface:
   goal ``command.position`` = finger angle (rad, 0.30 open .. -0.44 closed), ``command.max_effort``
   = torque limit per finger (N m, <= 0: max_torque); result ``stalled: true, reached_goal: false``
   with a position above -0.43 rad means an object is held (logged as such);
-* ``joint_states`` (``sensor_msgs/JointState``) with the two finger joints (they have no
-  transmission, so joint_state_controller does not publish them), 50 Hz of simulated time;
+* no joint states: as katana_gazebo_plugins' plugin, it leaves them to joint_state_controller (the
+  finger joints have effort transmissions that no controller claims);
 * ``<node_namespace>/gripper_controller_state`` (``control_msgs/JointTrajectoryControllerState``:
   desired/actual/error positions of the fingers), 25 Hz.
 """
@@ -24,7 +24,6 @@ import threading
 import actionlib
 import rospy
 from control_msgs.msg import (GripperCommandAction, GripperCommandResult, JointTrajectoryControllerState)
-from sensor_msgs.msg import JointState
 from std_msgs.msg import Header
 from trajectory_msgs.msg import JointTrajectoryPoint
 
@@ -82,11 +81,9 @@ class KatanaGripperPlugin(ModelPlugin):
         self.acts = [context.world.add_actuator(j, actuators.EFFORT, gains=gains) for j in self.joints]
         self.lock = threading.Lock()
         self._done = threading.Condition(self.lock)
-        self._next_js = 0.0
         self._next_state = 0.0
-        # the node's publishers (roscpp's transport): a rospy publish from the loop thread hands
+        # the node's publisher (roscpp's transport): a rospy publish from the loop thread hands
         # the GIL to rospy's writer thread and waits to get it back
-        self._js_pub = context.advertise("joint_states", JointState, queue_size=5)
         ns = cfg["node_namespace"].strip("/")
         self._state_pub = context.advertise(("/%s/" % ns if ns else "/") + "gripper_controller_state",
                                             JointTrajectoryControllerState, queue_size=1)
@@ -107,7 +104,7 @@ class KatanaGripperPlugin(ModelPlugin):
         with self.lock:
             if not self._holds():
                 return None
-        return min(self._next_js, self._next_state)
+        return self._next_state
 
     def before_step(self, t, dt):
         positions = [j.position for j in self.joints]
@@ -131,31 +128,26 @@ class KatanaGripperPlugin(ModelPlugin):
                     a.kind = actuators.EFFORT
                 a.effort_limit = None
                 a.command = effort
-        if t >= self._next_js:
-            self._next_js = t + 0.02
-            stamp = rospy.Time.from_sec(t)
-            self._js_pub.publish(JointState(name=self.names, position=positions, velocity=velocities,
-                                            effort=list(efforts), header=_header(stamp)))
-            if t >= self._next_state:
-                self._next_state = t + 0.04
-                msg = JointTrajectoryControllerState(joint_names=self.names, header=_header(stamp))
-                msg.desired = JointTrajectoryPoint(positions=[setpoint, setpoint])
-                msg.actual = JointTrajectoryPoint(positions=positions, velocities=velocities)
-                msg.error = JointTrajectoryPoint(positions=[setpoint - q for q in positions])
-                self._state_pub.publish(msg)
+        if t >= self._next_state:
+            self._next_state = t + 0.04
+            msg = JointTrajectoryControllerState(joint_names=self.names,
+                                                 header=_header(rospy.Time.from_sec(t)))
+            msg.desired = JointTrajectoryPoint(positions=[setpoint, setpoint])
+            msg.actual = JointTrajectoryPoint(positions=positions, velocities=velocities)
+            msg.error = JointTrajectoryPoint(positions=[setpoint - q for q in positions])
+            self._state_pub.publish(msg)
 
     def reset(self):
         with self.lock:
             self.core.cancel(0.0)
             self.core.setpoint = None
-            self._next_js = self._next_state = 0.0
+            self._next_state = 0.0
             self._done.notify_all()
 
     def shutdown(self):
         with self.lock:
             self.core.cancel(0.0)
             self._done.notify_all()
-        self._js_pub.unregister()
         self._state_pub.unregister()
         # actionlib has no clean way to stop a SimpleActionServer; its topics go with the node
 

@@ -43,6 +43,8 @@ class KatanaArm(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("katana_arm_check")
         cls.positions = {}
+        cls.layouts = set()         # the joint names of every /joint_states message
+        cls.stamps = []
         rospy.Subscriber("/joint_states", JointState, cls._joint_states)
         cls.detections = None
         rospy.Subscriber("/katana/detected_objects", PoseArray, cls._detections)
@@ -66,6 +68,18 @@ class KatanaArm(unittest.TestCase):
     def _joint_states(cls, msg):
         for name, q in zip(msg.name, msg.position):
             cls.positions[name] = q
+        cls.layouts.add(tuple(msg.name))
+        cls.stamps.append(msg.header.stamp.to_sec())
+
+    def test_0_joint_states_carry_all_seven_joints_at_50_hz(self):
+        """As katana_arm_gazebo's: joint_state_controller alone, fingers included (their effort
+        transmissions), at its publish_rate; the gripper plugin publishes none."""
+        t0 = rospy.get_time()
+        rospy.sleep(1.0)
+        self.assertEqual(self.layouts, {tuple(JOINTS) + ("katana_r_finger_joint", "katana_l_finger_joint")})
+        n = len([t for t in list(self.stamps) if t0 < t <= t0 + 1.0])
+        self.assertTrue(49 <= n <= 51, "%d /joint_states messages in 1 s of simulated time (50 Hz expected)"
+                        % n)
 
     def test_1_trajectory_reaches_five_joint_target(self):
         target = [1.5, 1.1, -1.4, 0.7, 0.5]   # to the left, clear of the cans
