@@ -127,7 +127,9 @@ class ControllerManager(object):
                                        "and '%s' (%s): stop one of them in the same switch"
                                        % (j, other, other_iface, n, iface))
                     claims[j] = (n, iface)
-        t = self.time
+        # as controller_manager, which switches at the start of its next update: at the World's
+        # time now (the last update may lie several steps back when updates run only when due)
+        t = self.hw.world.time if self.hw.world is not None else self.time
         # as controller_manager: the hardware switches interfaces first, then stop, then start
         self.hw.do_switch([self.controllers[n] for n in to_start], [self.controllers[n] for n in to_stop])
         for n in to_stop:
