@@ -149,8 +149,8 @@ def test_updates_run_in_python_only_when_due():
 @needs_c
 def test_the_step_observer_sees_every_native_step():
     """World.set_step_observer: the C function is called after every step the World makes
-    natively, with that step's time (the node's /clock through roscpp), never for a step made in
-    Python (whose hooks run instead)."""
+    natively (also one whose before-hooks ran in Python first), with that step's time (the node's
+    /clock through roscpp), never for a step made in Python (whose hooks run instead)."""
     import ctypes
     seen = []
     proto = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_double)
@@ -161,15 +161,20 @@ def test_the_step_observer_sees_every_native_step():
     times = []
     rig.world.add_step_hook(after=lambda t, dt: times.append(t), after_due=lambda: float("inf"))
     rig.step(95)
-    # in Python: the first update and the joint_states samples (20, 40, .. ms); the rest in C
-    assert rig.world.iterations == 95 and rig.world.native_steps == 95 - 5
-    assert len(seen) == rig.world.native_steps and len(set(seen)) == len(seen)
+    # the first update and the joint_states samples (20, 40, .. ms) run their hooks in Python and
+    # their physics in C; the rest in C alone
+    assert rig.world.iterations == 95 and rig.world.native_steps == 95 - 5 and rig.world.hooked_steps == 5
+    assert len(seen) == 95 and len(set(seen)) == len(seen)
     expected, t = [], 0.0
     for _ in range(95):
         t += rig.world.time_step
         expected.append(t)
     assert set(seen) <= set(expected) and seen == sorted(seen)
     assert len(set(seen) | set(times)) == 95      # every step: observed natively or its hooks ran
+    rig.model.joints["yaw"].set_effort(0.0)      # an effort for the next step: the World makes it in Python
+    rig.step(1)
+    assert rig.world.iterations - rig.world.native_steps - rig.world.hooked_steps == 1
+    assert len(seen) == 95 and abs(times[-1] - 0.096) < 1e-9
     rig.world.set_step_observer(None, None)
     rig.step(10)
-    assert len(seen) == 90
+    assert len(seen) == 95

@@ -167,6 +167,9 @@ class World(object):
         self.iterations = 0
         #: (addition) steps made in native stretches, without Python (statistics, tests)
         self.native_steps = 0
+        #: (addition) steps made natively after their before-hooks ran in Python (statistics,
+        #: tests); the steps made in Python are iterations - native_steps - hooked_steps
+        self.hooked_steps = 0
         self._ncontacts = 0
         # Tear the ODE objects down in a safe order when the World goes (or on close()): PyODE
         # objects freed by the cycle collector in arbitrary order crash (a space or world freed
@@ -908,17 +911,33 @@ class World(object):
 
     def _advance(self, n):
         """At most ``n`` steps: a native stretch up to the first step at which a hook is due or
-        the World needs Python, else one step in Python. Returns the steps made."""
+        the World needs Python. At a step whose before-hooks are due they run here and the
+        step's physics is the first of the stretch (unless the hooks gave the World a reason for
+        Python: then that step is made in Python). Returns the steps made."""
         t = self.time
-        if self._backend.native and self._stretch_ok():
-            before = earliest_due(self._before_dues) - DUE_MARGIN
-            if before > t:
-                after = earliest_due(self._after_dues) - DUE_MARGIN
-                r = self._backend.run(n, t, self.iterations, before, after)
-                if r is not None:
-                    self._after_stretch(r)
-                    return r.steps
-        self._step_once()
+        if not (self._backend.native and self._stretch_ok()):
+            self._step_once()
+            return 1
+        before = earliest_due(self._before_dues) - DUE_MARGIN
+        hooked = before <= t
+        if hooked:
+            dt = self._p.dt
+            for h in self._before:
+                h(t, dt)
+            if not self._stretch_ok():
+                self._step_once(hooked=True)
+                return 1
+            # the step at t is made whatever the hooks say now; the stretch goes on to their next due time
+            before = max(earliest_due(self._before_dues) - DUE_MARGIN, t + 0.5 * dt)
+        after = earliest_due(self._after_dues) - DUE_MARGIN
+        r = self._backend.run(n, t, self.iterations, before, after)
+        if r is not None:
+            if hooked:
+                self.hooked_steps += 1
+                self.native_steps -= 1
+            self._after_stretch(r)
+            return r.steps
+        self._step_once(hooked=hooked)
         return 1
 
     def _stretch_ok(self):
@@ -943,11 +962,13 @@ class World(object):
             for h in self._after:
                 h(t, dt)
 
-    def _step_once(self):
+    def _step_once(self, hooked=False):
+        """One step in Python; ``hooked``: its before-hooks have run already."""
         dt = self._p.dt
         t = self.time
-        for h in self._before:
-            h(t, dt)
+        if not hooked:
+            for h in self._before:
+                h(t, dt)
         self._apply_forces(t, dt)
         self._ncontacts = self._backend.step(dt)
         self.iterations += 1
