@@ -46,8 +46,8 @@ BULB_GAP = 0.001                 # spawn gap between neighbouring bulbs
 
 SLIDE_COLOURS = {"red_slide": (0.8, 0.1, 0.1, 1.0), "blue_slide": (0.1, 0.2, 0.8, 1.0)}
 SLIDE_LENGTHS = {"red_slide": 0.60, "blue_slide": 0.35}
-BULBS_ON = {"red_slide": 3, "blue_slide": 1}
-PLACE_S = 0.20                   # where along the blue slide a carried bulb is released (from the tip)
+PLACE_S = 0.20                   # where along the blue slide a carried bulb's glass starts at release
+#                                  (from the tip; a layout may give its own "place_s")
 DROP_CLEARANCE = 0.02            # bulb bottom above the blue floor at release
 V_ANGLE = math.radians(12.0)     # the tongue's and the cradle's V: each half rises this much outwards
 CRADLE = {"length": 0.10, "height": 0.021}   # hand-over cradle (two-robot layout): V-groove on a block
@@ -73,6 +73,7 @@ LAYOUTS = {
         "pedestals": [],
         "cradle": None,
         "safety_distance": 0.0,
+        "bulbs_on": {"red_slide": 3, "blue_slide": 1},
     },
     "two_robots": {
         "world": "bulbs_and_slides_two_robots.world",
@@ -87,6 +88,14 @@ LAYOUTS = {
         "table": (2.0, 1.6, 0.04),
         "robots": [{"order": [59, 3, 55, 63, 57, 5]}, {"order": [59, 3, 55, 63, 57, 5]}],
         "safety_distance": 0.3,
+        # modrob1 reaches the release point with its arm about horizontal at the bulbs' height, so
+        # anything on the blue slide between its shoulder and that point lies under its long tube: a
+        # bulb waiting at the tip would lie 45 mm deep inside it (modrob_motion's
+        # test_bas_two_robots_clearance.py). So no bulb waits there, and modrob1 sets the bulb down
+        # where it comes to rest, socket first (the hand-over turns it) against the stop post, instead
+        # of releasing it uphill to slide under its own arm (where it stuck at the tongue's start).
+        "bulbs_on": {"red_slide": 3, "blue_slide": 0},
+        "place_s": BULB_GAP + BULB_SOCKET_L + 0.02,
     },
 }
 # The 3-DoF arm [59, 3, 55, 63, 57, 5] + gripper, from Modules.csv and gripper.xacro: the pitch joint
@@ -109,9 +118,10 @@ def _resolve_layouts():
     z_pick += TABLE_TOP
     base_z = z_pick - ARM3_SHOULDER
     y_red, y_blue = -ARM3_REACH, ARM3_REACH
-    z_drop = TABLE_TOP + floor_point(PLACE_S + BULB_GLASS_L / 2, BULB_GLASS_R + DROP_CLEARANCE)[2]
+    place_s = lay.get("place_s", PLACE_S)
+    z_drop = TABLE_TOP + floor_point(place_s + BULB_GLASS_L / 2, BULB_GLASS_R + DROP_CLEARANCE)[2]
     r_drop = math.sqrt(ARM3_REACH ** 2 - (z_drop - z_pick) ** 2)
-    x_drop = floor_point(PLACE_S + BULB_GLASS_L / 2, BULB_GLASS_R + DROP_CLEARANCE)[0]
+    x_drop = floor_point(place_s + BULB_GLASS_L / 2, BULB_GLASS_R + DROP_CLEARANCE)[0]
     lay["slides"] = {"red_slide": (y_red, xr + ARM3_REACH - x_pick),
                      "blue_slide": (y_blue, xr + r_drop - x_drop)}
     lay["robots"][0]["base"] = [xr, y_red, base_z]
@@ -383,7 +393,7 @@ def world(layout_name):
     for name, (y, tip_x) in layout["slides"].items():
         models.append(slide_model(name, SLIDE_COLOURS[name], SLIDE_LENGTHS[name], pose(tip_x, y, TABLE_TOP)))
     k = 0
-    for slide, count in BULBS_ON.items():
+    for slide, count in layout["bulbs_on"].items():
         for i in range(count):
             s_front = i * (bulb_length() + BULB_GAP) + BULB_GAP
             models.append(bulb_model("bulb_%d" % k, pose(*bulb_pose_on(layout_name, slide, s_front))))
@@ -455,16 +465,16 @@ def layout_yaml():
              "  mass: %s" % f(BULB_GLASS_M + BULB_SOCKET_M),
              "  grasp_offset: %s   # glass centre along the bulb's +x from its frame origin"
              % f(BULB_GLASS_L / 2),
-             "bulbs_on:"]
-    k = 0
-    for slide, count in BULBS_ON.items():
-        for i in range(count):
-            lines.append("  bulb_%d: %s" % (k, slide))
-            k += 1
-    lines.append("layouts:")
+             "layouts:"]
     for name, lay in LAYOUTS.items():
         lines += ["  %s:" % name, "    world: %s" % lay["world"],
-                  "    safety_distance: %s" % f(lay["safety_distance"]), "    robots:"]
+                  "    safety_distance: %s" % f(lay["safety_distance"]), "    bulbs_on:"]
+        k = 0
+        for slide, count in lay["bulbs_on"].items():
+            for i in range(count):
+                lines.append("      bulb_%d: %s" % (k, slide))
+                k += 1
+        lines.append("    robots:")
         for r in lay["robots"]:
             order = ", ".join(str(i) for i in r["order"])
             lines.append("      - {order: [%s], base: %s}" % (order, _v3(r["base"])))
@@ -480,7 +490,7 @@ def layout_yaml():
                       "        half_width: %s" % f(CHANNEL_W / 2),
                       "        length: %s" % f(length)]
         by, btx = lay["slides"]["blue_slide"]
-        px, _, pz = floor_point(PLACE_S + BULB_GLASS_L / 2, BULB_GLASS_R + DROP_CLEARANCE)
+        px, _, pz = floor_point(lay.get("place_s", PLACE_S) + BULB_GLASS_L / 2, BULB_GLASS_R + DROP_CLEARANCE)
         lines.append("    place_point: %s   # glass centre at release, over the blue slide"
                      % _v3((btx + px, by, TABLE_TOP + pz)))
         if lay.get("cradle"):

@@ -103,6 +103,80 @@ def test_socket_first_rest_lies_one_socket_length_further_up_than_glass_first():
     assert np.dot(socket_first - glass_first, lay.slides["blue_slide"].uphill) > 0
 
 
+def arm_gap_to_waiting_bulbs(lay, robot, slide):
+    """Gap (m; negative = overlap) between a 3-DoF arm at its release pose and the glass of every bulb
+    the layout has waiting at ``slide``'s tip; inf when none waits there. The arm, from the module
+    database: a cylinder of its largest module radius from the pitch (elbow) axis, pointing at the
+    place point, out to the gripper; a bulb's glass, the cylinder of expected_rest's glass centre."""
+    from modrob_build.module_database import load_database
+    from modrob_motion.bulbs_and_slides.outcome import expected_rest
+    db = load_database()
+    order, base = lay.robots[robot]
+    modules = [db[i] for i in order]
+    k = next(i for i, m in enumerate(modules) if m.kind == "joint_elbow")
+    shoulder = np.array(base, dtype=float) + [0.0, 0.0, sum(m.length for m in modules[:k]) +
+                                              modules[k].joint_offset]
+    after = modules[k + 1:]
+    length = modules[k].length - modules[k].joint_offset + sum(m.length for m in after)
+    radius = max(m.radius for m in [modules[k]] + after)
+    towards = (lay.place_point - shoulder) / np.linalg.norm(lay.place_point - shoulder)
+    u = lay.slides[slide].uphill
+    gap = math.inf
+    for i in range(lay.bulbs_waiting_on(slide)):
+        c = expected_rest(lay, slide, i)
+        d = segment_distance(shoulder, shoulder + length * towards, c - 0.5 * lay.glass_length * u,
+                             c + 0.5 * lay.glass_length * u)
+        gap = min(gap, d - radius - lay.glass_radius)
+    return gap
+
+
+def layout_with_a_bulb_under_modrob1s_arm():
+    """The two-robot layout as it was until the release aborted: a bulb waiting at the blue slide's
+    tip, the release point 0.2 m further up the slide (its numbers as the generator wrote them)."""
+    import yaml
+    from modrob_motion.bulbs_and_slides.layout import Layout
+    with open(LAYOUT_FILE) as fh:
+        data = yaml.safe_load(fh)
+    lay = data["layouts"]["two_robots"]
+    lay["bulbs_on"] = dict(lay["bulbs_on"], bulb_3="blue_slide")
+    lay["slides"]["blue_slide"].update(tip=[-0.682617, 0.64, 1.06], high_end=[-0.337934, 0.64, 1.120777])
+    lay["place_point"] = [-0.462331, 0.64, 1.149614]
+    return Layout(data, "two_robots", LAYOUT_FILE)
+
+
+def test_no_bulb_waits_under_modrob1s_arm_at_the_release():
+    """modrob1 reaches the release point with its arm about horizontal at the bulbs' height, so its
+    long tube passes low over the blue slide. The bulb the world had waiting at that slide's tip lay
+    45 mm inside the tube: once the contact correction followed Gazebo's (whole penetration in
+    position) the tube stopped on it instead of sinking into its glass, and the trajectory
+    controller aborted the release (joint2 'still moving' at the capped solve's velocity)."""
+    assert arm_gap_to_waiting_bulbs(layout_with_a_bulb_under_modrob1s_arm(), 1, "blue_slide") < -0.03
+    assert arm_gap_to_waiting_bulbs(two_robot_layout(), 1, "blue_slide") > 0.005
+
+
+def test_modrob1_sets_the_bulb_down_just_uphill_of_where_it_rests():
+    """Released 0.2 m up the slide, the bulb (socket first after the hand-over) slid under modrob1's
+    retreating arm and stuck at the tongue's start or was knocked off; set down on the post, its
+    socket landed on top of it. The release point lies 5-30 mm uphill of the socket-first rest
+    against the post (behind the bulbs waiting there), at most a drop of 30 mm above it."""
+    from modrob_motion.bulbs_and_slides.outcome import expected_rest
+    lay = two_robot_layout()
+    slide = lay.slides["blue_slide"]
+    rest = expected_rest(lay, "blue_slide", lay.bulbs_waiting_on("blue_slide"), socket_first=True)
+    along, across, up = (a - b for a, b in zip(slide.coordinates(lay.place_point), slide.coordinates(rest)))
+    assert 0.005 <= along <= 0.03
+    assert abs(across) < 1e-6
+    assert 0.0 < up <= 0.03
+
+
+def test_layouts_say_which_bulbs_wait_on_which_slide():
+    lay = two_robot_layout()
+    assert lay.bulbs_waiting_on("red_slide") == 3 and lay.bulbs_waiting_on("blue_slide") == 0
+    from modrob_motion.bulbs_and_slides.layout import Layout
+    one = Layout.load("one_robot", LAYOUT_FILE)
+    assert one.bulbs_waiting_on("red_slide") == 3 and one.bulbs_waiting_on("blue_slide") == 1
+
+
 def test_paths_plot_writes_a_png(tmp_path):
     from modrob_motion.bulbs_and_slides.paths_plot import plot_paths
     lay = two_robot_layout()

@@ -65,7 +65,7 @@ class Layout(object):
             self.glass_length = float(b["glass_length"])
             self.socket_length = float(b["socket_length"])
             self.grasp_offset = float(b["grasp_offset"])
-            self.bulbs_on = dict(data.get("bulbs_on", {}))
+            self.bulbs_on = dict(lay.get("bulbs_on") or {})   # bulb name: slide it waits on
             self.incline = float(data["slide_incline"])
         except (KeyError, TypeError, ValueError) as exc:
             raise ScenarioError("layout file %s lacks or mangles %s: regenerate it with "
@@ -73,6 +73,10 @@ class Layout(object):
         for need in ("red_slide", "blue_slide"):
             if need not in self.slides:
                 raise ScenarioError("layout file %s has no %s for %s" % (path, need, scenario))
+
+    def bulbs_waiting_on(self, slide_name):
+        """How many bulbs the world puts on ``slide_name`` (they wait at its tip, one behind the other)."""
+        return sum(1 for s in self.bulbs_on.values() if s == slide_name)
 
     @property
     def bulb_length(self):

@@ -357,7 +357,8 @@ class Scenario(object):
                     raise ScenarioError("the bulb is not in the gripper after the lift (%.1f mm from the "
                                         "grasp centre)" % (1000 * dist))
 
-    def finish(self, result, bulb, slide="blue_slide", ahead=1):
+    def finish(self, result, bulb, slide="blue_slide"):
+        """Judge where ``bulb`` came to rest in ``slide``: behind the bulbs the world put there."""
         rest = self.wait_at_rest([bulb], timeout=10.0)
         c, axis = self.glass_centre(bulb)
         result.final_position = c
@@ -365,7 +366,7 @@ class Scenario(object):
         socket_first = float(np.dot(axis, self.layout.slides[slide].uphill)) < 0.0
         if socket_first:
             self.log("  %s lies socket first (turned round by the hand-over)" % bulb)
-        want = expected_rest(self.layout, slide, ahead, socket_first)
+        want = expected_rest(self.layout, slide, self.layout.bulbs_waiting_on(slide), socket_first)
         result.placement_error = float(np.linalg.norm(c - want))
         result.sim_time = rospy.get_time() - self.t0
         result.wall_time = time.time() - self.wall0
