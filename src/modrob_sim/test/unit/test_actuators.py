@@ -161,6 +161,88 @@ def test_a_velocity_output_drives_the_motor(native):
     assert yaw.velocity > 0.0
 
 
+def position_scenario(native):
+    """Kinematic set-points: a held command on the continuous yaw (rate-limited, the short way
+    across +-pi), a trajectory segment on the shoulder, a command beyond the elbow's limit, then
+    the elbow back to an effort PID and removed; what was seen at every 20th step."""
+    w, m = arm(native)
+    yaw, shoulder, elbow = (m.joints[n] for n in ("yaw", "shoulder", "elbow"))
+    a_yaw = w.add_actuator(yaw, A.EFFORT, error=A.SHORTEST, output=A.OUT_POSITION)
+    a_yaw.velocity_limit = 2.0
+    a_yaw.command = 3.0
+    a_sh = w.add_actuator(shoulder, A.SEGMENT_PID, output=A.OUT_POSITION)
+    a_sh.set_segment([0.0, 0.8, 0.0, -0.2], 0.0, 1.0, until=0.5)
+    a_el = w.add_actuator(elbow, A.POSITION_PID, gains=A.PidGains(50.0, 0.0, 2.0), error=A.CLAMPED,
+                          output=A.OUT_POSITION)
+    a_el.command = 4.0                              # beyond the upper limit 2.5: clamped
+    seen = []
+    for k in range(1000):
+        t = w.time
+        if k == 300:
+            a_yaw.command = -2.5                    # the short way: on through +pi
+        if k == 500:
+            a_sh.set_segment([0.1, -0.3, 0.2], 0.0, 0.5, base=t, offset=0.25, rel_until=0.4)
+        if 550 <= k < 555:
+            shoulder.set_effort(4.0)
+        if k == 600:
+            a_el.output = A.OUT_EFFORT              # the PID drives the elbow's effort from here
+            a_el.command = 1.0
+        if k == 800:
+            w.remove_actuator(a_yaw)
+        w.step(1)
+        if k % 20 == 0 or 550 <= k < 556:
+            seen.append((k, [(j.position, j.velocity, j.effort) for j in (yaw, shoulder, elbow)],
+                         [(a.pid_state(), a.last) for a in w.actuators], yaw.turn_state,
+                         [(ln.pose, ln.twist) for ln in m.links.values()]))
+    return w, seen
+
+
+@needs_c
+def test_position_outputs_step_alike_on_both_backends_bit_for_bit():
+    wp, pure = position_scenario(False)
+    wn, nat = position_scenario(True)
+    assert len(pure) == len(nat) > 50
+    for a, b in zip(pure, nat):
+        assert a == b, "step %d differs" % a[0]
+    assert wp.state_digest() == wn.state_digest()
+
+
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_a_position_output_sets_the_joint(native):
+    w, m = arm(native)
+    yaw, shoulder, elbow = (m.joints[n] for n in ("yaw", "shoulder", "elbow"))
+    tip = m.links["l3"]
+    a = w.add_actuator(shoulder, A.EFFORT, output=A.OUT_POSITION)
+    a.velocity_limit = 1.0
+    a.command = 0.6
+    w.step(100)
+    # 1 rad/s: 0.1 rad after 100 steps, the joint at rest relative to its parent after each set;
+    # gravity moves it within the step that follows (about 33 rad/s^2 for 1 ms here)
+    assert shoulder.position == pytest.approx(0.1, abs=1e-4) and abs(shoulder.velocity) < 0.05
+    assert a.last.output == pytest.approx(0.1, abs=1e-9) and a.last.set_point == 0.6
+    w.step(600)
+    assert shoulder.position == pytest.approx(0.6, abs=1e-4)
+    # the links below turned with it: the elbow (free, under gravity) hangs from where it was carried
+    q_el = elbow.position
+    pose_before = tip.pose
+    b = w.add_actuator(elbow, A.EFFORT, output=A.OUT_POSITION)
+    b.command = q_el
+    w.step(50)
+    assert elbow.position == pytest.approx(q_el, abs=1e-4)
+    assert tip.pose[0] == pytest.approx(pose_before[0], abs=1e-3)
+    # yaw turns the whole arm about the vertical
+    c = w.add_actuator(yaw, A.EFFORT, output=A.OUT_POSITION)
+    c.command = math.pi / 2
+    w.step(1)
+    x, y, _ = tip.pose[0]
+    assert yaw.position == pytest.approx(math.pi / 2, abs=1e-4)
+    assert abs(x) < 1e-3 and y == pytest.approx(math.hypot(*pose_before[0][:2]), abs=1e-3)
+    # a non-finite command holds the last set-point
+    c.command = float("nan")
+    w.step(5)
+    assert yaw.position == pytest.approx(math.pi / 2, abs=1e-4)
+
+
 @pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
 def test_what_the_actuators_do(native):
     w, m = arm(native)
@@ -196,8 +278,11 @@ def test_bad_requests_say_what_to_do():
         w.add_actuator(m.joints["elbow"], 99)
     with pytest.raises(InputError, match="unknown output 7.*OUT_VELOCITY"):
         w.add_actuator(m.joints["elbow"], A.EFFORT, output=7)
-    with pytest.raises(ValueError, match="OUT_EFFORT or OUT_VELOCITY"):
+    with pytest.raises(ValueError, match="OUT_EFFORT, OUT_VELOCITY or OUT_POSITION"):
         a.output = 3
+    with pytest.raises(ValueError, match="set-point from an EFFORT, POSITION_PID or SEGMENT_PID kind, "
+                                         "not MOTOR"):
+        w.add_actuator(m.joints["elbow"], A.MOTOR).output = A.OUT_POSITION
     with pytest.raises(ValueError, match="1 to 6 coefficients"):
         a.set_segment([0.0] * 7, 0.0, 1.0)
     other, om = arm(False)

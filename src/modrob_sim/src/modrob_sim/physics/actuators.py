@@ -27,6 +27,15 @@ OUT_VELOCITY    out (finite) is a velocity: the joint's ODE motor drives towards
                 clamp(out, +-velocity_limit) with at most max_force, as gazebo_ros_control's
                 velocity joint without pid_gains; efforts given with set_effort are applied
                 as efforts beside it (joint_limit, FORCE_CAP)
+OUT_POSITION    no PID: the kind's SET-POINT (EFFORT, POSITION_PID: the command; SEGMENT_PID:
+                the segment's desired position) is the joint's position, set kinematically
+                as gazebo_ros_control's position joint without pid_gains sets it: first
+                saturated as joint_limits_interface's PositionJointSaturationHandle does
+                (:func:`saturate_position`: the short way on a continuous joint, at most
+                velocity_limit * dt from the last set-point, into [lower, upper]), then the
+                links below the joint turned (slid) rigidly about its axis by the difference,
+                moving with the joint's parent link (the joint's velocity 0); efforts given
+                with set_effort are applied as efforts (joint_limit, FORCE_CAP)
 ==============  ========================================================================
 
 Model actuators (``World.add_model_actuator``: :class:`ModelActuator`) act on a whole model, before
@@ -63,8 +72,8 @@ KIND_NAMES = {EFFORT: "EFFORT", POSITION_PID: "POSITION_PID", SEGMENT_PID: "SEGM
               VELOCITY_PID: "VELOCITY_PID", MOTOR: "MOTOR"}
 #: what an actuator's output drives: the joint's effort, or its ODE motor's velocity (the numbers
 #: are the C loop's)
-OUT_EFFORT, OUT_VELOCITY = 0, 1
-OUTPUT_NAMES = {OUT_EFFORT: "OUT_EFFORT", OUT_VELOCITY: "OUT_VELOCITY"}
+OUT_EFFORT, OUT_VELOCITY, OUT_POSITION = 0, 1, 2
+OUTPUT_NAMES = {OUT_EFFORT: "OUT_EFFORT", OUT_VELOCITY: "OUT_VELOCITY", OUT_POSITION: "OUT_POSITION"}
 #: position error rules: target - q; the target clamped to [lower, upper] first; shortest angle
 PLAIN, CLAMPED, SHORTEST = 0, 1, 2
 #: segment kinds: polynomial in absolute time, in time relative to ``base``, holding a position
@@ -179,7 +188,7 @@ class PyRecord(object):
                  "extra", "t", "position", "velocity", "set_point", "desired_velocity", "out", "applied",
                  "traj_kind", "coef", "seg_t0", "seg_t1", "rel_base", "offset", "has_offset", "ff",
                  "abs_until", "rel_until", "max_force", "accel", "motor_vel", "out_kind", "vel_limit",
-                 "pid")
+                 "bodies", "pos_prev", "pid")
 
     def __init__(self, kind):
         self.kind = kind
@@ -198,6 +207,8 @@ class PyRecord(object):
         self.max_force = self.accel = self.motor_vel = 0.0
         self.out_kind = OUT_EFFORT
         self.vel_limit = INF
+        self.bodies = ()
+        self.pos_prev = 0.0
         self.pid = Pid(PidGains(0.0))
 
 
@@ -210,6 +221,63 @@ def segment_sample(r, t):
     return (pos + r.offset if r.has_offset else pos), vel
 
 
+def saturate_position(rule, prev, target, vel_limit, dt, lower, upper):
+    """joint_limits_interface::PositionJointSaturationHandle on a position command: SHORTEST (a
+    continuous joint) the short way from ``prev``; at most ``vel_limit * dt`` from ``prev`` (the
+    last command); otherwise into [lower, upper]."""
+    if rule == SHORTEST:
+        target = prev + shortest_angular_distance(prev, target)
+    if vel_limit < INF and dt > 0.0:
+        step = vel_limit * dt
+        target = min(max(target, prev - step), prev + step)
+    if rule != SHORTEST:
+        target = min(max(target, lower), upper)
+    return target
+
+
+def place_subtree(joint, bodies, delta):
+    """Turn (a prismatic joint: slide) the ODE ``bodies`` below ``joint`` rigidly about its axis by
+    ``delta``; then each moves with the joint's parent body (at rest without one): the joint is
+    at its position + delta with velocity 0 (OUT_POSITION; the C loop's mr_place_subtree)."""
+    oj = joint.ode_joint
+    parent = oj.getBody(1)
+    angular = joint.is_angular
+    ax = oj.getAxis()
+    if angular:
+        a = oj.getAnchor()
+        h = 0.5 * delta
+        sh = math.sin(h)
+        qx, qy, qz, qw = ax[0] * sh, ax[1] * sh, ax[2] * sh, math.cos(h)
+    for b in bodies:
+        p = b.getPosition()
+        if angular:
+            rx, ry, rz = p[0] - a[0], p[1] - a[1], p[2] - a[2]
+            tx = 2.0 * (qy * rz - qz * ry)
+            ty = 2.0 * (qz * rx - qx * rz)
+            tz = 2.0 * (qx * ry - qy * rx)
+            n = (a[0] + (rx + qw * tx + (qy * tz - qz * ty)),
+                 a[1] + (ry + qw * ty + (qz * tx - qx * tz)),
+                 a[2] + (rz + qw * tz + (qx * ty - qy * tx)))
+            o = b.getQuaternion()                  # w x y z
+            b.setPosition(n)
+            b.setQuaternion((qw * o[0] - qx * o[1] - qy * o[2] - qz * o[3],
+                             qw * o[1] + qx * o[0] + qy * o[3] - qz * o[2],
+                             qw * o[2] + qy * o[0] + qz * o[1] - qx * o[3],
+                             qw * o[3] + qz * o[0] + qx * o[2] - qy * o[1]))
+        else:
+            n = (p[0] + ax[0] * delta, p[1] + ax[1] * delta, p[2] + ax[2] * delta)
+            b.setPosition(n)
+        if parent is None:
+            b.setLinearVel((0.0, 0.0, 0.0))
+            b.setAngularVel((0.0, 0.0, 0.0))
+        else:
+            pv, pw, pp = parent.getLinearVel(), parent.getAngularVel(), parent.getPosition()
+            rx, ry, rz = n[0] - pp[0], n[1] - pp[1], n[2] - pp[2]
+            b.setLinearVel((pv[0] + (pw[1] * rz - pw[2] * ry), pv[1] + (pw[2] * rx - pw[0] * rz),
+                            pv[2] + (pw[0] * ry - pw[1] * rx)))
+            b.setAngularVel(pw)
+
+
 def step_python(r, joint, t, dt, limit):
     """One step of the actuator ``r`` (a PyRecord) on the physics Joint ``joint``: its output from
     the joint's state now, applied through the joint's ODE joint (an effort, or the motor's
@@ -220,6 +288,20 @@ def step_python(r, joint, t, dt, limit):
     r.t, r.position, r.velocity = t, q, v
     kind = r.kind
     pid = r.pid
+    if r.out_kind == OUT_POSITION:
+        if kind == SEGMENT_PID:
+            target, r.desired_velocity = segment_sample(r, t)
+        else:
+            target = r.command
+            r.desired_velocity = 0.0
+        r.set_point = target
+        if not math.isfinite(target):
+            target = r.pos_prev
+        target = saturate_position(r.err_kind, r.pos_prev, target, r.vel_limit, dt, r.lower, r.upper)
+        r.pos_prev = r.out = target
+        place_subtree(joint, r.bodies, target - q)
+        joint.turned_to(target)
+        return _apply_effort(r, joint, 0.0, limit)
     if kind == POSITION_PID:
         r.set_point = target = r.command
         r.desired_velocity = 0.0
@@ -254,6 +336,12 @@ def step_python(r, joint, t, dt, limit):
         f = 0.0
     elif r.has_hw_limit:
         f = min(max(f, -r.hw_limit), r.hw_limit)
+    return _apply_effort(r, joint, f, limit)
+
+
+def _apply_effort(r, joint, f, limit):
+    """The effort ``f`` plus the efforts given with set_effort for this step, through the joint's
+    clamp ``limit``, to the joint."""
     if r.has_extra:
         f += r.extra
         r.has_extra = 0
@@ -298,6 +386,8 @@ class Actuator(object):
         motor = self.drives_motor
         self._kind = kind
         self._r.kind = kind
+        if self._r.out_kind == OUT_POSITION and kind not in (EFFORT, POSITION_PID, SEGMENT_PID):
+            self._r.out_kind = OUT_EFFORT       # a kind without a set-point drives the effort
         if motor and not self.drives_motor:
             self.joint.release_motor()
         if kind == MOTOR:
@@ -344,15 +434,32 @@ class Actuator(object):
         """OUT_EFFORT or OUT_VELOCITY (what the kind's output drives; MOTOR always drives the
         motor). Leaving OUT_VELOCITY gives the joint its own motor back (its friction)."""
         if output not in OUTPUT_NAMES:
-            raise ValueError("actuator output must be OUT_EFFORT or OUT_VELOCITY, got %r" % (output,))
-        was = self._r.out_kind
-        self._r.out_kind = output
+            raise ValueError("actuator output must be OUT_EFFORT, OUT_VELOCITY or OUT_POSITION, got %r"
+                             % (output,))
+        if output == OUT_POSITION and self._kind not in (EFFORT, POSITION_PID, SEGMENT_PID):
+            raise ValueError("an OUT_POSITION actuator takes its set-point from an EFFORT, POSITION_PID or "
+                             "SEGMENT_PID kind, not %s" % KIND_NAMES[self._kind])
+        r = self._r
+        was = r.out_kind
+        if output == OUT_POSITION and was != OUT_POSITION:
+            j = self.joint
+            self._be.set_actuator_bodies(r, j.model.subtree_bodies(j))
+            r.lower = j.lower if j.lower is not None else -INF
+            r.upper = j.upper if j.upper is not None else INF
+            self.hold_position()
+        r.out_kind = output
         if was == OUT_VELOCITY and output != OUT_VELOCITY and self._kind != MOTOR:
             self.joint.release_motor()
 
+    def hold_position(self):
+        """OUT_POSITION: the set-point saturation starts from the joint's position now (a
+        controller's first command, the hardware's reset)."""
+        self._r.pos_prev = self.joint.position
+
     @property
     def velocity_limit(self):
-        """OUT_VELOCITY: the velocity is clamped to +-velocity_limit (None: not clamped)."""
+        """OUT_VELOCITY: the velocity is clamped to +-velocity_limit; OUT_POSITION: the set-point
+        moves at most velocity_limit * dt per step (None: neither)."""
         v = self._r.vel_limit
         return None if v == INF else v
 

@@ -36,6 +36,7 @@ only the physics-side interface of Model, Link and Joint (model.py):
     apply_model_actuators(actuators)     every model actuator, before the joint actuators
     actuator_gains(r), set_actuator_gains(r, g), reset_actuator_pid(r), actuator_pid_state(r),
     actuator_terms(r), set_actuator_coeffs(r, coeffs)   an actuator's PID and segment
+    set_actuator_bodies(r, bodies)  the bodies an OUT_POSITION actuator turns with its joint
 """
 import ctypes
 import math
@@ -98,7 +99,8 @@ class MrActuator(ctypes.Structure):
          ("coef", ctypes.c_double * act.MAX_COEFFS)] + \
         [(n, ctypes.c_double) for n in ("seg_t0", "seg_t1", "rel_base", "offset", "ff", "abs_until",
                                         "rel_until", "max_force", "accel", "motor_vel")] + \
-        [("out_kind", ctypes.c_int), ("vel_limit", ctypes.c_double)]
+        [("out_kind", ctypes.c_int), ("vel_limit", ctypes.c_double), ("nbodies", ctypes.c_int),
+         ("bodies", ctypes.c_void_p), ("pos_prev", ctypes.c_double)]
 
 
 class MrModelActuator(ctypes.Structure):
@@ -219,6 +221,10 @@ class PureBackend(object):
     @staticmethod
     def set_actuator_coeffs(r, coeffs):
         r.coef = [float(c) for c in coeffs]
+
+    @staticmethod
+    def set_actuator_bodies(r, bodies):
+        r.bodies = tuple(bodies)
 
     def set_seed(self, seed):
         self.seed = seed
@@ -639,6 +645,7 @@ class NativeBackend(object):
         self._act_array = (ctypes.POINTER(MrActuator) * 1)()
         self._macts = ()
         self._macts_array = (ctypes.POINTER(MrModelActuator) * 1)()
+        self._body_lists = {}               # MrActuator address -> its OUT_POSITION body array
         self._stretch = _Stretch()
         self._stretch_ref = ctypes.byref(self._stretch)
         self._wake = ctypes.c_int(0)        # World.wake, from any thread; mr_run_steps reads it
@@ -673,6 +680,8 @@ class NativeBackend(object):
 
     def actuators_changed(self, actuators):
         self._acts = tuple(actuators)
+        live = {ctypes.addressof(a.record) for a in self._acts}
+        self._body_lists = {k: v for k, v in self._body_lists.items() if k in live}
         arr = (ctypes.POINTER(MrActuator) * max(1, len(self._acts)))()
         for k, a in enumerate(self._acts):
             arr[k] = ctypes.pointer(a.record)
@@ -737,6 +746,12 @@ class NativeBackend(object):
         r.ncoef = len(coeffs)
         for k, c in enumerate(coeffs):
             r.coef[k] = c
+
+    def set_actuator_bodies(self, r, bodies):
+        arr = (ctypes.c_void_p * max(1, len(bodies)))(*[odelib.raw_pointer(b) for b in bodies])
+        self._body_lists[ctypes.addressof(r)] = arr        # kept alive while the record points at it
+        r.bodies = ctypes.addressof(arr)
+        r.nbodies = len(bodies)
 
     def register_geom(self, info):
         e = info.entry

@@ -662,6 +662,11 @@ class Joint(object):
         if b is not None:
             b.enable()
 
+    def turned_to(self, q):
+        """An actuator set the joint kinematically to ``q`` (OUT_POSITION, pure-Python backend):
+        the turn count so that position == q."""
+        self._resync_turns(q)
+
     def _resync_turns(self, q):
         """After a teleport: choose the turn count so that position == q."""
         if self._angular and self._ode is not None:
@@ -910,6 +915,15 @@ class Model(object):
     def dynamic_groups(self):
         """The Groups that have a body."""
         return tuple(self._dyn_groups)
+
+    def subtree_bodies(self, joint):
+        """The ODE bodies of the links below ``joint`` (its child link and every descendant),
+        each once, in group order: what turns with the joint when it is set kinematically."""
+        below = {joint.child}
+        for j in self._joint_order:
+            if j.parent in below:
+                below.add(j.child)
+        return [g.body for g in self._dyn_groups if any(ln.name in below for ln in g.links)]
 
     @property
     def joints_in_order(self):

@@ -378,7 +378,8 @@ class World(object):
             raise InputError("%s: unknown kind %r (physics.actuators: EFFORT, POSITION_PID, VELOCITY_PID, "
                              "SEGMENT_PID, MOTOR)" % (what, kind))
         if output not in actuators_mod.OUTPUT_NAMES:
-            raise InputError("%s: unknown output %r (physics.actuators: OUT_EFFORT, OUT_VELOCITY)"
+            raise InputError("%s: unknown output %r (physics.actuators: OUT_EFFORT, OUT_VELOCITY, "
+                             "OUT_POSITION)"
                              % (what, output))
         if model is None or self.models.get(model.name) is not model:
             raise InputError("%s: the joint's model is not in this World" % what)

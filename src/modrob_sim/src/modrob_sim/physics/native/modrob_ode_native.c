@@ -1018,8 +1018,12 @@ typedef struct {
     double seg_t0, seg_t1, rel_base, offset, ff, abs_until, rel_until;
     double max_force, accel, motor_vel;   /* MOTOR; max_force also OUT_VELOCITY's */
     int out_kind;        /* what the output drives: 0 the effort (OUT_EFFORT), 1 the ODE motor's
-                          * velocity, clamped to +-vel_limit, with at most max_force (OUT_VELOCITY) */
-    double vel_limit;
+                          * velocity, clamped to +-vel_limit, with at most max_force (OUT_VELOCITY),
+                          * 2 the joint's position, set kinematically (OUT_POSITION) */
+    double vel_limit;    /* OUT_VELOCITY's clamp; OUT_POSITION's rate limit */
+    int nbodies;         /* OUT_POSITION: the bodies below the joint, turned with it */
+    dBodyID *bodies;
+    double pos_prev;     /* OUT_POSITION: the last set-point */
 } MrActuator;
 
 #define MR_TWO_PI 6.283185307179586
@@ -1100,6 +1104,75 @@ static void mr_segment_sample(const MrActuator *j, double t, double *pos, double
     *vel = v;
 }
 
+/* actuators.saturate_position */
+static double mr_saturate_position(int rule, double prev, double target, double vel_limit, double dt,
+                                   double lower, double upper)
+{
+    if (rule == 2) target = prev + mr_shortest_angle(prev, target);
+    if (vel_limit < INFINITY && dt > 0.0) {
+        double step = vel_limit * dt;
+        target = mr_clamp(target, prev - step, prev + step);
+    }
+    if (rule != 2) target = mr_clamp(target, lower, upper);
+    return target;
+}
+
+/* actuators.place_subtree: the bodies below the joint turned (slid) rigidly about its axis by
+ * delta, then moving with the joint's parent body (at rest without one) */
+static void mr_place_subtree(const MrActuator *j, double delta)
+{
+    dJointID oj = j->joint;
+    dBodyID parent = dJointGetBody(oj, 1);
+    dVector3 ax, a;
+    double qx = 0, qy = 0, qz = 0, qw = 1;
+    int k;
+    if (j->slider) dJointGetSliderAxis(oj, ax);
+    else {
+        double h = 0.5 * delta, sh = sin(h);
+        dJointGetHingeAxis(oj, ax);
+        dJointGetHingeAnchor(oj, a);
+        qx = ax[0] * sh; qy = ax[1] * sh; qz = ax[2] * sh; qw = cos(h);
+    }
+    for (k = 0; k < j->nbodies; ++k) {
+        dBodyID b = j->bodies[k];
+        const dReal *p = dBodyGetPosition(b);
+        double n[3];
+        if (!j->slider) {
+            double rx = p[0] - a[0], ry = p[1] - a[1], rz = p[2] - a[2];
+            double tx = 2.0 * (qy * rz - qz * ry);
+            double ty = 2.0 * (qz * rx - qx * rz);
+            double tz = 2.0 * (qx * ry - qy * rx);
+            const dReal *o = dBodyGetQuaternion(b);           /* w x y z */
+            dQuaternion nq;
+            n[0] = a[0] + (rx + qw * tx + (qy * tz - qz * ty));
+            n[1] = a[1] + (ry + qw * ty + (qz * tx - qx * tz));
+            n[2] = a[2] + (rz + qw * tz + (qx * ty - qy * tx));
+            nq[0] = qw * o[0] - qx * o[1] - qy * o[2] - qz * o[3];
+            nq[1] = qw * o[1] + qx * o[0] + qy * o[3] - qz * o[2];
+            nq[2] = qw * o[2] + qy * o[0] + qz * o[1] - qx * o[3];
+            nq[3] = qw * o[3] + qz * o[0] + qx * o[2] - qy * o[1];
+            dBodySetPosition(b, n[0], n[1], n[2]);
+            dBodySetQuaternion(b, nq);
+        } else {
+            n[0] = p[0] + ax[0] * delta;
+            n[1] = p[1] + ax[1] * delta;
+            n[2] = p[2] + ax[2] * delta;
+            dBodySetPosition(b, n[0], n[1], n[2]);
+        }
+        if (!parent) {
+            dBodySetLinearVel(b, 0, 0, 0);
+            dBodySetAngularVel(b, 0, 0, 0);
+        } else {
+            const dReal *pv = dBodyGetLinearVel(parent), *pw = dBodyGetAngularVel(parent);
+            const dReal *pp = dBodyGetPosition(parent);
+            double rx = n[0] - pp[0], ry = n[1] - pp[1], rz = n[2] - pp[2];
+            dBodySetLinearVel(b, pv[0] + (pw[1] * rz - pw[2] * ry), pv[1] + (pw[2] * rx - pw[0] * rz),
+                              pv[2] + (pw[0] * ry - pw[1] * rx));
+            dBodySetAngularVel(b, pw[0], pw[1], pw[2]);
+        }
+    }
+}
+
 static inline double mr_joint_position(dJointID joint, int slider, const MrTurn *turn)
 {
     if (slider) return dJointGetSliderPosition(joint);
@@ -1112,6 +1185,27 @@ static void mr_set_param(dJointID j, int slider, int param, double v)
     else dJointSetHingeParam(j, param, v);
 }
 
+/* actuators._apply_effort: f plus the efforts given with set_effort for this step, through the
+ * joint's clamp (Joint.limit_effort: its effort limit, FORCE_CAP), to the joint */
+static void mr_apply_effort(MrActuator *j, double f)
+{
+    double lim = j->joint_limit;
+    if (j->has_extra) {
+        f += j->extra;
+        j->has_extra = 0;
+        j->extra = 0.0;
+    }
+    if (lim > 0.0) {
+        if (f > lim) f = lim;
+        else if (f < -lim) f = -lim;
+    }
+    if (f > j->force_cap) f = j->force_cap;
+    else if (f < -j->force_cap) f = -j->force_cap;
+    if (j->slider) dJointAddSliderForce(j->joint, f);
+    else dJointAddHingeTorque(j->joint, f);
+    j->applied = f;
+}
+
 /* every actuator's step at time t (actuators.step_python): dParamVel / dParamFMax are the running
  * libode's parameter numbers (odelib.PARAM_VEL, PARAM_FMAX) */
 void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param_vel, int param_fmax)
@@ -1119,12 +1213,30 @@ void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param
     int k;
     for (k = 0; k < n; ++k) {
         MrActuator *j = acts[k];
-        double f, q, v, lim;
+        double f, q, v;
         q = mr_joint_position(j->joint, j->slider, j->turn);
         v = j->slider ? dJointGetSliderPositionRate(j->joint) : dJointGetHingeAngleRate(j->joint);
         j->t = t;
         j->position = q;
         j->velocity = v;
+        if (j->out_kind == 2) {
+            double target, dvel = 0.0;
+            if (j->kind == 2) mr_segment_sample(j, t, &target, &dvel);
+            else target = j->command;
+            j->desired_velocity = dvel;
+            j->set_point = target;
+            if (!isfinite(target)) target = j->pos_prev;
+            target = mr_saturate_position(j->err_kind, j->pos_prev, target, j->vel_limit, dt, j->lower, j->upper);
+            j->pos_prev = j->out = target;
+            mr_place_subtree(j, target - q);
+            if (j->turn) {                                        /* Joint.turned_to */
+                double raw = dJointGetHingeAngle(j->joint);
+                j->turn->turns = (long long)nearbyint((target - raw) / MR_TWO_PI);
+                j->turn->last_raw = raw;
+            }
+            mr_apply_effort(j, 0.0);
+            continue;
+        }
         if (j->kind == 1) {
             double target = j->command, error;
             j->set_point = target;
@@ -1167,21 +1279,7 @@ void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param
             mr_set_param(j->joint, j->slider, param_fmax, j->max_force);
             f = 0.0;
         } else if (j->has_hw_limit) f = mr_clamp(f, -j->hw_limit, j->hw_limit);
-        if (j->has_extra) {
-            f += j->extra;
-            j->has_extra = 0;
-            j->extra = 0.0;
-        }
-        lim = j->joint_limit;                                     /* Joint.limit_effort */
-        if (lim > 0.0) {
-            if (f > lim) f = lim;
-            else if (f < -lim) f = -lim;
-        }
-        if (f > j->force_cap) f = j->force_cap;
-        else if (f < -j->force_cap) f = -j->force_cap;
-        if (j->slider) dJointAddSliderForce(j->joint, f);
-        else dJointAddHingeTorque(j->joint, f);
-        j->applied = f;
+        mr_apply_effort(j, f);
     }
 }
 
