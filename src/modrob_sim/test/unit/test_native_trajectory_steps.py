@@ -30,11 +30,16 @@ class Rig(ControlRig):
     """The 3-joint effort arm (yaw continuous) with a joint_state_controller and an effort
     trajectory controller; the adapter records what the ROS layer would publish. ``velocity``:
     velocity joints and velocity_controllers/JointTrajectoryController instead (its PIDs' outputs
-    the joints' motor velocities); ``python_pids`` makes it run its PIDs in Python at every
-    update, as it does where the joints cannot take an OUT_VELOCITY actuator."""
+    the joints' motor velocities); ``position``: position joints (no pid_gains) and
+    position_controllers/JointTrajectoryController (the joints set kinematically);
+    ``python_pids`` makes it run in Python at every update, writing the joints' commands, as it
+    does where the joints cannot take its actuators (and the hardware sets position joints
+    itself)."""
 
-    def __init__(self, fast, gripper=False, velocity=False, python_pids=False):
+    def __init__(self, fast, gripper=False, velocity=False, python_pids=False, position=False):
         iface = "VelocityJointInterface" if velocity else "EffortJointInterface"
+        if position:
+            iface = "PositionJointInterface"
         with open(os.path.join(FIX, "arm_3dof.urdf")) as f:
             xml = f.read().replace("PositionJointInterface", iface)
         if gripper:     # yaw with limits beyond +-pi (soft limits), two fingers, one a mimic
@@ -57,8 +62,10 @@ class Rig(ControlRig):
         if python_pids:
             for res in self.hw.joints.values():
                 res.can_drive = lambda output: False
+                res.hardware_actuator()
+        family = "position" if position else "velocity" if velocity else "effort"
         self.jtc = self.mgr.load("arm_controller", {
-            "type": "%s_controllers/JointTrajectoryController" % ("velocity" if velocity else "effort"),
+            "type": "%s_controllers/JointTrajectoryController" % family,
             "joints": JOINTS, "gains": gains,
             "velocity_ff": ff, "stop_trajectory_duration": 0.15,
             "state_publish_rate": 25.0, "action_monitor_rate": 10.0, "allow_partial_joints_goal": True,
@@ -204,6 +211,44 @@ def test_velocity_trajectory_actuators_equal_the_controllers_python_pids_bit_for
     assert python.world.state_digest() == fast.world.state_digest()
     assert ([(j.position, j.velocity) for j in python.model.joints_in_order]
             == [(j.position, j.velocity) for j in fast.model.joints_in_order])
+
+
+@needs_c
+def test_position_trajectory_controller_batches_equal_python_steps_bit_for_bit():
+    ref, fast = run(False, position=True), run(True, position=True)
+    assert len(ref.log) == len(fast.log) > 200
+    for a, b in zip(ref.log, fast.log):
+        assert a == b
+    assert ref.snapshot() == fast.snapshot()
+    # the joints are set by their actuators (OUT_POSITION), not by a Python update at every step
+    assert fast.world.native_steps > 0.75 * fast.world.iterations, "%d of %d steps batched" % (
+        fast.world.native_steps, fast.world.iterations)
+    outcomes = {e[2]: e[3] for e in ref.log if e[0] == "event"}
+    assert outcomes["cubic"] == "succeeded" and outcomes["canceled"] == "canceled", outcomes
+
+
+@needs_c
+def test_position_trajectory_actuators_set_the_joints_as_the_hardware_did():
+    # the controller writing the joints' commands at every update and the hardware setting them
+    # (Model.set_configuration) give the same motion: the same outcomes at the same times, the
+    # same samples to rounding (the actuator turns the links below a joint about its axis where
+    # set_configuration places the whole model from its joint positions)
+    python, fast = run(False, position=True, python_pids=True), run(True, position=True)
+    assert python.world.actuators == () and len(fast.world.actuators) == 3
+    assert python.world.native_steps == 0
+    assert len(python.log) == len(fast.log) > 200
+    for a, b in zip(python.log, fast.log):
+        assert a[:2] == b[:2]
+        if a[0] in ("state", "feedback"):
+            data_a, data_b = (a[2], b[2]) if a[0] == "state" else (a[2][1], b[2][1])
+            assert data_a["desired"] == data_b["desired"]
+            for x, y in zip(data_a["actual"][0], data_b["actual"][0]):
+                assert abs(x - y) < 1e-6, (a, b)
+        elif a[0] == "joint_states":
+            assert a[2][1] == b[2][1] and max(abs(x - y) for x, y in zip(a[2][2], b[2][2])) < 1e-6, (a, b)
+        else:
+            assert a == b
+    assert abs(python.yaw_after_wrap - fast.yaw_after_wrap) < 1e-6
 
 
 @needs_c

@@ -11,7 +11,8 @@ interface's command as Gazebo does:
 =============  ==========================================================================
 EFFORT         command clamped to +-effort limit, applied as joint effort
 POSITION       no ``pid_gains/<joint>``: the joint is set kinematically to the command
-               (rate-limited by the velocity limit, clamped to [lower, upper])
+               (rate-limited by the velocity limit, clamped to [lower, upper]) at every step,
+               by its actuator (OUT_POSITION)
 POSITION_PID   with ``pid_gains/<joint>``: effort = clamp(PID(position error), +-effort limit);
                continuous joints take the shortest angular way
 VELOCITY       no gains: ODE joint motor to the command with max force = effort limit
@@ -180,12 +181,16 @@ class JointResource(object):
         self.sim.set_velocity_target(cmd, self.motor_force())
 
     def can_drive(self, output):
-        """True when a controller's PID may write ``output`` (actuators.OUT_EFFORT, OUT_VELOCITY)
-        through the joint's actuator, as the active interface would take it: an effort joint's
-        effort, or the motor of a velocity joint without pid_gains (one with pid_gains puts its
-        own PID after the controller's: that chain runs in Python at every update)."""
+        """True when a controller may write ``output`` (actuators.OUT_EFFORT, OUT_VELOCITY,
+        OUT_POSITION) through the joint's actuator, as the active interface would take it: an
+        effort joint's effort, the motor of a velocity joint without pid_gains (one with pid_gains
+        puts its own PID after the controller's: that chain runs in Python at every update), the
+        kinematic set-point of a position joint without pid_gains (in a World: a test plant sets
+        its joint itself)."""
         if output == actuators.OUT_EFFORT:
             return self.method == EFFORT
+        if output == actuators.OUT_POSITION:
+            return self.method == POSITION and self._world is not None
         return output == actuators.OUT_VELOCITY and self.method == VELOCITY and self.motor_force() > 0.0
 
     # ---- the joint's actuator ------------------------------------------------------------------
@@ -214,13 +219,18 @@ class JointResource(object):
         if output == actuators.OUT_VELOCITY:
             a.velocity_limit = self.velocity_limit
             a.max_force = self.motor_force()
+        elif output == actuators.OUT_POSITION:
+            # the hardware's PositionJointSaturationHandle, at every step, from where the joint is
+            a.velocity_limit = self.velocity_limit
+            a.hold_position()
         self.owner = owner
         return a
 
     def hardware_actuator(self):
         """The actuator through which the hardware applies the active interface's command:
         an effort joint's held effort, the pid_gains PIDs (DefaultRobotHWSim's position and
-        velocity PIDs); none for a kinematic position joint or an ODE motor's velocity joint."""
+        velocity PIDs), a position joint's kinematic set-point (OUT_POSITION: set at every step,
+        as Gazebo's writeSim sets it); none for an ODE motor's velocity joint."""
         m = self.method
         if m == EFFORT:
             cmd = self.command if math.isfinite(self.command) else 0.0
@@ -230,6 +240,9 @@ class JointResource(object):
             self.actuate(actuators.POSITION_PID, self.pid.gains, self.position_rule).command = self.position
         elif m == VELOCITY_PID:
             self.actuate(actuators.VELOCITY_PID, self.pid.gains)
+        elif m == POSITION and self.can_drive(actuators.OUT_POSITION):
+            self.actuate(actuators.EFFORT, error=self.position_rule,
+                         output=actuators.OUT_POSITION).command = self.command
         else:
             self.remove_actuator()
         self.synced_gains = self.pid.gains if self.pid is not None else None
@@ -390,14 +403,16 @@ class RobotHWSim(object):
     @property
     def needs_every_update(self):
         """True when the hardware's write has work at the next step although no controller
-        updates: a position joint moved kinematically (set at every step, as Gazebo's writeSim
-        does), a pid_gains position joint whose command is still rate-limited towards its target
+        updates: a position joint moved kinematically without an actuator (a test plant), a
+        pid_gains position joint whose command is still rate-limited towards its target
         (the velocity limit moves it by one step's worth per write), or pid_gains changed. Then
         the next step is an update in Python; otherwise the actuators (held efforts, pid_gains
         PIDs) and the ODE motors carry the last write."""
         for res in self.joints.values():
             m = res.method
-            if m == POSITION or (m == POSITION_PID and res.owner is None and not self._position_settled(res)):
+            if m == POSITION and res.actuator is None:
+                return True
+            if m == POSITION_PID and res.owner is None and not self._position_settled(res):
                 return True
             if res.pid is not None and res.pid.gains is not res.synced_gains and res.actuator is not None:
                 return True
@@ -446,6 +461,8 @@ class RobotHWSim(object):
                         continue
                     res.actuate(actuators.EFFORT)
                 res.actuator.command = cmd          # the actuator clamps to the effort limit
+            elif m == POSITION and res.actuator is not None:
+                res.actuator.command = cmd          # it saturates and sets the joint at every step
             elif m in (POSITION, POSITION_PID):
                 cmd = self._saturate_position(res, cmd, dt)
                 if m == POSITION:
@@ -477,12 +494,10 @@ class RobotHWSim(object):
         prev = res._prev_position_cmd
         if prev is None:
             prev = res.position
-        if res.type == "continuous":
-            cmd = prev + angles.shortest_angular_distance(prev, cmd)
-        if res.velocity_limit is not None and dt > 0.0:
-            step = res.velocity_limit * dt
-            cmd = min(max(cmd, prev - step), prev + step)
-        cmd = res.clamp_position(cmd)
+        rule = actuators.SHORTEST if res.type == "continuous" else actuators.PLAIN
+        lo, hi = (res.lower, res.upper) if res.has_position_limits else (-math.inf, math.inf)
+        vl = res.velocity_limit if res.velocity_limit is not None else math.inf
+        cmd = actuators.saturate_position(rule, prev, cmd, vl, dt, lo, hi)
         res._prev_position_cmd = cmd
         return cmd
 

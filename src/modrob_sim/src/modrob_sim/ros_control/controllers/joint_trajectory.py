@@ -441,56 +441,28 @@ class JointTrajectoryControllerBase(Controller):
     def _write(self, dpos, dvel, epos, evel, dt):
         raise NotImplementedError
 
-
-class PositionJointTrajectoryController(JointTrajectoryControllerBase):
-    TYPE = "position_controllers/JointTrajectoryController"
-    INTERFACE = POSITION
-
-    def _write(self, dpos, dvel, epos, evel, dt):
-        for j, p in zip(self.joints, dpos):
-            j.command = p
-
-
-class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
-    """ros_controllers' ClosedLoopHardwareInterfaceAdapter: per joint, command =
-    velocity_ff * desired velocity + PID(position error, velocity error); an effort or a velocity
-    depending on the interface.
-
-    The PIDs run in the joints' actuators (SEGMENT_PID with the interface's OUTPUT: the piece of
-    the trajectory that holds, at every step, natively); an update places the next piece when the
-    last one ends. A joint whose interface the actuator cannot drive (a velocity joint with the
-    hardware's own pid_gains PID after the controller's) makes the controller run its PIDs in
-    Python at every update instead, writing the joints' commands."""
+    # -- the joints' actuators: the piece of the trajectory that holds, at every step ------------
+    #: what the joints' actuators drive (actuators.OUT_*): the trajectory's pieces are placed in
+    #: them (SEGMENT_PID) where every joint can take that output (JointResource.can_drive)
     OUTPUT = actuators.OUT_EFFORT
+    acts = ()
+    _piece = None       # (trajectory, Piece, time) placed in the actuators
 
-    def __init__(self, name, hw, params):
-        super(_ClosedLoopTrajectoryController, self).__init__(name, hw, params)
-        gains = params.child("gains", required=True)
-        ff = params.child("velocity_ff")
-        #: the gains per joint (dynamic_reconfigure swaps them)
-        self.pids = [Pid(PidGains.from_params(gains.child(j, required=True))) for j in self.joint_names]
-        self.pid_namespaces = [gains.path(j) for j in self.joint_names]
-        self.velocity_ff = [ff.get(j, 0.0, kind=float) for j in self.joint_names]
-        self.acts = []
-        self._gains = []
-        self._piece = None      # (trajectory, Piece, time) placed in the actuators
-
-    def _reset_pids(self):
-        for p in self.pids:
-            p.reset()
+    def _take_joints(self, gains):
+        """The joints' actuators (SEGMENT_PID with OUTPUT; ``gains`` per joint or None), or none
+        (``acts`` empty: the controller writes the joints' commands at every update)."""
         self.acts = []
         self._piece = None
         if not all(j.can_drive(self.OUTPUT) for j in self.joints):
             return
-        for j, pid, ff in zip(self.joints, self.pids, self.velocity_ff):
+        for k, j in enumerate(self.joints):
             rule = actuators.SHORTEST if j.type == "continuous" else actuators.PLAIN
-            a = j.actuate(actuators.SEGMENT_PID, pid.gains, rule, owner=self, output=self.OUTPUT)
-            a.feedforward = ff
+            a = j.actuate(actuators.SEGMENT_PID, None if gains is None else gains[k], rule, owner=self,
+                          output=self.OUTPUT)
+            a.hold(j.position)          # until the first update places the trajectory
             self.acts.append(a)
-        self._gains = [p.gains for p in self.pids]
 
-    def stopping(self, t):
-        super(_ClosedLoopTrajectoryController, self).stopping(t)
+    def _release_joints(self):
         for j, a in zip(self.joints, self.acts):
             if j.owner is self:
                 if j.interface == self.INTERFACE:   # the hardware keeps the last command
@@ -498,15 +470,8 @@ class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
                 j.release()
         self.acts = []
 
-    def _write(self, dpos, dvel, epos, evel, dt):
-        if not self.acts:
-            for j, pid, ff, ep, ev, v in zip(self.joints, self.pids, self.velocity_ff, epos, evel, dvel):
-                j.command = pid.compute(ep, dt, ev) + ff * v
-            return
-        t = self._now
-        for k, (a, pid) in enumerate(zip(self.acts, self.pids)):
-            if pid.gains is not self._gains[k]:
-                self._gains[k] = a.gains = pid.gains
+    def _place_piece(self, t):
+        """The piece of the trajectory that holds at ``t`` into the actuators, unless it is there."""
         last = self._piece
         if last is not None and last[0] is self.trajectory and t >= last[2] and t < last[1].abs_until and \
                 t - last[1].base < last[1].rel_until:
@@ -524,18 +489,95 @@ class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
                               offset=None if off is None else off[k], until=piece.abs_until,
                               rel_until=piece.rel_until)
 
-    def update_due(self, t, iteration, dt):
-        if not self.acts:
-            return t
+    def _piece_due(self, t, dt):
+        """The next update the actuated controller needs: the placed piece's end, a state sample
+        or feedback, a goal check (t: now, when no piece is placed)."""
         if self.trajectory is None or self._piece is None or self._piece[0] is not self.trajectory:
-            return t
-        if any(p.gains is not g for p, g in zip(self.pids, self._gains)):
             return t
         piece = self._piece[1]
         ends = min(piece.abs_until, piece.base + piece.rel_until if piece.rel_until < INF else INF)
         # a step starting at or after `ends` needs the next piece; the float comparisons of the
         # piece's own test decide exactly, so the update is asked for half a step early
         return min(ends - 0.5 * dt, self._samples_due_from(), self._goal_due(t))
+
+
+class PositionJointTrajectoryController(JointTrajectoryControllerBase):
+    """The joints' actuators set them kinematically to the trajectory's desired positions at
+    every step (OUT_POSITION: as the hardware's position write, saturated by the velocity limits);
+    an update places the next piece when the last one ends."""
+    TYPE = "position_controllers/JointTrajectoryController"
+    INTERFACE = POSITION
+    OUTPUT = actuators.OUT_POSITION
+
+    def _reset_pids(self):
+        self._take_joints(None)
+
+    def stopping(self, t):
+        super(PositionJointTrajectoryController, self).stopping(t)
+        self._release_joints()
+
+    def _write(self, dpos, dvel, epos, evel, dt):
+        if self.acts:
+            self._place_piece(self._now)
+            return
+        for j, p in zip(self.joints, dpos):
+            j.command = p
+
+    def update_due(self, t, iteration, dt):
+        return self._piece_due(t, dt) if self.acts else t
+
+
+class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
+    """ros_controllers' ClosedLoopHardwareInterfaceAdapter: per joint, command =
+    velocity_ff * desired velocity + PID(position error, velocity error); an effort or a velocity
+    depending on the interface.
+
+    The PIDs run in the joints' actuators (SEGMENT_PID with the interface's OUTPUT: the piece of
+    the trajectory that holds, at every step, natively); an update places the next piece when the
+    last one ends (JointTrajectoryControllerBase._take_joints). A joint whose interface the
+    actuator cannot drive (a velocity joint with the
+    hardware's own pid_gains PID after the controller's) makes the controller run its PIDs in
+    Python at every update instead, writing the joints' commands."""
+    OUTPUT = actuators.OUT_EFFORT
+
+    def __init__(self, name, hw, params):
+        super(_ClosedLoopTrajectoryController, self).__init__(name, hw, params)
+        gains = params.child("gains", required=True)
+        ff = params.child("velocity_ff")
+        #: the gains per joint (dynamic_reconfigure swaps them)
+        self.pids = [Pid(PidGains.from_params(gains.child(j, required=True))) for j in self.joint_names]
+        self.pid_namespaces = [gains.path(j) for j in self.joint_names]
+        self.velocity_ff = [ff.get(j, 0.0, kind=float) for j in self.joint_names]
+        self._gains = []
+
+    def _reset_pids(self):
+        for p in self.pids:
+            p.reset()
+        self._take_joints([p.gains for p in self.pids])
+        for a, ff in zip(self.acts, self.velocity_ff):
+            a.feedforward = ff
+        self._gains = [p.gains for p in self.pids]
+
+    def stopping(self, t):
+        super(_ClosedLoopTrajectoryController, self).stopping(t)
+        self._release_joints()
+
+    def _write(self, dpos, dvel, epos, evel, dt):
+        if not self.acts:
+            for j, pid, ff, ep, ev, v in zip(self.joints, self.pids, self.velocity_ff, epos, evel, dvel):
+                j.command = pid.compute(ep, dt, ev) + ff * v
+            return
+        for k, (a, pid) in enumerate(zip(self.acts, self.pids)):
+            if pid.gains is not self._gains[k]:
+                self._gains[k] = a.gains = pid.gains
+        self._place_piece(self._now)
+
+    def update_due(self, t, iteration, dt):
+        if not self.acts:
+            return t
+        if any(p.gains is not g for p, g in zip(self.pids, self._gains)):
+            return t
+        return self._piece_due(t, dt)
 
 
 class EffortJointTrajectoryController(_ClosedLoopTrajectoryController):
