@@ -1,8 +1,9 @@
-"""The due times of the group, gripper and mobile-base controllers (docs/controllers.md, "When
-controllers run"): stepped as the node steps them (natively between their due times) they give the
-steps of calling every update at every step -- the same states, efforts, actuator internals and
-messages, bit for bit (the mobile base's odometry pose to rounding: it integrates the travel since
-its last update along one arc) -- and most steps are made in C."""
+"""The due times of the group, gripper, mobile-base, velocity and kinematic position controllers
+(docs/controllers.md, "When controllers run"): stepped as the node steps them (natively between
+their due times) they give the steps of calling every update at every step -- the same states,
+efforts, actuator internals and messages, bit for bit (the mobile base's odometry pose to
+rounding: it integrates the travel since its last update along one arc) -- and most steps are
+made in C."""
 import math
 import os
 
@@ -261,3 +262,50 @@ def test_velocity_position_controllers_step_natively_and_equal_their_python_pids
     m = fast.model.joints
     # (the elbow, on p alone after 0.7 s, sags under gravity by what the motor's softness gives)
     assert abs(m["yaw"].position - 1.5) < 0.01 and abs(m["elbow"].position - 0.9) < 0.03
+
+
+class KinematicArm(ControlRig):
+    """The 3-joint arm on position joints without pid_gains (set kinematically at every step, as
+    Gazebo's writeSim does: the joints' OUT_POSITION actuators),
+    position_controllers/JointPositionController on each; ``python_pids``: the hardware sets the
+    joints itself at every update (Model.set_configuration), as for a joint without an actuator."""
+
+    def __init__(self, fast, python_pids=False):
+        super(KinematicArm, self).__init__(fixture("arm_3dof.urdf"))
+        if python_pids:
+            for res in self.hw.joints.values():
+                res.can_drive = lambda output: False
+                res.hardware_actuator()
+        self.joint_state_controller(publish_rate=50)
+        for name in ("yaw", "shoulder", "elbow"):
+            self.mgr.load(name, {"type": "position_controllers/JointPositionController", "joint": name})
+            self.adapter(name)
+        assert self.mgr.switch(["jsc", "yaw", "shoulder", "elbow"], [], STRICT)[0]
+        self.start(fast)
+
+
+KINEMATIC_EVENTS = {
+    100: lambda r: r.mgr.get("yaw").set_command(1.5),        # 0.5 s at the velocity limit 3 rad/s
+    300: lambda r: r.mgr.get("elbow").set_command(3.0),      # beyond the limit 2.5: clamped
+    400: lambda r: r.mgr.get("shoulder").set_command(-0.6),
+    800: lambda r: r.mgr.switch([], ["shoulder"], STRICT),   # its joint keeps the last command
+}
+
+
+@needs_c
+def test_kinematic_position_joints_step_natively_and_move_as_the_hardware_moved_them():
+    ref = run(KinematicArm(False), 1200, KINEMATIC_EVENTS)
+    fast = run(KinematicArm(True), 1200, KINEMATIC_EVENTS)
+    python = run(KinematicArm(False, python_pids=True), 1200, KINEMATIC_EVENTS)
+    assert snapshot(ref) == snapshot(fast) and ref.log == fast.log
+    # Python: the commands and the joint_states samples (every 20th step); the joints are set in C
+    assert fast.world.native_steps > 0.9 * fast.world.iterations, fast.world.native_steps
+    assert python.world.native_steps == 0 and python.world.actuators == ()
+    m = fast.model.joints
+    assert abs(m["yaw"].position - 1.5) < 1e-3 and abs(m["elbow"].position - 2.5) < 1e-3
+    assert abs(m["shoulder"].position + 0.6) < 1e-3
+    # the same motion as the hardware setting the joints (the whole model placed from its joint
+    # positions) to rounding
+    assert len(python.log) == len(fast.log) == 60
+    for a, b in zip(python.log, fast.log):
+        assert a[1] == b[1] and max(abs(x - y) for x, y in zip(a[2][2], b[2][2])) < 1e-6, (a, b)
