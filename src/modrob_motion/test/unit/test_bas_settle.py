@@ -73,3 +73,56 @@ def test_no_fresh_joint_states_ends_at_the_wall_guard(monkeypatch):
     err = arm.settle(tol=0.004, timeout=3.0, wall_guard=0.05)
     assert err == float("inf")
     assert warned and "no joint_states" in warned[0]
+
+
+class FastSimSlowCommand(object):
+    """The simulation at real-time factor ``rtf`` while the gripper command reaches the simulator
+    ``latency`` wall s after it was sent (motion_publisher, another process, on a loaded machine):
+    the fingers stand open until then, then stop closed on the bulb at the grip force."""
+
+    def __init__(self, arm, rtf, latency, monkeypatch):
+        self.arm, self.rtf, self.latency = arm, rtf, latency
+        self.now, self.wall = 10.0, 1000.0
+        self.sent = self.wall
+        monkeypatch.setattr(ros_robot.rospy, "get_time", lambda: self.now)
+        monkeypatch.setattr(ros_robot.time, "time", lambda: self.wall)
+        monkeypatch.setattr(ros_robot, "sim_sleep", self.sleep)
+        self.deliver()
+
+    def closed(self):
+        return self.wall - self.sent >= self.latency
+
+    def deliver(self):
+        self.arm.js_stamp = self.now
+
+    def sleep(self, dt, *args):
+        self.wall += dt / self.rtf
+        self.now += dt
+        self.deliver()
+
+
+def make_gripper(monkeypatch, rtf, latency):
+    arm = ros_robot.RosArm.__new__(ros_robot.RosArm)
+    arm.info, arm._lock, arm.q, arm.recorder = Info(), threading.Lock(), {}, None
+    sim = FastSimSlowCommand(arm, rtf, latency, monkeypatch)
+    arm.measured = lambda names: np.array([0.0295, 0.0295]) if sim.closed() else np.array([0.05, 0.05])
+    arm.efforts = lambda names: np.array([-3.0, -3.0]) if sim.closed() else np.array([-0.6, -0.6])
+    arm._finger_effort_limits = lambda names: np.array([3.0, 3.0])
+    return arm, sim
+
+
+def test_a_gripper_command_late_in_wall_time_is_waited_for(monkeypatch):
+    # 11x real time: 10 simulated s are 0.9 wall s, less than the command took to land (2 s); the
+    # wait used to give up then and the lift left the bulb on the slide
+    arm, sim = make_gripper(monkeypatch, rtf=11.0, latency=2.0)
+    assert arm._wait_fingers("close", ["f1", "f2"], np.array([0.014, 0.014]), timeout=10.0, wall_min=5.0)
+    assert 2.0 <= sim.wall - sim.sent < 2.1
+
+
+def test_a_gripper_that_never_moves_gives_up_after_both_timeouts(monkeypatch):
+    arm, sim = make_gripper(monkeypatch, rtf=11.0, latency=1e9)
+    warned = []
+    monkeypatch.setattr(ros_robot.rospy, "logwarn", lambda *a: warned.append(a[0] % a[1:]))
+    assert not arm._wait_fingers("close", ["f1", "f2"], np.array([0.014, 0.014]), timeout=10.0, wall_min=5.0)
+    assert 5.0 <= sim.wall - sim.sent < 5.1 and sim.now - 10.0 > 10.0
+    assert warned and "did not close" in warned[0]

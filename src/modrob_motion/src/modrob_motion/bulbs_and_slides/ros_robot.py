@@ -457,7 +457,7 @@ class RosArm(object):
                 self.recorder.sample(self)
             sim_sleep(0.01)
 
-    def _wait_fingers(self, action, names, goal, timeout=10.0, wall_guard=20.0):
+    def _wait_fingers(self, action, names, goal, timeout=10.0, wall_guard=20.0, wall_min=5.0):
         """Wait until the fingers show in joint_states that the command took effect
         (outcome.fingers_done: at the goal, or stopped on the object at the grip force).
 
@@ -465,12 +465,16 @@ class RosArm(object):
         real-time factor 0 the simulation can run on for seconds of simulated time before it lands,
         and a fixed wait in simulated time then let the lift start with the fingers still open (the
         bulb left on the slide, seen with two runs side by side; joint_states themselves reached
-        this process up to 3 simulated s late then). At most ``timeout`` s of simulated time or
-        ``wall_guard`` s of wall time (then a warning). Only joint_states stamped after the command
-        count, and they time the wait (see :meth:`settle`)."""
+        this process up to 3 simulated s late then). At most ``timeout`` s of simulated time, but
+        never less than ``wall_min`` s of wall time (at real-time factor 11 on a machine at load 15,
+        10 simulated s were 0.9 wall s, less than motion_publisher took to pass the command on: the
+        fingers had not moved, the lift left the bulb behind), or ``wall_guard`` s of wall time
+        (then a warning). Only joint_states stamped after the command count, and they time the
+        wait (see :meth:`settle`)."""
         limits = self._finger_effort_limits(names)
         start = rospy.get_time()
-        wall_end = time.time() + wall_guard
+        wall_start = time.time()
+        wall_end = wall_start + wall_guard
         last_q = last_stamp = None
         settled = 0                 # fresh joint_states samples in a row that say done
         while not rospy.is_shutdown():
@@ -484,7 +488,8 @@ class RosArm(object):
                 settled = settled + 1 if done else 0
                 if settled >= 3:
                     return True
-            if (last_stamp is not None and last_stamp > start + timeout) or time.time() > wall_end:
+            sim_out = last_stamp is not None and last_stamp > start + timeout
+            if (sim_out and time.time() > wall_start + wall_min) or time.time() > wall_end:
                 rospy.logwarn("modrob%d: the gripper did not %s within %.1f s "
                               "(fingers at %s mm, efforts %s N)",
                               self.info.robot_id, action, timeout,
