@@ -243,15 +243,19 @@ def figures(results):
                             peer=[a for a in alone if a] if have else None,
                             ratios=[r["sim_per_wall"] / r["sim_alone_per_wall"] for r in have] or None,
                             note="%d/%d succeeded; %s simulated s; wall incl. start-up %s s; simulated s per "
-                                 "CPU s of the simulator node (incl. its start-up) %s; sim s per wall s "
-                                 "while a bulb is gripped %s, before and after it %s" % (
+                                 "CPU s of the simulator node over the scenario %s (incl. its start-up %s); "
+                                 "sim s per wall s while a bulb is gripped %s, before and after it %s; the "
+                                 "scenario's wall %s s; joint_states up to %s simulated s late" % (
                                      sum(bool(x) for x in ok), len(ok),
                                      fmt(stats(col(unit, lambda r: r["sim_time"])), 1),
                                      fmt(stats(col(unit, lambda r: r["wall_incl_startup"])), 1),
+                                     fmt(stats(col(unit, lambda r: r.get("sim_per_node_cpu"))), 2),
                                      fmt(stats(col(unit, lambda r: r.get("sim_per_node_cpu_incl_startup"))),
                                          2),
                                      fmt(stats(col(unit, lambda r: r.get("held_per_wall"))), 2),
-                                     fmt(stats(col(unit, lambda r: r.get("free_per_wall"))), 2))))
+                                     fmt(stats(col(unit, lambda r: r.get("free_per_wall"))), 2),
+                                     fmt(stats(col(unit, lambda r: r.get("scenario_wall"))), 1),
+                                     fmt(stats(col(unit, lambda r: r.get("js_lag"))), 2))))
     if results.get("startup"):
         F.append(Figure("roslaunch empty_world.launch -> first /clock", "wall s",
                         col("startup", lambda r: r["ours_s"]), "roslaunch of one rostopic pub /clock",

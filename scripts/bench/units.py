@@ -367,7 +367,11 @@ PACE_PROBE_S = 4.0
 
 def unit_bulbs(scenario, args):
     """One ``bulbs_and_slides_demo`` run; the simulator node's CPU seconds are sampled while it
-    runs, so that simulated s per node CPU s can be given beside simulated s per wall s."""
+    runs, so that simulated s per node CPU s can be given beside simulated s per wall s: over the
+    scenario's own wall time (its clock starts when the robots are ready, just before its "[2/"
+    line) and over the whole run including start-up (whose simulated time, the world waiting for
+    the robots and the scenario's nodes at real_time_factor 0, and the pace probe, are not the
+    scenario's)."""
     import threading
     out = tempfile.mkdtemp(prefix="modrob_bench_bas_")
     t0 = time.perf_counter()
@@ -380,6 +384,8 @@ def unit_bulbs(scenario, args):
                             stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
     cpu = {}
+    series = []         # (time.monotonic(), the node's CPU s)
+    lines = {"stdout": [], "stderr": [], "started_at": None}
 
     def sample():
         while proc.poll() is None:
@@ -387,18 +393,30 @@ def unit_bulbs(scenario, args):
             if pid:
                 try:
                     cpu[pid] = cpu_seconds(pid)
+                    series.append((time.monotonic(), sum(cpu.values())))
                 except OSError:
                     pass
-            time.sleep(0.3)
-    sampler = threading.Thread(target=sample, daemon=True)
-    sampler.start()
+            time.sleep(0.1)
+
+    def read(name, stream):
+        for ln in stream:
+            if name == "stdout" and ln.startswith("[2/") and lines["started_at"] is None:
+                lines["started_at"] = time.monotonic()
+            lines[name].append(ln)
+    threads = [threading.Thread(target=sample, daemon=True),
+               threading.Thread(target=read, args=("stdout", proc.stdout), daemon=True),
+               threading.Thread(target=read, args=("stderr", proc.stderr), daemon=True)]
+    for th in threads:
+        th.start()
     try:
-        stdout, stderr = proc.communicate(timeout=900)
+        proc.wait(timeout=900)
     finally:
         if proc.poll() is None:
             proc.kill()
-    sampler.join(2)
-    proc = subprocess.CompletedProcess(proc.args, proc.returncode, stdout, stderr)
+    for th in threads:
+        th.join(2)
+    proc = subprocess.CompletedProcess(proc.args, proc.returncode, "".join(lines["stdout"]),
+                                       "".join(lines["stderr"]))
     wall = time.perf_counter() - t0
     node_cpu = sum(cpu.values())
     path = os.path.join(out, "bulbs_and_slides_%s_result.yaml" % scenario)
@@ -410,6 +428,10 @@ def unit_bulbs(scenario, args):
     sim, scen_wall = res.get("sim_time", 0.0), res.get("wall_time", 0.0)
     alone = res.get("sim_alone_rtf")
     alone = alone if isinstance(alone, float) and alone > 0 and not math.isnan(alone) else None
+    # the node's CPU over the scenario's wall time
+    scen_cpu = None
+    if lines["started_at"] is not None and scen_wall > 0 and series:
+        scen_cpu = cpu_at(series, lines["started_at"] + scen_wall) - cpu_at(series, lines["started_at"])
     line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT")]
     # the pace while a bulb is gripped (the grasp's pad contacts) and over the rest of the run
     held_sim, held_wall = res.get("held_sim_time") or 0.0, res.get("held_wall_time") or 0.0
@@ -421,7 +443,24 @@ def unit_bulbs(scenario, args):
             "sim_per_wall": sim / scen_wall if scen_wall > 0 else 0.0, "sim_alone_per_wall": alone,
             "sim_per_wall_incl_startup": sim / wall if wall > 0 else 0.0, "node_cpu_s": node_cpu,
             "sim_per_node_cpu_incl_startup": sim / node_cpu if node_cpu > 0 else 0.0,
+            "scenario_node_cpu_s": scen_cpu,
+            # how late joint_states reached the scenario at worst (simulated s): while it waits for
+            # them the simulation runs on, so a late stream adds simulated time of robots holding
+            "js_lag": res.get("js_lag"),
+            "sim_per_node_cpu": sim / scen_cpu if scen_cpu else None,
             "result": line[-1] if line else (proc.stdout[-300:] + proc.stderr[-300:])}
+
+
+def cpu_at(series, t):
+    """CPU s at time.monotonic() ``t`` from samples (time, CPU s), interpolated linearly."""
+    prev = None
+    for ts, c in series:
+        if ts >= t:
+            if prev is None:
+                return c
+            return prev[1] + (c - prev[1]) * (t - prev[0]) / max(1e-9, ts - prev[0])
+        prev = (ts, c)
+    return series[-1][1]
 
 
 # ---- start-up: roslaunch -> first /clock ------------------------------------------------------------
