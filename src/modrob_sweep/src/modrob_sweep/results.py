@@ -20,7 +20,8 @@ def wilson(k, n, z=1.959963984540054):
     den = 1.0 + z * z / n
     centre = (p + z * z / (2.0 * n)) / den
     half = z * math.sqrt(p * (1.0 - p) / n + z * z / (4.0 * n * n)) / den
-    return max(0.0, centre - half), min(1.0, centre + half)
+    # the interval contains p; rounding can put its end a hair inside (0/n, n/n): keep p in it
+    return min(p, max(0.0, centre - half)), max(p, min(1.0, centre + half))
 
 
 def table(rows, parameters, metrics):

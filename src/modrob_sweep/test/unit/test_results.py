@@ -18,6 +18,14 @@ def test_wilson_interval(k, n, lo, hi):
     assert a == pytest.approx(lo, abs=5e-4) and b == pytest.approx(hi, abs=5e-4)
 
 
+def test_wilson_interval_contains_the_rate():
+    # 0/3 and 10/10 once had ends 1e-17 beyond the rate: the plot's error bars were refused
+    for n in range(1, 120):
+        for k in range(n + 1):
+            lo, hi = results.wilson(k, n)
+            assert 0.0 <= lo <= k / float(n) <= hi <= 1.0, (k, n, lo, hi)
+
+
 def test_wilson_of_nothing_is_everything():
     assert results.wilson(0, 0) == (0.0, 1.0)
 
