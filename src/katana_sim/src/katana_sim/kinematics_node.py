@@ -77,7 +77,9 @@ class KinematicsNode(object):
         self.current = None
         rospy.Subscriber("joint_states", JointState, self._joint_states, queue_size=5)
         self.tf_buffer = tf2_ros.Buffer()
-        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        # from the first target in another frame on: until then the node has no use for the arm's
+        # /tf messages (50 per simulated second, each deserialised in Python)
+        self.tf_listener = None
         self.services = [rospy.Service("~get_fk", GetFK, self.get_fk),
                          rospy.Service("~get_ik", GetIK, self.get_ik)]
         rospy.loginfo("katana_arm_kinematics: ~get_fk, ~get_ik for %s -> %s" % (base, tip))
@@ -129,6 +131,9 @@ class KinematicsNode(object):
         quat = [ori.x, ori.y, ori.z, ori.w]
         frame = target.header.frame_id or self.base
         if frame != self.base:
+            with self.lock:
+                if self.tf_listener is None:
+                    self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
             try:
                 tf = self.tf_buffer.lookup_transform(self.base, frame, rospy.Time(0), rospy.Duration(1.0))
             except (tf2_ros.LookupException, tf2_ros.ConnectivityException,

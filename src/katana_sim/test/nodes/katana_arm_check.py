@@ -145,6 +145,14 @@ class KatanaArm(unittest.TestCase):
             res = ik(target=target, solver=solver, position_only=True)
             self.assertTrue(res.success, "%s: %s" % (solver, res.message))
             self.assertLess(np.linalg.norm(kin.tool_position(res.positions) - [0.3, -0.1, 0.2]), 1e-3, solver)
+        # the same point given in the world frame (the base stands at z 0.75): through tf
+        world_target = PoseStamped()
+        world_target.header.frame_id = "world"
+        p = world_target.pose.position
+        p.x, p.y, p.z = 0.3, -0.1, 0.95
+        res = ik(target=world_target, solver="kdl", position_only=True)
+        self.assertTrue(res.success, res.message)
+        self.assertLess(np.linalg.norm(kin.tool_position(res.positions) - [0.3, -0.1, 0.2]), 1e-3)
         target.pose.position.x = 1.2
         res = ik(target=target, solver="kdl", position_only=True)
         self.assertFalse(res.success)
