@@ -720,7 +720,7 @@ DEMO_LAUNCHES = {
                  ("/fix", "sensor_msgs/NavSatFix"), ("/joint_states", "sensor_msgs/JointState")]),
     "katana": (["katana_sim", "katana_stack.launch", "gui:=false", "exit_when_done:=false?"], []),
     "ptrz": (["ptrz_camera", "ptrz.launch", "gui:=false", "images:=false", "cameras:=3", "world:=indoor"],
-             [("/ptrz/joint_states", "sensor_msgs/JointState")]),
+             [("/ptrz%d/joint_states" % i, "sensor_msgs/JointState") for i in (1, 2, 3)]),
 }
 #: scenarios measured over their own task instead of a window of wall time: (latched topic and type
 #: whose first message starts it, the launch argument naming the result file whose writing ends it).
