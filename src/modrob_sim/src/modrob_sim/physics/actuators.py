@@ -188,7 +188,8 @@ class PyRecord(object):
                  "extra", "t", "position", "velocity", "set_point", "desired_velocity", "out", "applied",
                  "traj_kind", "coef", "seg_t0", "seg_t1", "rel_base", "offset", "has_offset", "ff",
                  "abs_until", "rel_until", "max_force", "accel", "motor_vel", "out_kind", "vel_limit",
-                 "bodies", "pos_prev", "pid")
+                 "bodies", "pos_prev", "watch", "watch_target", "watch_tol", "watch_vel", "watch_timeout",
+                 "moved_at", "pid")
 
     def __init__(self, kind):
         self.kind = kind
@@ -209,6 +210,8 @@ class PyRecord(object):
         self.vel_limit = INF
         self.bodies = ()
         self.pos_prev = 0.0
+        self.watch = 0
+        self.watch_target = self.watch_tol = self.watch_vel = self.watch_timeout = self.moved_at = 0.0
         self.pid = Pid(PidGains(0.0))
 
 
@@ -450,6 +453,30 @@ class Actuator(object):
         r.out_kind = output
         if was == OUT_VELOCITY and output != OUT_VELOCITY and self._kind != MOTOR:
             self.joint.release_motor()
+
+    def watch(self, target, tolerance, still_velocity, timeout, moved_at):
+        """A goal's checks for the native stretches (a gripper goal): a stretch ends before a step
+        whose start state has |target - position| < tolerance, or |velocity| <= still_velocity
+        while the joint has not moved faster since ``timeout`` (``moved_at``: when it last did;
+        :attr:`moved_at` then follows the stretches' steps). The pure-Python backend steps every
+        hook at every step, so there the owner checks for itself."""
+        r = self._r
+        r.watch_target, r.watch_tol = float(target), float(tolerance)
+        r.watch_vel, r.watch_timeout, r.moved_at = float(still_velocity), float(timeout), float(moved_at)
+        r.watch = 1
+
+    def unwatch(self):
+        self._r.watch = 0
+
+    @property
+    def watching(self):
+        return bool(self._r.watch)
+
+    @property
+    def moved_at(self):
+        """The last step start (of a native stretch) at which the watched joint moved faster than
+        its still velocity."""
+        return self._r.moved_at
 
     def hold_position(self):
         """OUT_POSITION: the set-point saturation starts from the joint's position now (a

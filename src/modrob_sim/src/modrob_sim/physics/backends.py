@@ -100,7 +100,9 @@ class MrActuator(ctypes.Structure):
         [(n, ctypes.c_double) for n in ("seg_t0", "seg_t1", "rel_base", "offset", "ff", "abs_until",
                                         "rel_until", "max_force", "accel", "motor_vel")] + \
         [("out_kind", ctypes.c_int), ("vel_limit", ctypes.c_double), ("nbodies", ctypes.c_int),
-         ("bodies", ctypes.c_void_p), ("pos_prev", ctypes.c_double)]
+         ("bodies", ctypes.c_void_p), ("pos_prev", ctypes.c_double), ("watch", ctypes.c_int)] + \
+        [(n, ctypes.c_double)
+         for n in ("watch_target", "watch_tol", "watch_vel", "watch_timeout", "moved_at")]
 
 
 class MrModelActuator(ctypes.Structure):

@@ -1024,6 +1024,11 @@ typedef struct {
     int nbodies;         /* OUT_POSITION: the bodies below the joint, turned with it */
     dBodyID *bodies;
     double pos_prev;     /* OUT_POSITION: the last set-point */
+    /* a watch (Actuator.watch: a gripper goal's checks): a native stretch ends before a step whose
+     * start state has |watch_target - q| < watch_tol, or |dq| <= watch_vel and the joint has not
+     * moved faster since watch_timeout; moved_at is the last step start with |dq| > watch_vel */
+    int watch;
+    double watch_target, watch_tol, watch_vel, watch_timeout, moved_at;
 } MrActuator;
 
 #define MR_TWO_PI 6.283185307179586
@@ -1355,8 +1360,9 @@ void mr_apply_model_actuators(MrModelActuator **acts, int n)
  * the observer (a C function the World was given, e.g. gazebo_ros's /clock: physics knows nothing
  * of it). A step the guard must look at (a flagged step, a snapshot step) ends the stretch
  * (`guard` = 1: the World's Python guard runs for it); so does a step whose after-hooks are due
- * (`after` = 1), the end of a segment actuator's piece (before its step) and a wake-up (`*wake`,
- * set by World.wake from any thread). */
+ * (`after` = 1), the end of a segment actuator's piece (before its step), an actuator's watch that
+ * fires (before its step: mr_stretch_watches) and a wake-up (`*wake`, set by World.wake from any
+ * thread). */
 
 /* a mimic joint (Joint.drive_mimic) and its master; positions as Joint.position */
 typedef struct {
@@ -1455,6 +1461,24 @@ static int mr_stretch_pieces_end(const MrStretch *b, double t)
     return 0;
 }
 
+/* 1 when a watched actuator's check is due for a step starting at t (Actuator.watch; the checks
+ * in GripperActionController's update, in its order); notes the steps at which the joint moves */
+static int mr_stretch_watches(MrStretch *b, double t)
+{
+    int k;
+    for (k = 0; k < b->nacts; ++k) {
+        MrActuator *j = b->acts[k];
+        double q, v;
+        if (!j->watch) continue;
+        q = mr_joint_position(j->joint, j->slider, j->turn);
+        v = j->slider ? dJointGetSliderPositionRate(j->joint) : dJointGetHingeAngleRate(j->joint);
+        if (fabs(j->watch_target - q) < j->watch_tol) return 1;
+        if (fabs(v) > j->watch_vel) j->moved_at = t;
+        else if (t - j->moved_at > j->watch_timeout) return 1;
+    }
+    return 0;
+}
+
 /* Up to n steps; returns the number done (0 when the first step is due for Python). */
 int mr_run_steps(MrCtx *c, MrStretch *b, int n)
 {
@@ -1464,7 +1488,8 @@ int mr_run_steps(MrCtx *c, MrStretch *b, int n)
     for (k = 0; k < n; ++k) {
         double t = b->time, tn = t + b->dt;
         int after = tn + 1e-12 >= b->after_due;
-        if (t >= b->before_due || mr_stretch_pieces_end(b, t) || (b->wake && *b->wake)) break;
+        if (t >= b->before_due || mr_stretch_pieces_end(b, t) || (b->wake && *b->wake) ||
+            mr_stretch_watches(b, t)) break;
         b->last_start = t;
         if (b->nmacts) mr_apply_model_actuators(b->macts, b->nmacts);
         mr_apply_actuators(b->acts, b->nacts, t, b->dt, b->param_vel, b->param_fmax);
