@@ -18,8 +18,10 @@ position to the position interface (the hardware takes it there: kinematically, 
 ``gazebo_ros_control/pid_gains``); the effort type writes PID(position error, velocity error)
 clamped to +-|max_effort| -- so a max_effort of 0 applies no effort at all, exactly as there (the
 ROS layer warns about such a goal). That PID is the joint's actuator (SEGMENT_PID holding the target,
-run by the World at every step); the updates run in Python at every step while a goal runs (its
-checks) and otherwise only when something changes.
+run by the World at every step). The goal's checks (success, stall) are ros_controllers' checks at
+every update; here the joint's actuator watches for them (Actuator.watch): the World steps natively
+until the step at which one of them would fire and the update runs in Python there, so a goal ends
+at the same step as with an update at every step. Otherwise updates run when something changes.
 
 Outcomes (``events``: (goal id, outcome, result dict, text)), as ros_controllers reports them:
 succeeded with ``reached_goal: true`` once within goal_tolerance; aborted with ``stalled: true``
@@ -56,6 +58,7 @@ class GripperActionControllerBase(Controller):
         self.events = []
         self.computed_command = 0.0
         self._last_movement = 0.0
+        self._watch_act = None      # the actuator watching the goal's checks (None: every update)
 
     # -- goals (loop thread) ---------------------------------------------------------------
     def check_goal(self, position, max_effort):
@@ -96,6 +99,7 @@ class GripperActionControllerBase(Controller):
         if self.goal is None or self.goal != goal_id:
             return False
         self.goal = None
+        self._watch(None)
         self.target.write((self.joint.position, self.default_max_effort))
         self.events.append((goal_id, "canceled", self._result(False, False), "canceled"))
         return True
@@ -106,7 +110,7 @@ class GripperActionControllerBase(Controller):
             self.goal = None
 
     def _result(self, reached, stalled):
-        return dict(position=self.joint.position, effort=self.computed_command, stalled=stalled,
+        return dict(position=self.joint.position, effort=self._last_command(), stalled=stalled,
                     reached_goal=reached)
 
     # -- controller ------------------------------------------------------------------------
@@ -117,14 +121,39 @@ class GripperActionControllerBase(Controller):
 
     def stopping(self, t):
         self._preempt("controller '%s' was stopped" % self.name)
+        self._watch(None)
 
     def update(self, t, dt):
         self._taken_target = self.target.version
         position, max_effort = self.target.read()
         error = position - self.joint.position
         velocity = self.joint.velocity
+        w = self._watch_act
+        if w is not None and self.goal is not None:     # the steps the World made natively moved it
+            self._last_movement = max(self._last_movement, w.moved_at)
         self._check(t, error, velocity)
         self.computed_command = self._command(dt, position, error, -velocity, max_effort)
+        self._watch(position)
+
+    def _last_command(self):
+        """The command the joint got in the last step (ros_controllers' computed_command_ of the
+        update before: its result's ``effort``)."""
+        return self.computed_command
+
+    def _watched_actuator(self):
+        """The joint's actuator that can watch the goal's checks (None: the update checks them at
+        every step)."""
+        return self.joint.actuator
+
+    def _watch(self, position):
+        """The goal's checks to the joint's actuator (none without a goal)."""
+        a = self._watched_actuator() if self.goal is not None else None
+        if self._watch_act is not None and self._watch_act is not a:
+            self._watch_act.unwatch()
+        self._watch_act = a
+        if a is not None:
+            a.watch(position, self.goal_tolerance, self.stall_velocity_threshold, self.stall_timeout,
+                    self._last_movement)
 
     def _check(self, t, error, velocity):
         if self.goal is None:
@@ -144,11 +173,16 @@ class GripperActionControllerBase(Controller):
     _taken_target = None
 
     def update_due(self, t, iteration, dt):
-        """While a goal runs, every update (it checks the goal and the stall at each, as
-        ros_controllers does); otherwise only when a new target waits: the hardware (or the
-        effort type's actuator) holds the last one."""
-        if self.goal is not None or self.target.version != self._taken_target:
+        """While a goal runs, the step at which its checks fire (the joint's actuator watches for
+        it: the World ends its native stretch there), or every update where no actuator can watch;
+        otherwise only when a new target waits: the hardware (or the effort type's actuator) holds
+        the last one."""
+        if self.target.version != self._taken_target:
             return t
+        if self.goal is not None:
+            w = self._watch_act
+            if w is None or not w.watching or w is not self._watched_actuator():
+                return t
         return float("inf")
 
     def _start_adapter(self):
@@ -161,6 +195,10 @@ class GripperActionControllerBase(Controller):
 class PositionGripperActionController(GripperActionControllerBase):
     TYPE = "position_controllers/GripperActionController"
     INTERFACE = POSITION
+
+    def _watched_actuator(self):
+        j = self.joint
+        return j.actuator if j.owner is None else None     # the hardware's (kinematic or pid_gains)
 
     def _command(self, dt, position, error, error_velocity, max_effort):
         self.joint.command = position
@@ -184,6 +222,14 @@ class EffortGripperActionController(GripperActionControllerBase):
                        "effort and the goal ends stalled (as in ros_controllers); give command.max_effort"
                        % (self.TYPE, self.joint.name))
         return out
+
+    def _watched_actuator(self):
+        return self.act if self.joint.owner is self else None
+
+    def _last_command(self):
+        # the effort the PID gave in the last step the actuator made (with the updates in between
+        # made natively, the update before is long ago)
+        return self._clamped(self.act.last.output, self._max_effort)
 
     def _start_adapter(self):
         self.pid.reset()
