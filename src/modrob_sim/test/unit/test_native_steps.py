@@ -3,6 +3,7 @@ backend, mr_run_steps) give exactly the steps of calling every hook at every ste
 states, efforts, actuator internals and published samples, bit for bit, with commands and gains
 changing mid-run, an effort PID with antiwindup, a forward effort controller, a
 joint_state_controller and a schedule of after-step work; and the stretches do run the steps."""
+import math
 import os
 
 import pytest
@@ -178,3 +179,28 @@ def test_the_step_observer_sees_every_native_step():
     rig.world.set_step_observer(None, None)
     rig.step(10)
     assert len(seen) == 95
+
+
+@needs_c
+def test_a_wake_while_the_due_times_are_asked_is_not_lost():
+    """A ROS callback that stores work and wakes the World while the loop thread asks the due
+    times (after the hook's due time was read): the stretch that follows ends at once, and the hook
+    takes the work at the next step, not after the n steps the stretch would have run."""
+    world = physics.World(time_step=0.001, native=True)
+    work, taken, asked = [], [], []
+
+    def before_due():
+        asked.append(world.time)
+        if len(asked) == 1:         # read as "nothing to do", then the callback comes
+            work.append("command")
+            world.wake()
+            return math.inf
+        return world.time if work else math.inf
+
+    def before(t, dt):
+        if work:
+            taken.append(round(t, 6))
+            del work[:]
+    world.add_step_hook(before=before, before_due=before_due)
+    world.step(50)
+    assert world.iterations == 50 and taken == [0.0], taken

@@ -249,6 +249,9 @@ class PureBackend(object):
     def wake(self):
         pass
 
+    def clear_wake(self):
+        pass
+
     def set_observer(self, fn, user):
         pass
 
@@ -875,6 +878,11 @@ class NativeBackend(object):
         """Any thread: the stretch in progress ends after its current step."""
         self._wake.value = 1
 
+    def clear_wake(self):
+        """The loop thread, before it asks the due times: a wake from then on ends the next stretch
+        (cleared later, a wake between the due times and the stretch would be lost)."""
+        self._wake.value = 0
+
     def set_observer(self, fn, user):
         """``fn(user, t)`` (C function addresses, or None) after every step of a stretch."""
         self._stretch.observer, self._stretch.observer_user = fn, user
@@ -887,7 +895,6 @@ class NativeBackend(object):
         Stretch, or None when no step was made (the next one is the World's in Python)."""
         world = self.p
         b = self._stretch
-        self._wake.value = 0
         n_damp, dj, dk, dc = self._damp_arrays
         b.acts, b.nacts = ctypes.addressof(self._act_array), len(self._acts)
         b.macts, b.nmacts = ctypes.addressof(self._macts_array), len(self._macts)

@@ -919,6 +919,8 @@ class World(object):
         if not (self._backend.native and self._stretch_ok()):
             self._step_once()
             return 1
+        backend = self._backend
+        backend.clear_wake()        # before the due times: a wake after this ends the stretch
         before = earliest_due(self._before_dues) - DUE_MARGIN
         hooked = before <= t
         if hooked:
@@ -928,10 +930,11 @@ class World(object):
             if not self._stretch_ok():
                 self._step_once(hooked=True)
                 return 1
+            backend.clear_wake()    # what the hooks took needs no wake; what came since does
             # the step at t is made whatever the hooks say now; the stretch goes on to their next due time
             before = max(earliest_due(self._before_dues) - DUE_MARGIN, t + 0.5 * dt)
         after = earliest_due(self._after_dues) - DUE_MARGIN
-        r = self._backend.run(n, t, self.iterations, before, after)
+        r = backend.run(n, t, self.iterations, before, after)
         if r is not None:
             if hooked:
                 self.hooked_steps += 1
