@@ -76,3 +76,29 @@ def test_the_view_holds_the_standing_arm_and_the_table():
     with open(os.path.join(SRC, "modrob_sim", "config", "sim.rviz")) as f:   # the check sees a crop
         plain = yaml.safe_load(f)["Visualization Manager"]["Views"]["Current"]
     assert max(abs(in_view(plain, p)[1]) for p in links) > 1.0
+
+
+def test_the_build_launch_view_holds_the_readme_robots():
+    """urdf_and_gazebo.launch gui:=true (config/robots.rviz of modrob_build): the README's two
+    robots (bases 0 and 0.8 m after the safety distance, on 1.02 m) from the floor to their tops."""
+    launch = ET.parse(os.path.join(SRC, "modrob_build", "launch", "urdf_and_gazebo.launch")).getroot()
+    default = next(a.get("default") for a in launch.iter("arg") if a.get("name") == "rviz_config")
+    assert default == "$(find modrob_build)/config/robots.rviz"
+    specs = [RobotSpec("59,3,55,63,57,5", (x, 0.0, 1.02)) for x in (0.0, 0.8)]
+    result = build_robot_set(specs, gripper=True, gains="computed", out_dir="/nonexistent")
+    points = []
+    for name, text in result.files.items():
+        if name.endswith(".urdf"):
+            tree = kdl_urdf.tree_from_urdf_string(text)
+            fk = kdl_urdf.TreeFkSolverPos(tree)
+            points += [kdl_urdf.frame_to_matrix(fk.jnt_to_cart({}, s))[:3, 3] for s in tree.segments]
+    assert len(points) > 10 and max(p[2] for p in points) > 2.0
+    points += [(p[0], p[1], 0.0) for p in points]          # and the floor below them
+    with open(os.path.join(SRC, "modrob_build", "config", "robots.rviz")) as f:
+        view = yaml.safe_load(f)["Visualization Manager"]["Views"]["Current"]
+    for point in points:
+        x, y = in_view(view, point)
+        assert abs(x) < 0.9 and abs(y) < 0.9, "%s is outside the view (%.2f, %.2f)" % (tuple(point), x, y)
+    with open(os.path.join(SRC, "modrob_sim", "config", "sim.rviz")) as f:   # the check sees a crop
+        plain = yaml.safe_load(f)["Visualization Manager"]["Views"]["Current"]
+    assert max(abs(in_view(plain, p)[1]) for p in points) > 1.0
