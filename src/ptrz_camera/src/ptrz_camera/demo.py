@@ -41,8 +41,10 @@ def main(argv=None):
     port = free_port()
     os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % port
     log = open(os.path.join(args.out, "ptrz_launch.log"), "w")
+    # server_required: a simulator that dies (at start-up too) ends the launch, and the wait below
     cmd = ["roslaunch", "-p", str(port), "ptrz_camera", "tracking.launch", "gui:=false",
-           "cameras:=%d" % args.cameras, "real_time_factor:=%s" % args.real_time_factor]
+           "server_required:=true", "cameras:=%d" % args.cameras,
+           "real_time_factor:=%s" % args.real_time_factor]
     if args.audit:
         cmd.append("log:=%s" % os.path.abspath(os.path.join(args.out, "ptrz_network_log.txt")))
     print("[ptrz demo] %s" % " ".join(cmd), flush=True)
@@ -59,6 +61,18 @@ def main(argv=None):
         log.close()
 
 
+def stopped(args):
+    """The RESULT line of a run whose launch ended (its simulator is required) before the recording did."""
+    path = os.path.join(args.out, "ptrz_launch.log")
+    with open(path) as f:
+        fatal = [line.strip() for line in f if "[FATAL]" in line]
+    if fatal:
+        print("[ptrz demo] %s" % fatal[0], flush=True)
+    print("RESULT %s: FAILURE -- the simulation stopped before the recording was complete (its messages: %s)"
+          % (args.scenario, path), flush=True)
+    return 1
+
+
 def run(args, launch):
     import rospy
     from ptrz_camera.ros.recorder import TrackingRecorder
@@ -70,6 +84,8 @@ def run(args, launch):
     import rosgraph
     master = rosgraph.Master("/ptrz_demo")
     while time.monotonic() < deadline:          # simulated time: /use_sim_time must be set first
+        if launch.poll() is not None:
+            return stopped(args)
         try:
             if master.getParam("/use_sim_time"):
                 break
@@ -85,16 +101,20 @@ def run(args, launch):
     print("[ptrz demo] waiting for the first network estimate ...", flush=True)
     while time.monotonic() < deadline and not rec.snapshot()[1]:
         if launch.poll() is not None:
-            print("RESULT %s: FAILURE -- the simulation stopped (see %s/ptrz_launch.log)"
-                  % (args.scenario, args.out))
-            return 1
+            return stopped(args)
         time.sleep(0.5)
+    if not rec.snapshot()[1]:
+        print("RESULT %s: FAILURE -- no network estimate within %.0f wall s (see %s/ptrz_launch.log)"
+              % (args.scenario, args.wall_timeout, args.out))
+        return 1
     t0_sim, t0_wall = rospy.get_time(), time.monotonic()
     print("[ptrz demo] tracking from sim time %.1f s; recording %.0f s of simulated time"
           % (t0_sim, args.duration),
           flush=True)
     last_report = 0
     while time.monotonic() < deadline and rospy.get_time() - t0_sim < args.duration:
+        if launch.poll() is not None:
+            return stopped(args)
         time.sleep(0.5)
         if time.monotonic() - last_report > 15:
             last_report = time.monotonic()
