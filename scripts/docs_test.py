@@ -58,6 +58,10 @@ CTRL_C_ENDS = ["env", "--default-signal=INT"]
 INTERRUPTED = threading.Event()  # the docs test itself got Ctrl-C: sessions stop what they run
 
 
+# a line of a shell block that moves the reader's shell elsewhere (not inside a subshell)
+CHANGES_DIR = re.compile(r"^\s*(cd|roscd|pushd)(\s|$)")
+
+
 class Block(object):
     def __init__(self, doc, line, lang, text, marker, indent):
         self.doc, self.line, self.lang, self.text = doc, line, lang, text
@@ -194,6 +198,11 @@ def scan(doc, text):
                 problems.append(where + ("a ```%s block that starts with the command '%s': make it ```bash "
                                          "(and mark it run or skip)" % (block.lang, first[0]),))
             continue
+        moves = [x.split()[0] for x in block.text.split("\n") if CHANGES_DIR.match(x)]
+        if block.kind == "bash" and moves:
+            problems.append(where + ("a block that changes the directory ('%s'): a reader pasting the blocks "
+                                     "in order in one shell is then elsewhere for the next block's relative "
+                                     "paths; use rospack find, or a subshell: (cd DIR && ...)" % moves[0],))
         if block.action is None:
             problems.append(where + ("a ```%s block neither run nor marked: put <!-- docs-test: run ... --> "
                                      "or <!-- docs-test: skip (reason) --> on the line before it "

@@ -293,3 +293,30 @@ def test_sessions_run_side_by_side(tmp_path):
     docs_test.run_groups(groups, str(tmp_path), 2, lambda i, group, session, seconds: ended.append(
         (i, session.results[group[0]][0])))
     assert sorted(ended) == [(1, True), (2, True)]
+
+
+def test_a_block_that_leaves_the_workspace_folder_is_refused():
+    """Pasted in order into one shell, a block's roscd/cd would break the next block's src/... and
+    out/... paths (the docs test runs each block from the workspace folder and would not see it)."""
+    _, problems = scan("""\
+        <!-- docs-test: run -->
+        ```bash
+        source scripts/env.sh
+        roscd modrob_sim
+        ```
+
+        <!-- docs-test: skip (a display) -->
+        ```bash
+          cd out && ls
+        ```
+
+        <!-- docs-test: run -->
+        ```bash
+        (cd out && ls)
+        rospack find modrob_sim
+        echo cd roscd
+        ```
+        """)
+    assert [line for line, _ in problems] == [2, 8]
+    assert "'roscd'" in problems[0][1] and "rospack find" in problems[0][1]
+    assert "'cd'" in problems[1][1]
