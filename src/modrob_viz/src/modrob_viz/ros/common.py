@@ -3,6 +3,7 @@ the end effector, latched publishers, and the boundary that turns library errors
 log line and an exit code instead of a traceback."""
 import math
 import threading
+import time
 
 import rospy
 import tf2_ros
@@ -95,11 +96,17 @@ def latched(topic, msg_class):
 
 
 class EndEffectorSampler(object):
-    """Position of ``ee_frame`` in ``base_frame`` from tf2, with the failure explained (throttled)."""
+    """Position of ``ee_frame`` in ``base_frame`` from tf2, with the failure explained (throttled).
+    For its first ``STARTUP_GRACE`` wall seconds a missing transform is normal (the nodes of a launch
+    start together; robot_state_publisher has not published yet) and is not warned about."""
 
-    def __init__(self, base_frame, ee_frame, cache_time=60.0):
+    STARTUP_GRACE = 5.0
+
+    def __init__(self, base_frame, ee_frame, cache_time=60.0, clock=time.monotonic):
         self.base_frame = base_frame
         self.ee_frame = ee_frame
+        self.clock = clock
+        self.started = clock()
         self.buffer = tf2_ros.Buffer(rospy.Duration(cache_time))
         self.listener = tf2_ros.TransformListener(self.buffer)
         self.lock = threading.Lock()
@@ -111,6 +118,8 @@ class EndEffectorSampler(object):
                                              rospy.Duration(timeout))
         except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
                 tf2_ros.ExtrapolationException) as err:
+            if self.clock() - self.started < self.STARTUP_GRACE:
+                return None
             rospy.logwarn_throttle(5.0, "no transform %s -> %s yet (is robot_state_publisher running and are "
                                    "~base_frame/~ee_frame right?): %s" % (self.base_frame, self.ee_frame,
                                                                           err))
