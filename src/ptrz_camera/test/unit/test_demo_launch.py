@@ -18,7 +18,8 @@ def test_the_demos_launch_makes_the_simulator_required():
 
 def test_a_stopped_run_names_the_simulators_fatal_message(tmp_path, capsys):
     (tmp_path / "ptrz_launch.log").write_text(
-        "[INFO] starting\n[FATAL] [1.0, 0.0]: gazebo: cannot start: libfoo.so is out of date\n[ERROR] later\n")
+        "[INFO] starting\n[FATAL] [1.0, 0.0]: gazebo: cannot start: libfoo.so is out of date\n"
+        "[ERROR] later\n")
     args = type("Args", (), {"scenario": "ptrz", "out": str(tmp_path)})()
     assert demo.stopped(args) == 1
     out = capsys.readouterr().out
