@@ -70,15 +70,21 @@ def scenario(native):
     return w, seen
 
 
-@needs_c
-def test_the_two_backends_step_every_kind_alike_bit_for_bit():
+def assert_backends_alike(scenario, samples):
+    """``scenario(native)`` -> (world, samples seen): both backends see the same samples, more than
+    ``samples`` of them, and end in the same state, bit for bit."""
     wp, pure = scenario(False)
     wn, nat = scenario(True)
     assert not wp.native and wn.native
-    assert len(pure) == len(nat) > 60
+    assert len(pure) == len(nat) > samples
     for a, b in zip(pure, nat):
         assert a == b, "step %d differs" % a[0]
     assert wp.state_digest() == wn.state_digest()
+
+
+@needs_c
+def test_the_two_backends_step_every_kind_alike_bit_for_bit():
+    assert_backends_alike(scenario, 60)
 
 
 def velocity_scenario(native):
@@ -122,12 +128,7 @@ def velocity_scenario(native):
 
 @needs_c
 def test_velocity_outputs_step_alike_on_both_backends_bit_for_bit():
-    wp, pure = velocity_scenario(False)
-    wn, nat = velocity_scenario(True)
-    assert len(pure) == len(nat) > 60
-    for a, b in zip(pure, nat):
-        assert a == b, "step %d differs" % a[0]
-    assert wp.state_digest() == wn.state_digest()
+    assert_backends_alike(velocity_scenario, 60)
 
 
 @pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
@@ -199,12 +200,7 @@ def position_scenario(native):
 
 @needs_c
 def test_position_outputs_step_alike_on_both_backends_bit_for_bit():
-    wp, pure = position_scenario(False)
-    wn, nat = position_scenario(True)
-    assert len(pure) == len(nat) > 50
-    for a, b in zip(pure, nat):
-        assert a == b, "step %d differs" % a[0]
-    assert wp.state_digest() == wn.state_digest()
+    assert_backends_alike(position_scenario, 50)
 
 
 @pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
