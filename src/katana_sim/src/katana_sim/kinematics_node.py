@@ -22,6 +22,10 @@ from katana_sim.srv import GetFK, GetFKResponse, GetIK, GetIKResponse
 from katana_sim.tf_util import apply_transform
 from modrob_kinematics.errors import KinematicsError, UnreachableError as KdlUnreachable
 from modrob_kinematics.kdl_urdf import KinematicChain
+from modrob_sim import waits
+
+# wall seconds a request in another frame waits for tf (the first one creates the listener)
+TF_WAIT = 5.0
 
 
 def _quat_of(m):
@@ -135,7 +139,7 @@ class KinematicsNode(object):
                 if self.tf_listener is None:
                     self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
             try:
-                tf = self.tf_buffer.lookup_transform(self.base, frame, rospy.Time(0), rospy.Duration(1.0))
+                tf = waits.lookup_transform(self.tf_buffer, self.base, frame, TF_WAIT)
             except (tf2_ros.LookupException, tf2_ros.ConnectivityException,
                     tf2_ros.ExtrapolationException) as exc:
                 res.message = "cannot transform the target from '%s' to '%s': %s" % (frame, self.base, exc)

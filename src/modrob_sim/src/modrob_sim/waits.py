@@ -41,6 +41,22 @@ def wait_until(condition, timeout):
     return False
 
 
+def lookup_transform(buffer, target, source, timeout):
+    """``buffer.lookup_transform(target, source, latest)``, waiting up to ``timeout`` wall seconds
+    for it to become known (tf2's own timeout is simulated time: at a high real-time factor its
+    second is gone before a just-created TransformListener has its connections). Raises tf2's
+    exception of the last look when it is still unknown."""
+    import tf2_ros
+    end = time.monotonic() + timeout
+    while True:
+        try:
+            return buffer.lookup_transform(target, source, rospy.Time(0))
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException, tf2_ros.ExtrapolationException):
+            if rospy.is_shutdown() or time.monotonic() > end:
+                raise
+        time.sleep(POLL)
+
+
 def stop_following_clock():
     """For a node that needs no simulated time any more (it only serves or waits for shutdown,
     with wall-clock timeouts): drop rospy's /clock subscription. With ``use_sim_time`` every rospy

@@ -37,6 +37,36 @@ def test_wait_until():
     assert not waits.wait_until(lambda: False, 0.1)
 
 
+class FakeTfBuffer(object):
+    """A tf2_ros.Buffer that knows the transform from the ``known_after``-th look on (None: never)."""
+
+    def __init__(self, known_after):
+        self.known_after = known_after
+        self.looks = 0
+
+    def lookup_transform(self, target, source, stamp, timeout=None):
+        import tf2_ros
+        self.looks += 1
+        assert timeout is None        # the wait is in wall time, never tf2's simulated-time timeout
+        if self.known_after is None or self.looks <= self.known_after:
+            raise tf2_ros.LookupException('"%s" passed to lookupTransform argument target_frame does '
+                                          'not exist' % target)
+        return (target, source)
+
+
+def test_lookup_transform_waits_in_wall_time_then_raises_tf2s_exception():
+    import pytest
+    import tf2_ros
+    late = FakeTfBuffer(known_after=3)
+    assert waits.lookup_transform(late, "base", "world", 10.0) == ("base", "world")
+    assert late.looks == 4
+    never = FakeTfBuffer(known_after=None)
+    start = time.monotonic()
+    with pytest.raises(tf2_ros.LookupException, match="base"):
+        waits.lookup_transform(never, "base", "world", 0.2)
+    assert time.monotonic() - start >= 0.2 and never.looks > 1
+
+
 def test_stop_following_clock_drops_rospys_clock_subscription_once(monkeypatch):
     from rospy.impl import simtime
     dropped = []
