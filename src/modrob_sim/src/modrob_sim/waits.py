@@ -6,6 +6,7 @@ time can pass in a fraction of a wall second (before the controller spawner has 
 action servers), and while the simulator is paused or not yet publishing ``/clock`` it never
 passes. How long a client is willing to wait for the rest of the system is a wall-clock question.
 """
+import threading
 import time
 
 import rospy
@@ -71,6 +72,91 @@ def stop_following_clock():
     sub.unregister()
     simtime._clock_sub = None
     return True
+
+
+class Latest(object):
+    """The latest message of a topic (and, with ``keep``, every one), for checks that read what a
+    simulator publishes.
+
+    At ``real_time_factor`` 0 the simulator publishes thousands of messages per wall second: the
+    one a subscriber has just taken can be simulated seconds older than the simulator's clock (it
+    waited in the sockets), and some never arrive (a publisher's queue overflows). So a check that
+    knows the simulated time of an event reads ``after(t)``, the first message stamped at ``t`` or
+    later, and one that reads a history checks it has no gap where it matters. Waits are in wall
+    seconds (this module's rule)."""
+
+    def __init__(self, topic, cls, keep=False):
+        self.cls = cls
+        self.topic = topic
+        self.stamped = bool(cls._slot_types) and cls._slot_types[0] == "std_msgs/Header"
+        self.lock = threading.Lock()
+        self.count = 0
+        self.msg = None
+        self._kept = [] if keep else None
+        self.sub = rospy.Subscriber(topic, cls, self._take, queue_size=None)
+
+    def _take(self, msg):
+        with self.lock:
+            self.msg = msg
+            self.count += 1
+            if self._kept is not None:
+                self._kept.append(msg)
+
+    def get(self):
+        return self.msg
+
+    @property
+    def history(self):
+        """Every message since the start or ``clear()`` (``keep=True``), oldest first."""
+        if self._kept is None:
+            raise ValueError("Latest(%s) keeps no history: create it with keep=True" % self.topic)
+        with self.lock:
+            return list(self._kept)
+
+    def clear(self):
+        with self.lock:
+            if self._kept is not None:
+                self._kept = []
+
+    def wait_connected(self, timeout=30.0):
+        """Wait up to ``timeout`` wall seconds for a connection to a publisher of the topic: what
+        is published before it is not received (at real_time_factor 0 a whole action can run in
+        less time than a connection takes). Returns self."""
+        if not wait_until(lambda: self.sub.get_num_connections() > 0, timeout):
+            raise AssertionError("no publisher of %s connected within %.0f s" % (self.topic, timeout))
+        return self
+
+    def wait(self, cond=lambda m: True, timeout=30.0, what=None):
+        """Wait up to ``timeout`` wall seconds for a latest message that satisfies ``cond``; return
+        it. AssertionError (naming ``what``) when none came."""
+        found = []
+
+        def ready():
+            m = self.msg
+            if m is not None and cond(m):
+                found.append(m)
+            return bool(found)
+        if not wait_until(ready, timeout):
+            raise AssertionError("timed out after %.0f s waiting for %s on %s"
+                                 % (timeout, what or "a message", self.topic))
+        return found[0]
+
+    def after(self, t, timeout=30.0):
+        """The first message stamped at simulated time ``t`` or later (with ``keep``; else the
+        latest once it is that young), waiting up to ``timeout`` wall seconds for it."""
+        if not self.stamped:
+            raise TypeError("%s has no header stamp (%s)" % (self.topic, self.cls._type))
+
+        def young(m):
+            return m.header.stamp.to_sec() >= t
+        latest = self.wait(young, timeout, "a message of simulated time %.3f or later" % t)
+        if self._kept is None:
+            return latest
+        return next(m for m in self.history if young(m))
+
+    def fresh(self, timeout=30.0):
+        """The first message stamped at the simulated time this node knows now, or later."""
+        return self.after(rospy.get_time(), timeout)
 
 
 class GraphWait(object):

@@ -71,12 +71,6 @@ class RosoutCollector(object):
         return self.find(*needles)[0]
 
 
-class Latest(object):
-    def __init__(self, topic, cls):
-        self.msg = None
-        self.history = []
-        self.sub = rospy.Subscriber(topic, cls, self._cb, queue_size=100)
-
-    def _cb(self, msg):
-        self.msg = msg
-        self.history.append(msg)
+def Latest(topic, cls):
+    """modrob_sim.waits.Latest keeping every message (the checks read histories)."""
+    return waits.Latest(topic, cls, keep=True)

@@ -48,7 +48,7 @@ class ControllerManagerRoundTrip(unittest.TestCase):
         wait_until(lambda: cls.joints.msg is not None, 30, "/wheels/joint_states")
 
     def velocity(self, joint):
-        msg = self.joints.msg
+        msg = self.joints.fresh()       # a state from now, not one still on its way
         return msg.velocity[msg.name.index(joint)]
 
     def test_1_types(self):

@@ -1,7 +1,6 @@
 """Shared helpers of the simulator's rostest nodes (sim_*.py): service proxies with Gazebo's types,
 fixtures, waiting on conditions with wall-clock timeouts."""
 import os
-import threading
 import time
 
 import rospy
@@ -11,6 +10,7 @@ from geometry_msgs.msg import Pose
 from std_srvs.srv import Empty
 
 from modrob_msgs.srv import StepSimulation
+from modrob_sim.waits import Latest  # noqa: F401 - the checks import it from here
 
 FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "sim")
 
@@ -67,25 +67,6 @@ def wait_for(predicate, timeout=20.0, poll=0.02):
         time.sleep(poll)
         value = predicate()
     return value
-
-
-class Latest(object):
-    """Keeps the last message of a topic (thread-safe) and counts messages."""
-
-    def __init__(self, topic, msg_type):
-        self.lock = threading.Lock()
-        self.msg = None
-        self.count = 0
-        self.sub = rospy.Subscriber(topic, msg_type, self._cb, queue_size=10)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.msg = msg
-            self.count += 1
-
-    def get(self):
-        with self.lock:
-            return self.msg
 
 
 def model_names():

@@ -7,6 +7,8 @@ import rospy
 from controller_manager_msgs.srv import ListControllers
 from sensor_msgs.msg import JointState
 
+from modrob_sim import waits
+
 CONTROLLERS = ["joint_state_controller", "roll_position_controller", "tilt_position_controller",
                "pan_position_controller"]
 
@@ -53,14 +55,18 @@ class Latest(object):
             self.history = []
 
 
-class Joints(Latest):
+class Joints(waits.Latest):
+    """/<ns>/joint_states, every message kept (modrob_sim.waits.Latest: it does not fall behind a
+    simulator at real_time_factor 0)."""
+
     def __init__(self, ns):
-        Latest.__init__(self, ns + "/joint_states", JointState)
+        waits.Latest.__init__(self, ns + "/joint_states", JointState, keep=True)
 
     def position(self, joint):
         msg = self.msg
         return msg.position[msg.name.index(joint)]
 
     def positions_since(self, joint, t0):
-        with self.lock:
-            return [m.position[m.name.index(joint)] for t, m in self.history if t >= t0]
+        """``joint``'s positions in the messages stamped at simulated time ``t0`` or later."""
+        self.after(t0)
+        return [m.position[m.name.index(joint)] for m in self.history if m.header.stamp.to_sec() >= t0]
