@@ -37,7 +37,15 @@ class LaunchAndTeleop(unittest.TestCase):
         buf = tf2_ros.Buffer()
         tf2_ros.TransformListener(buf)
 
-        def at_zero():      # the position controllers hold 0 (just after the start the arm still sags)
+        # a JointPositionController holds the position it started at (ros_controllers' starting()),
+        # wherever the arm had sagged to by then: command the seed's pose, all joints at 0 (latched:
+        # the simulator gets it whenever it connects)
+        pubs = [rospy.Publisher("%s/%s_position_controller/command" % (NS, j), Float64, queue_size=1,
+                                latch=True) for j in ("roll", "pan", "tilt")]
+        for p in pubs:
+            p.publish(Float64(0.0))
+
+        def at_zero():
             m = self.joints.msg
             return all(abs(q) < 2e-3 for n, q in zip(m.name, m.position) if n in ("roll", "pan", "tilt"))
         wait_until(at_zero, 30, "roll, pan and tilt at 0 on /ptrz/joint_states")
@@ -74,6 +82,8 @@ class LaunchAndTeleop(unittest.TestCase):
                 return all(v is not None and abs(v - w) < 1e-9 for v, w in zip(vals, (roll, pan, tilt)))
             wait_until(ok, 30, "commands roll %.3f pan %.3f tilt %.3f after %s" % (roll, pan, tilt, what))
 
+        for latest in self.cmd.values():    # test_1's commands: the teleop's own come next
+            latest.msg = None
         try:
             wait_for_commands(0.0, 0.0, 0.0, "start")
             script = [("s", (0.0, 0.1, 0.0)), ("s", (0.0, 0.2, 0.0)), ("s", (0.0, 0.3, 0.0)),
