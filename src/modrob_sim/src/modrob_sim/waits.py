@@ -58,6 +58,17 @@ def lookup_transform(buffer, target, source, timeout):
         time.sleep(POLL)
 
 
+def result_time(client):
+    """The simulated time at which the server decided the result ``client`` (a SimpleActionClient)
+    has just received: its result message's stamp. A check of the state "after the goal ended"
+    reads messages stamped from then on (``Latest.after``); this node's own clock can be a
+    simulated second behind the result it has taken."""
+    result = client.gh.comm_state_machine.latest_result if client.gh else None
+    if result is None:
+        raise ValueError("no result received on %s yet: wait_for_result first" % client.action_client.ns)
+    return result.header.stamp.to_sec()
+
+
 def stop_following_clock():
     """For a node that needs no simulated time any more (it only serves or waits for shutdown,
     with wall-clock timeouts): drop rospy's /clock subscription. With ``use_sim_time`` every rospy

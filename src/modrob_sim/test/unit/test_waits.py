@@ -150,3 +150,24 @@ def test_subscribed_needs_a_subscriber_connected_to_the_topic():
     assert graph.unsubscribed([topic]) == [topic]  # a node that does not answer
     info["/rqt_plot_1"] = [[2, "/gazebo", "i", "TCPROS", topic, True, ""]]
     assert graph.unsubscribed([topic, "/clock"]) == []
+
+
+def test_result_time_is_the_stamp_of_the_result_the_client_received():
+    import types
+    import pytest
+    import rospy
+    from actionlib_msgs.msg import GoalStatus
+    from control_msgs.msg import FollowJointTrajectoryActionResult
+    result = FollowJointTrajectoryActionResult()
+    result.header.stamp = rospy.Time(12, 500000000)
+    result.status.status = GoalStatus.SUCCEEDED
+    machine = types.SimpleNamespace(latest_result=result)
+    client = types.SimpleNamespace(gh=types.SimpleNamespace(comm_state_machine=machine),
+                                   action_client=types.SimpleNamespace(ns="/arm/follow_joint_trajectory"))
+    assert waits.result_time(client) == 12.5
+    machine.latest_result = None
+    with pytest.raises(ValueError, match="/arm/follow_joint_trajectory"):
+        waits.result_time(client)
+    client.gh = None
+    with pytest.raises(ValueError, match="wait_for_result first"):
+        waits.result_time(client)
