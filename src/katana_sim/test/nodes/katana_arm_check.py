@@ -18,7 +18,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 import numpy as np
 from gazebo_msgs.msg import LinkStates, ModelState
-from gazebo_msgs.srv import SetModelState
+from gazebo_msgs.srv import GetWorldProperties, SetModelState
 from geometry_msgs.msg import PoseArray, PoseStamped
 
 from katana_sim import kinematics as kin
@@ -27,25 +27,21 @@ from katana_sim.srv import GetFK, GetIK
 from modrob_sim import waits
 
 TOLERANCE = 0.05  # katana_arm_controller's goal tolerance (rad)
+PERIOD = 0.02     # joint_state_controller's publish_rate 50
 
 
 def wait_until(cond, timeout, what):
-    end = rospy.get_time() + timeout
-    while not rospy.is_shutdown() and rospy.get_time() < end:
-        if cond():
-            return
-        rospy.sleep(0.05)
-    raise AssertionError("timed out after %.0f s (simulated) waiting for %s" % (timeout, what))
+    """Wait ``timeout`` wall seconds (simulated time runs 20-60x faster than the wall clock here, and
+    the nodes waited for answer in wall time)."""
+    if not waits.wait_until(cond, timeout):
+        raise AssertionError("timed out after %.0f s waiting for %s" % (timeout, what))
 
 
 class KatanaArm(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("katana_arm_check")
-        cls.positions = {}
-        cls.layouts = set()         # the joint names of every /joint_states message
-        cls.stamps = []
-        rospy.Subscriber("/joint_states", JointState, cls._joint_states)
+        cls.joints = waits.Latest("/joint_states", JointState, keep=True)
         cls.detections = None
         rospy.Subscriber("/katana/detected_objects", PoseArray, cls._detections)
         cls.arm = actionlib.SimpleActionClient("/katana_arm_controller/follow_joint_trajectory",
@@ -57,29 +53,42 @@ class KatanaArm(unittest.TestCase):
             ((cls.arm, "/katana_arm_controller/follow_joint_trajectory"),
              (cls.gripper, "/gripper_grasp_posture_controller")), 60)
         assert missing is None, "no %s" % missing
-        wait_until(lambda: all(j in cls.positions for j in JOINTS + ("katana_r_finger_joint",)), 30,
-                   "joint states of the arm and the fingers")
+        cls.joints.wait(lambda m: all(j in m.name for j in JOINTS + ("katana_r_finger_joint",)), 30,
+                        "joint states of the arm and the fingers")
 
     @classmethod
     def _detections(cls, msg):
         cls.detections = msg
 
-    @classmethod
-    def _joint_states(cls, msg):
-        for name, q in zip(msg.name, msg.position):
-            cls.positions[name] = q
-        cls.layouts.add(tuple(msg.name))
-        cls.stamps.append(msg.header.stamp.to_sec())
+    def positions(self, msg=None):
+        """{joint: position} of ``msg`` (default: the latest /joint_states)."""
+        msg = msg or self.joints.msg
+        return dict(zip(msg.name, msg.position))
+
+    def positions_after(self, client):
+        """The joint positions in the first /joint_states stamped when ``client``'s result was
+        decided or later (the latest one taken can be a simulated second older: still moving)."""
+        return self.positions(self.joints.after(waits.result_time(client)))
 
     def test_0_joint_states_carry_all_seven_joints_at_50_hz(self):
         """As katana_arm_gazebo's: joint_state_controller alone, fingers included (their effort
         transmissions), at its publish_rate; the gripper plugin publishes none."""
-        t0 = rospy.get_time()
-        rospy.sleep(1.0)
-        self.assertEqual(self.layouts, {tuple(JOINTS) + ("katana_r_finger_joint", "katana_l_finger_joint")})
-        n = len([t for t in list(self.stamps) if t0 < t <= t0 + 1.0])
-        self.assertTrue(49 <= n <= 51, "%d /joint_states messages in 1 s of simulated time (50 Hz expected)"
-                        % n)
+        t0 = self.joints.fresh().header.stamp.to_sec()
+        self.joints.after(t0 + 1.0)     # in order on the one connection: the second's messages are in
+        history = self.joints.history
+        self.assertEqual({tuple(m.name) for m in history},
+                         {tuple(JOINTS) + ("katana_r_finger_joint", "katana_l_finger_joint")})
+        stamps = [m.header.stamp.to_sec() for m in history if t0 <= m.header.stamp.to_sec() <= t0 + 1.0]
+        # at real_time_factor 0 a message can be lost on the way (a publisher's queue overflows):
+        # every gap must then be a whole number of periods, the shortest exactly one
+        gaps = [(b - a) / PERIOD for a, b in zip(stamps, stamps[1:])]
+        self.assertTrue(gaps and all(abs(g - round(g)) < 0.05 and round(g) >= 1 for g in gaps),
+                        "/joint_states not on a 50 Hz grid of simulated time: gaps %s periods" % gaps)
+        self.assertEqual(round(min(gaps)), 1, "/joint_states slower than 50 Hz: gaps %s periods" % gaps)
+        self.assertAlmostEqual(stamps[-1] - stamps[0], 1.0, delta=0.001 + PERIOD,
+                               msg="one simulated second of /joint_states at 50 Hz")
+        lost = sum(round(g) - 1 for g in gaps)
+        self.assertLess(lost, 5, "%d of 50 /joint_states messages lost in one simulated second" % lost)
 
     def test_1_trajectory_reaches_five_joint_target(self):
         target = [1.5, 1.1, -1.4, 0.7, 0.5]   # to the left, clear of the cans
@@ -92,12 +101,10 @@ class KatanaArm(unittest.TestCase):
         self.assertTrue(self.arm.wait_for_result(rospy.Duration(60)), "no result from the trajectory action")
         res = self.arm.get_result()
         self.assertEqual(self.arm.get_state(), GoalStatus.SUCCEEDED, res.error_string)
-        stamp = rospy.get_time()
-        rospy.sleep(0.1)
-        self.assertGreater(rospy.get_time(), stamp)
+        positions = self.positions_after(self.arm)
         for name, want in zip(JOINTS, target):
-            self.assertLess(abs(self.positions[name] - want), TOLERANCE,
-                            "%s at %.4f, goal %.4f" % (name, self.positions[name], want))
+            self.assertLess(abs(positions[name] - want), TOLERANCE,
+                            "%s at %.4f, goal %.4f" % (name, positions[name], want))
 
     def _grip(self, position, max_effort=0.0):
         goal = GripperCommandGoal()
@@ -110,18 +117,19 @@ class KatanaArm(unittest.TestCase):
         state, res, text = self._grip(0.3)
         self.assertEqual(state, GoalStatus.SUCCEEDED, text)
         self.assertTrue(res.reached_goal, text)
-        self.assertAlmostEqual(self.positions["katana_l_finger_joint"], 0.3, delta=0.02)
+        self.assertAlmostEqual(self.positions_after(self.gripper)["katana_l_finger_joint"], 0.3, delta=0.02)
         state, res, text = self._grip(-0.44, 0.3)
         self.assertEqual(state, GoalStatus.SUCCEEDED, text)
         self.assertTrue(res.reached_goal, text)
         self.assertFalse(res.stalled, text)
         self.assertNotIn("holding", text)
-        wait_until(lambda: abs(self.positions["katana_r_finger_joint"] + 0.44) < 0.02, 10,
-                   "the finger state at -0.44 (now %.3f)" % self.positions["katana_r_finger_joint"])
+        self.joints.wait(lambda m: abs(self.positions(m)["katana_r_finger_joint"] + 0.44) < 0.02, 10,
+                         "the finger state at -0.44")
 
     def test_4_kdl_fk_matches_the_simulators_link_poses(self):
         states = rospy.wait_for_message("/gazebo/link_states", LinkStates, timeout=30)
-        q = [self.positions[j] for j in JOINTS]
+        positions = self.positions(self.joints.fresh())     # the arm stands still since test_2
+        q = [positions[j] for j in JOINTS]
         fk = rospy.ServiceProxy("/katana_arm_kinematics/get_fk", GetFK)
         fk.wait_for_service(30)
         res = fk(joint_names=list(JOINTS), positions=q, solver="kdl")
@@ -169,7 +177,9 @@ class KatanaArm(unittest.TestCase):
             st.pose.position.x, st.pose.position.y, st.pose.position.z = x, y, 0.811
             st.pose.orientation.w = 1.0
             self.assertTrue(set_state(st).success)
-        t0 = rospy.get_time()
+        # the simulator's time now (this node's clock can be a simulated second behind): a
+        # detection stamped 0.3 s later comes from a scan of the moved cans
+        t0 = rospy.ServiceProxy("/gazebo/get_world_properties", GetWorldProperties)().sim_time
         wait_until(lambda: self.detections is not None and self.detections.header.stamp.to_sec() > t0 + 0.3
                    and len(self.detections.poses) == 2, 30, "two detections after the cans moved")
         self.assertEqual(self.detections.header.frame_id, "katana_laser_link")
@@ -191,10 +201,10 @@ class KatanaArm(unittest.TestCase):
                 time.sleep(0.1)
             self.assertNotEqual(termios.tcgetattr(slave), before,
                                 "the teleop never put the terminal in cbreak mode")
-            start = self.positions["katana_motor1_pan_joint"]
+            start = self.positions(self.joints.fresh())["katana_motor1_pan_joint"]
             os.write(master, b"0w")
-            wait_until(lambda: abs(self.positions["katana_motor1_pan_joint"] - (start + 0.2)) < 0.03, 30,
-                       "joint 0 to move by the 0.2 rad increment")
+            self.joints.wait(lambda m: abs(self.positions(m)["katana_motor1_pan_joint"] - start - 0.2) < 0.03,
+                             30, "joint 0 to move by the 0.2 rad increment")
             os.write(master, b"q")
             self.assertEqual(proc.wait(timeout=30), 0)
         finally:
@@ -208,7 +218,7 @@ class KatanaArm(unittest.TestCase):
         state, res, text = self._grip(float("nan"))
         self.assertEqual(state, GoalStatus.ABORTED)
         self.assertIn("not a finite number", text)
-        self.assertTrue(math.isfinite(self.positions["katana_r_finger_joint"]))
+        self.assertTrue(math.isfinite(self.positions_after(self.gripper)["katana_r_finger_joint"]))
 
 
 if __name__ == "__main__":
