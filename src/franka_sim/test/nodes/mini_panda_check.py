@@ -19,6 +19,8 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool
 from trajectory_msgs.msg import JointTrajectoryPoint
 
+from modrob_sim import waits
+
 ARM = ["panda_joint%d" % i for i in range(1, 8)]
 CUBE = """<sdf version="1.6"><model name="cube"><link name="l">
 <inertial><mass>0.05</mass><inertia><ixx>4e-5</ixx><iyy>4e-5</iyy><izz>8e-6</izz><ixy>0</ixy><ixz>0</ixz>
@@ -27,12 +29,21 @@ CUBE = """<sdf version="1.6"><model name="cube"><link name="l">
 <surface><friction><ode><mu>1</mu><mu2>1</mu2></ode></friction></surface></collision></link></model></sdf>"""
 
 
+# Every wait below is in wall seconds (modrob_sim.waits): the simulator runs at real_time_factor 0,
+# where a simulated-time timeout (actionlib's, tf2's, rospy's) is gone in a fraction of a wall second,
+# before the spawners or the listener are ready on a loaded machine.
+
+
 def wait_true(topic, timeout):
-    end = rospy.get_time() + timeout
-    while not rospy.is_shutdown():
-        msg = rospy.wait_for_message(topic, Bool, timeout=timeout)
-        if msg.data or rospy.get_time() > end:
-            return msg.data
+    latest = waits.Latest(topic, Bool)
+    return waits.wait_until(lambda: latest.msg is not None and latest.msg.data, timeout)
+
+
+def server(action, cls, timeout=30.0):
+    client = actionlib.SimpleActionClient(action, cls)
+    missing = waits.wait_for_action_servers(((client, action),), timeout)
+    assert missing is None, "no %s action server within %.0f s" % (missing, timeout)
+    return client
 
 
 class MiniPanda(unittest.TestCase):
@@ -44,17 +55,16 @@ class MiniPanda(unittest.TestCase):
     def controllers_running(self, names, timeout=60.0):
         rospy.wait_for_service("/controller_manager/list_controllers", timeout)
         lc = rospy.ServiceProxy("/controller_manager/list_controllers", ListControllers)
-        deadline = rospy.Time.now() + rospy.Duration(timeout)
-        while not rospy.is_shutdown() and rospy.Time.now() < deadline:
-            states = {c.name: c.state for c in lc().controller}
-            if all(states.get(n) == "running" for n in names):
-                return states
-            rospy.wait_for_message("/clock", rospy.AnyMsg, timeout=10)
+        states = {}
+
+        def running():
+            states.update({c.name: c.state for c in lc().controller})
+            return all(states.get(n) == "running" for n in names)
+        waits.wait_until(running, timeout)
         return states
 
     def tcp(self):
-        t = self.tf.lookup_transform("world", "panda_hand_tcp", rospy.Time(0), rospy.Duration(20))
-        return t.transform.translation
+        return waits.lookup_transform(self.tf, "world", "panda_hand_tcp", 20).transform.translation
 
     def test_1_initialized_and_controllers(self):
         self.assertTrue(wait_true("/initialized", 60), "initialized never became true")
@@ -70,14 +80,14 @@ class MiniPanda(unittest.TestCase):
         for frame in ["panda_link%d" % i for i in range(9)] + ["panda_hand", "panda_leftfinger",
                                                                "panda_rightfinger", "panda_hand_tcp",
                                                                "panda_NE", "panda_EE", "panda_K"]:
-            self.assertTrue(self.tf.can_transform("world", frame, rospy.Time(0), rospy.Duration(20)), frame)
+            known = waits.wait_until(lambda: self.tf.can_transform("world", frame, rospy.Time(0)), 20)
+            self.assertTrue(known, "no tf world -> %s within 20 s" % frame)
 
     def test_3_trajectory_grasp_and_lift(self):
         self.controllers_running(["effort_joint_trajectory_controller", "franka_gripper"])
         # 1. FollowJointTrajectory to a goal (within the controller's 0.05 rad goal tolerance)
-        jtc = actionlib.SimpleActionClient("/effort_joint_trajectory_controller/follow_joint_trajectory",
-                                           FollowJointTrajectoryAction)
-        self.assertTrue(jtc.wait_for_server(rospy.Duration(30)))
+        jtc = server("/effort_joint_trajectory_controller/follow_joint_trajectory",
+                     FollowJointTrajectoryAction)
         start = rospy.wait_for_message("/franka_state_controller/joint_states", JointState, timeout=30)
         target = list(start.position)
         target[0] += 0.3        # swing to the side and back: a real motion of every joint's loop
@@ -85,8 +95,7 @@ class MiniPanda(unittest.TestCase):
         target[0] -= 0.3
         self.move(jtc, target)
         # 2. open, spawn a cube between the fingers, grasp it
-        homing = actionlib.SimpleActionClient("/franka_gripper/homing", HomingAction)
-        homing.wait_for_server(rospy.Duration(20))
+        homing = server("/franka_gripper/homing", HomingAction)
         homing.send_goal_and_wait(HomingGoal(), rospy.Duration(60))
         self.assertTrue(homing.get_result().success)
         width = sum(rospy.wait_for_message("/franka_gripper/joint_states", JointState, timeout=10).position)
@@ -99,8 +108,7 @@ class MiniPanda(unittest.TestCase):
         pose.position.x, pose.position.y, pose.position.z = tcp.x, tcp.y, height / 2.0
         pose.orientation.w = 1.0
         self.assertTrue(spawn("cube", CUBE % height, "", pose, "world").success)
-        grasp = actionlib.SimpleActionClient("/franka_gripper/grasp", GraspAction)
-        grasp.wait_for_server(rospy.Duration(20))
+        grasp = server("/franka_gripper/grasp", GraspAction)
         goal = GraspGoal(width=0.03, speed=0.05, force=10.0)
         goal.epsilon.inner = goal.epsilon.outer = 0.005
         grasp.send_goal_and_wait(goal, rospy.Duration(60))
@@ -115,12 +123,10 @@ class MiniPanda(unittest.TestCase):
         self.move(jtc, lifted)
         self.assertGreater(get("cube", "world").pose.position.z - z0, 0.05)
         # 4. a move that the cube blocks fails, as franka_gazebo's; opening releases it
-        move = actionlib.SimpleActionClient("/franka_gripper/move", MoveAction)
-        move.wait_for_server(rospy.Duration(20))
+        move = server("/franka_gripper/move", MoveAction)
         move.send_goal_and_wait(MoveGoal(width=0.0, speed=0.05), rospy.Duration(60))
         self.assertFalse(move.get_result().success)
-        gc = actionlib.SimpleActionClient("/franka_gripper/gripper_action", GripperCommandAction)
-        gc.wait_for_server(rospy.Duration(20))
+        gc = server("/franka_gripper/gripper_action", GripperCommandAction)
         g = GripperCommandGoal()
         g.command.position = 0.035
         gc.send_goal_and_wait(g, rospy.Duration(60))
