@@ -12,10 +12,11 @@ from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from gazebo_msgs.srv import GetPhysicsProperties, GetWorldProperties
 from std_srvs.srv import Empty
 from rosgraph_msgs.msg import Log
-from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryActionResult,
-                              FollowJointTrajectoryGoal, FollowJointTrajectoryResult,
-                              JointTrajectoryControllerState)
+from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryGoal,
+                              FollowJointTrajectoryResult, JointTrajectoryControllerState)
 from trajectory_msgs.msg import JointTrajectoryPoint
+
+from modrob_sim import waits
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from control_common import Latest, wait_for_action_server, wait_running, wait_until  # noqa: E402
@@ -42,8 +43,6 @@ class FollowJointTrajectory(unittest.TestCase):
                                                   FollowJointTrajectoryAction)
         wait_for_action_server(cls.client, 30, "the follow_joint_trajectory action server")
         cls.state = Latest(NS + "/arm_controller/state", JointTrajectoryControllerState)
-        cls.results = Latest(NS + "/arm_controller/follow_joint_trajectory/result",
-                             FollowJointTrajectoryActionResult).wait_connected()
         wait_until(lambda: cls.state.msg is not None, 30, "the controller state")
 
     def test_1_three_point_goal_succeeds_within_tolerance(self):
@@ -55,10 +54,7 @@ class FollowJointTrajectory(unittest.TestCase):
         self.assertEqual(res.error_code, FollowJointTrajectoryResult.SUCCESSFUL)
         # a state from after the result: the result message's stamp is the simulated time it was
         # decided at (this node's /clock can be a little behind the result it has just received)
-        goal_id = self.client.gh.comm_state_machine.action_goal.goal_id.id
-        result = self.results.wait(lambda m: m.status.goal_id.id == goal_id, 10, "the goal's result")
-        done = result.header.stamp
-        state = self.state.after(done.to_sec(), 10)
+        state = self.state.after(waits.result_time(self.client), 10)
         for name, target, actual in zip(state.joint_names, [0.4, 0.3, -0.2], state.actual.positions):
             self.assertLess(abs(actual - target), 0.02, "%s at %.4f, goal %.4f" % (name, actual, target))
 
