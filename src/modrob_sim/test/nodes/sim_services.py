@@ -203,7 +203,12 @@ class SimServices(unittest.TestCase):
         self.gz.unpause_physics()
         self.assertTrue(wait_for(lambda: self.clock.get() is not None))
         self.gz.pause_physics()
-        time.sleep(0.2)                       # let in-flight clock messages arrive
+        # the clock messages still on their way (at real_time_factor 0 a simulated second of them
+        # can be) have arrived once the latest is the paused simulator's time
+        paused_at = self.gz.sim_time()
+        self.assertTrue(wait_for(lambda: abs(self.clock.get().clock.to_sec() - paused_at) < 1e-6, 10.0),
+                        "/clock never reached the paused time %.3f (at %.3f)"
+                        % (paused_at, self.clock.get().clock.to_sec()))
         frozen = self.clock.get().clock
         n = self.clock.count
         time.sleep(0.5)
