@@ -370,8 +370,10 @@ class SensorPlugins(unittest.TestCase):
         clock = Latest("/clock", Clock)
         self.assertTrue(wait_for(lambda: clock.get() is not None, 10.0), "no /clock")
 
-        def after(seconds):          # until that much simulated time has passed
-            t0 = clock.get().clock.to_sec()
+        def after(seconds):
+            """Until that much simulated time has passed from the simulator's time now (the /clock
+            message last taken here can be a simulated second old at real_time_factor 0)."""
+            t0 = self.gz.sim_time()
             return wait_for(lambda: clock.get().clock.to_sec() >= t0 + seconds, 30.0)
 
         def z(link):
