@@ -10,6 +10,7 @@ approach, clearance, grip_effort, cart_speed (the planner's).
 import math
 import os
 import random
+import time
 
 import rospy
 import tf2_ros
@@ -23,6 +24,7 @@ from katana_sim.errors import KatanaError
 from katana_sim.planner import Can, StackPlanner
 from katana_sim.tf_util import apply_transform
 from katana_sim.stacker import ArmInterface, Stacker, StackError
+from modrob_sim import waits
 from modrob_sim.end_launch import finish_scenario
 
 BASE_FRAME = "katana_base_link"
@@ -31,8 +33,10 @@ CAN_RADIUS = 0.033
 
 
 def _lookup(buffer, target, source, wait):
+    """The latest transform, waiting up to ``wait`` wall seconds (tf2's own timeout is simulated
+    time: at real_time_factor 0 its 120 s are gone in a few wall seconds)."""
     try:
-        return buffer.lookup_transform(target, source, rospy.Time(0), rospy.Duration(wait))
+        return waits.lookup_transform(buffer, target, source, wait)
     except (tf2_ros.LookupException, tf2_ros.ConnectivityException, tf2_ros.ExtrapolationException) as exc:
         raise StackError("no transform %s -> %s after %.0f s (is robot_state_publisher running?): %s"
                          % (source, target, wait, exc))
@@ -61,14 +65,15 @@ class CanStackNode(object):
     # -- where are the cans ----------------------------------------------------------------------
     def can_poses(self):
         """{name: pose} of the simulator's models with 'can' in the name, once there are two (or
-        after ``wait`` s: what there is)."""
-        end = rospy.get_time() + self.wait
-        while not rospy.is_shutdown():
-            cans = {n: p for n, p in self.arm.model_poses().items() if "can" in n}
-            if len(cans) >= 2 or rospy.get_time() > end:
-                return cans
-            rospy.sleep(0.1)
-        return {}
+        after ``wait`` wall seconds: what there is)."""
+        cans = {}
+
+        def two():
+            cans.clear()
+            cans.update((n, p) for n, p in self.arm.model_poses().items() if "can" in n)
+            return len(cans) >= 2
+        waits.wait_until(two, self.wait)
+        return cans
 
     def jitter_cans(self):
         """Move every can by a seeded random offset (benchmarks); returns the offsets."""
@@ -108,8 +113,8 @@ class CanStackNode(object):
         progress("waiting for /katana/detected_objects (the laser detector)")
         msg = None
         start = rospy.get_time()
-        end = start + self.wait
-        while not rospy.is_shutdown() and rospy.get_time() < end:
+        end = time.monotonic() + self.wait      # wall seconds, as every wait of this node
+        while not rospy.is_shutdown() and time.monotonic() < end:
             try:
                 msg = rospy.wait_for_message("/katana/detected_objects", PoseArray, timeout=5.0)
             except rospy.ROSException:
