@@ -36,6 +36,7 @@ from modrob_motion.bulbs_and_slides.layout import Layout, bulb_grasp_point
 from modrob_motion.bulbs_and_slides.ros_robot import StreamClock, sim_sleep
 from modrob_motion.bulbs_and_slides.scenario import Scenario
 from modrob_motion.cartesian import default_tip
+from modrob_sim import waits
 from modrob_sim.physics.transforms import quat_conj, quat_rotate
 
 RATE = 100.0          # Hz of set-points, as the scenario streams them
@@ -81,10 +82,9 @@ class BulbInGripper(object):
             self.armed = on
 
     def wait(self, timeout=30.0):
-        end = rospy.get_time() + timeout
-        while self.latest is None and rospy.get_time() < end and not rospy.is_shutdown():
-            sim_sleep(0.05)
-        return self.latest is not None
+        """Until the first message came, up to ``timeout`` wall seconds (the subscription's
+        connection takes wall time; 30 s of simulated time are ~1 wall s at real_time_factor 0)."""
+        return waits.wait_until(lambda: self.latest is not None, timeout)
 
 
 def centre_inside_limits(q, lower, upper, reach):
