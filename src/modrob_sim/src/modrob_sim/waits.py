@@ -94,9 +94,12 @@ class Latest(object):
     waited in the sockets), and some never arrive (a publisher's queue overflows). So a check that
     knows the simulated time of an event reads ``after(t)``, the first message stamped at ``t`` or
     later, and one that reads a history checks it has no gap where it matters. Waits are in wall
-    seconds (this module's rule)."""
+    seconds (this module's rule).
 
-    def __init__(self, topic, cls, keep=False):
+    ``queue_size`` (default: every message) and ``buff_size`` are rospy.Subscriber's: images want
+    ``queue_size=1`` (only the newest counts) and a ``buff_size`` that holds one."""
+
+    def __init__(self, topic, cls, keep=False, queue_size=None, buff_size=65536):
         self.cls = cls
         self.topic = topic
         self.stamped = bool(cls._slot_types) and cls._slot_types[0] == "std_msgs/Header"
@@ -104,7 +107,8 @@ class Latest(object):
         self.count = 0
         self.msg = None
         self._kept = [] if keep else None
-        self.sub = rospy.Subscriber(topic, cls, self._take, queue_size=None)
+        self._times = []
+        self.sub = rospy.Subscriber(topic, cls, self._take, queue_size=queue_size, buff_size=buff_size)
 
     def _take(self, msg):
         with self.lock:
@@ -112,6 +116,7 @@ class Latest(object):
             self.count += 1
             if self._kept is not None:
                 self._kept.append(msg)
+                self._times.append(rospy.get_time())
 
     def get(self):
         return self.msg
@@ -124,10 +129,21 @@ class Latest(object):
         with self.lock:
             return list(self._kept)
 
+    @property
+    def received(self):
+        """``(this node's simulated time at its receipt, message)`` of every message kept: the only
+        time a header-less message (a std_msgs/Float64 command) has. A receipt is late by the
+        delivery, so judge rates by many of them, never one interval."""
+        if self._kept is None:
+            raise ValueError("Latest(%s) keeps no history: create it with keep=True" % self.topic)
+        with self.lock:
+            return list(zip(self._times, self._kept))
+
     def clear(self):
         with self.lock:
             if self._kept is not None:
                 self._kept = []
+                self._times = []
 
     def wait_connected(self, timeout=30.0):
         """Wait up to ``timeout`` wall seconds for a connection to a publisher of the topic: what

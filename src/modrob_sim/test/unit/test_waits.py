@@ -171,3 +171,41 @@ def test_result_time_is_the_stamp_of_the_result_the_client_received():
     client.gh = None
     with pytest.raises(ValueError, match="wait_for_result first"):
         waits.result_time(client)
+
+
+class FakeSubscriber(object):
+    def __init__(self, topic, cls, callback, queue_size=None, buff_size=None):
+        self.topic, self.callback, self.queue_size, self.buff_size = topic, callback, queue_size, buff_size
+
+
+def test_latest_keeps_messages_with_their_receipt_times_and_finds_one_by_stamp(monkeypatch):
+    import rospy
+    from sensor_msgs.msg import JointState
+    from std_msgs.msg import Float64
+    monkeypatch.setattr(waits.rospy, "Subscriber", FakeSubscriber)
+    now = [10.0]
+    monkeypatch.setattr(waits.rospy, "get_time", lambda: now[0])
+    commands = waits.Latest("/pan/command", Float64, keep=True)
+    assert commands.sub.queue_size is None            # every message, unless asked otherwise
+    for t, v in ((10.5, 0.1), (10.6, 0.2)):
+        now[0] = t
+        commands.sub.callback(Float64(v))
+    assert [(t, m.data) for t, m in commands.received] == [(10.5, 0.1), (10.6, 0.2)]
+    assert commands.msg.data == 0.2 and commands.count == 2
+    commands.clear()
+    assert commands.received == [] and commands.history == []
+    images = waits.Latest("/camera/image_raw", JointState, queue_size=1, buff_size=2 ** 24)
+    assert (images.sub.queue_size, images.sub.buff_size) == (1, 2 ** 24)
+    import pytest
+    with pytest.raises(ValueError, match="keep=True"):
+        images.received
+    states = waits.Latest("/joint_states", JointState, keep=True)
+    for stamp in (1.0, 1.02, 1.04):
+        m = JointState()
+        m.header.stamp = rospy.Time.from_sec(stamp)
+        states.sub.callback(m)
+    assert states.after(1.01, timeout=0.1).header.stamp.to_sec() == 1.02   # the first that young
+    with pytest.raises(AssertionError, match="simulated time 2.000 or later"):
+        states.after(2.0, timeout=0.1)
+    with pytest.raises(TypeError, match="no header stamp"):
+        commands.after(1.0)

@@ -16,8 +16,10 @@ import rostest
 import tf2_ros
 from std_msgs.msg import Float64
 
+from modrob_sim.waits import Latest
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ptrz_test_common import Joints, Latest, sim_sleep, wait_running, wait_until  # noqa: E402
+from ptrz_test_common import Joints, sim_sleep, wait_running, wait_until  # noqa: E402
 
 NS = "/ptrz"
 

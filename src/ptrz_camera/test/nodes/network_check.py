@@ -15,8 +15,10 @@ import rostest
 from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float64
 
+from modrob_sim.waits import Latest
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ptrz_test_common import Joints, Latest, sim_sleep, wait_running, wait_until  # noqa: E402
+from ptrz_test_common import Joints, sim_sleep, wait_running, wait_until  # noqa: E402
 
 from ptrz_camera import kinematics  # noqa: E402
 
@@ -44,13 +46,14 @@ class Network(unittest.TestCase):
         for ns in CAMS:
             wait_running("/" + ns)
         cls.joints = {ns: Joints("/" + ns) for ns in CAMS}
-        cls.images = {ns: Latest("/%s/camera1/image_raw" % ns, Image, keep=False) for ns in CAMS}
-        cls.infos = {ns: Latest("/%s/camera1/camera_info" % ns, CameraInfo, keep=False) for ns in CAMS}
+        cls.images = {ns: Latest("/%s/camera1/image_raw" % ns, Image, queue_size=1, buff_size=2 ** 24)
+                      for ns in CAMS}
+        cls.infos = {ns: Latest("/%s/camera1/camera_info" % ns, CameraInfo) for ns in CAMS}
         cls.cmd = {(ns, j): rospy.Publisher("/%s/%s_position_controller/command" % (ns, j), Float64,
                                             queue_size=1,
                                             latch=True) for ns in CAMS for j in ("pan", "tilt")}
         cls.zoom = rospy.Publisher("/ptrz1/zoom", Float64, queue_size=1, latch=True)
-        cls.zoom_fov = Latest("/ptrz1/zoom_fov", Float64, keep=False)
+        cls.zoom_fov = Latest("/ptrz1/zoom_fov", Float64)
 
     def test_1_every_camera_publishes_images(self):
         wait_until(lambda: all(self.images[ns].msg is not None for ns in CAMS), 80,
@@ -84,14 +87,11 @@ class Network(unittest.TestCase):
         for fov in (0.5, 0.25):
             self.zoom.publish(Float64(fov))
             f_expected = 320 / (2 * math.tan(fov / 2))
-            wait_until(lambda: self.infos["ptrz1"].msg is not None
-                       and abs(self.infos["ptrz1"].msg.K[0] - f_expected) < 0.01,
-                       60, "camera_info at fov %.2f" % fov)
-            sim_sleep(0.5)
-            self.images["ptrz1"].msg = None
-            wait_until(lambda: self.images["ptrz1"].msg is not None, 30, "a new image")
-            sim_sleep(0.5)
-            sizes.append(cyan_width(self.images["ptrz1"].msg))
+            info = self.infos["ptrz1"].wait(lambda m: abs(m.K[0] - f_expected) < 0.01, 60,
+                                            "camera_info at fov %.2f" % fov)
+            # an image rendered half a simulated second after the new field of view (by its stamp:
+            # the one taken last can be older than the camera_info just read)
+            sizes.append(cyan_width(self.images["ptrz1"].after(info.header.stamp.to_sec() + 0.5, 30)))
         rospy.loginfo("cyan top width: %s px" % sizes)
         self.assertGreater(sizes[0], 8)
         self.assertAlmostEqual(sizes[1] / float(sizes[0]), 2.0, delta=0.1)

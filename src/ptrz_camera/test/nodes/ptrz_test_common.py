@@ -1,6 +1,5 @@
 """Helpers of the ptrz_camera rostest nodes: waiting on wall and simulated time, controllers,
-the latest message of a topic."""
-import threading
+the joint states (the latest message of other topics: modrob_sim.waits.Latest)."""
 import time
 
 import rospy
@@ -32,27 +31,6 @@ def wait_running(ns, names=CONTROLLERS, timeout=60):
 def sim_sleep(seconds, wall_timeout=60):
     end = rospy.get_time() + seconds
     wait_until(lambda: rospy.get_time() >= end, wall_timeout, "%.1f s of simulated time" % seconds)
-
-
-class Latest(object):
-    """The latest message of a topic, and every message with its receive (sim) time."""
-
-    def __init__(self, topic, cls, keep=True):
-        self.msg = None
-        self.history = []
-        self.keep = keep
-        self.lock = threading.Lock()
-        self.sub = rospy.Subscriber(topic, cls, self._cb, queue_size=1000)
-
-    def _cb(self, msg):
-        with self.lock:
-            self.msg = msg
-            if self.keep:
-                self.history.append((rospy.get_time(), msg))
-
-    def clear(self):
-        with self.lock:
-            self.history = []
 
 
 class Joints(waits.Latest):

@@ -11,8 +11,10 @@ import rospy
 import rostest
 from std_msgs.msg import Float64
 
+from modrob_sim import waits
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ptrz_test_common import Joints, Latest, wait_running, wait_until  # noqa: E402
+from ptrz_test_common import Joints, wait_running, wait_until  # noqa: E402
 
 NS = "/ptrz"
 STEP = 0.05
@@ -23,12 +25,11 @@ class ScannerBounds(unittest.TestCase):
         rospy.init_node("scanner_check")
         wait_running(NS)
         joints = Joints(NS)
-        cmd = Latest(NS + "/tilt_position_controller/command", Float64)
-        pan = Latest(NS + "/pan_position_controller/command", Float64)
+        cmd = waits.Latest(NS + "/tilt_position_controller/command", Float64, keep=True)
+        pan = waits.Latest(NS + "/pan_position_controller/command", Float64)
 
         def values():
-            with cmd.lock:
-                return [m.data for _, m in cmd.history]
+            return [m.data for m in cmd.history]
 
         # up to pi (63 steps), down to 0, up again: a bit more than 1.5 cycles
         wait_until(lambda: len(values()) > 63 * 3 + 5, 85, "1.5 scan cycles of tilt commands")
@@ -48,8 +49,7 @@ class ScannerBounds(unittest.TestCase):
             self.assertGreaterEqual(top, math.pi)
         for bottom in bottoms:
             self.assertAlmostEqual(bottom, 0.0, places=9)
-        with cmd.lock:
-            times = [t for t, _ in cmd.history]
+        times = [t for t, _ in cmd.received]      # a command has no stamp: when it came
         period = (times[-1] - times[0]) / (len(times) - 1)
         self.assertAlmostEqual(period, 0.05, delta=0.02, msg="one step per 0.05 s of simulated time")
         tilts = [m.position[m.name.index("tilt")] for m in joints.history]
