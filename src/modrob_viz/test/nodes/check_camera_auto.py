@@ -23,6 +23,8 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, PointCloud2
 from std_msgs.msg import Empty
 
+from modrob_sim import waits
+
 RENDERER = "/gazebo_camera_renderer"
 W, H, HFOV = 160, 120, 1.0
 F = W / (2.0 * math.tan(HFOV / 2.0))
@@ -57,26 +59,15 @@ def wait_for(cond, timeout, what):
     raise AssertionError("no %s within %.0f s" % (what, timeout))
 
 
-class Latest(object):
+class Latest(waits.Latest):
+    """waits.Latest of a camera topic: the newest ``queue_size`` queued, room for a whole image,
+    and waits of up to 90 s (the renderer starts with the first subscription)."""
+
     def __init__(self, topic, cls, queue_size=1):
-        self.msg = None
-        self.count = 0
-        self.sub = rospy.Subscriber(topic, cls, self._store, queue_size=queue_size, buff_size=2 ** 24)
+        waits.Latest.__init__(self, topic, cls, queue_size=queue_size, buff_size=2 ** 24)
 
-    def _store(self, msg):
-        self.count += 1
-        self.msg = msg
-
-    def wait(self, cond=lambda m: True, timeout=90.0):
-        found = []
-
-        def ready():
-            m = self.msg
-            if m is not None and cond(m):
-                found.append(m)
-            return bool(found)
-        wait_for(ready, timeout, "suitable message on %s" % self.sub.name)
-        return found[0]
+    def wait(self, cond=lambda m: True, timeout=90.0, what="a suitable message"):
+        return waits.Latest.wait(self, cond, timeout, what)
 
 
 def red_pixels(msg):
