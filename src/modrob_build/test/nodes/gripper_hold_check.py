@@ -18,6 +18,7 @@ import unittest
 
 import rospy
 import rostest
+from control_msgs.msg import JointControllerState
 from controller_manager_msgs.srv import ListControllers
 from gazebo_msgs.msg import LinkStates
 from gazebo_msgs.srv import SpawnModel
@@ -27,6 +28,8 @@ from std_msgs.msg import Float64
 from std_srvs.srv import Empty
 
 from modrob_kinematics.kdl_urdf import KinematicChain
+from modrob_msgs.srv import StepSimulation
+from modrob_sim import waits
 
 FINGERS = ("gripper_finger1",)      # the actuated finger; gripper_finger2 mimics it
 SPHERE_SDF = """<?xml version="1.0"?>
@@ -57,6 +60,8 @@ class GripperHold(unittest.TestCase):
         self.links = None
         rospy.Subscriber(self.ns + "/joint_states", JointState, self._on_state, queue_size=1)
         rospy.Subscriber("/gazebo/link_states", LinkStates, self._on_links, queue_size=1)
+        self.finger_states = [waits.Latest("%s/%s_position_controller/state" % (self.ns, f),
+                                           JointControllerState) for f in FINGERS]
         self.pubs = {}
 
     def _on_state(self, msg):
@@ -132,12 +137,21 @@ class GripperHold(unittest.TestCase):
                        "world")
         self.assertTrue(result.success, result.status_message)
         for finger in FINGERS:
-            self.command(finger, 0.0)
-        time.sleep(0.3)   # wall clock: paused simulated time stands still; let the commands arrive
-        start_stamp = self.state.header.stamp
+            self.command(finger, 0.0)       # clamped to the joint's lower limit, inside the sphere
+        # the close command must be in the finger controllers before physics runs on (the sphere
+        # falls from then on, and at real_time_factor 0 a late command is seconds late): step the
+        # paused world a millisecond at a time until their state messages carry its set point
+        step = rospy.ServiceProxy("/gazebo/step", StepSimulation)
+        start = []
+
+        def closing():
+            start.append(step(steps=1).sim_time)
+            return all(s.msg is not None and s.msg.set_point < HOLDING_Q for s in self.finger_states)
+        wait_for(closing, 30, "the fingers' close command in their controllers' state")
+        rospy.loginfo("close command in the controllers after %d steps", len(start))
         rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
         hold = rospy.get_param("~grip_seconds", 2.0)
-        wait_for(lambda: self.state.header.stamp.to_sec() - start_stamp.to_sec() > hold, 60,
+        wait_for(lambda: self.state.header.stamp.to_sec() - start[-1] > hold, 60,
                  "%.1f s of simulated time" % hold)
 
         sphere = wait_for(self.sphere_position, 10, "bulb on /gazebo/link_states")
