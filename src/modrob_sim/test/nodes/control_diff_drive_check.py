@@ -66,6 +66,14 @@ class DiffDrive(unittest.TestCase):
         wait_until(lambda: cls.truth.pose is not None and cls.odom.msg is not None, 30,
                    "model states and odom")
 
+    def assert_rate(self, msgs, period):
+        """``msgs`` are ``period`` of simulated time apart: every gap a whole number of periods
+        (at real_time_factor 0 a publisher's queue can overflow and lose one), most of them one."""
+        gaps = [(b.header.stamp - a.header.stamp).to_sec() for a, b in zip(msgs, msgs[1:])]
+        periods = [max(1, round(g / period)) for g in gaps]
+        self.assertTrue(all(abs(g - k * period) < 1.5e-3 for g, k in zip(gaps, periods)), gaps)
+        self.assertGreater(periods.count(1), len(gaps) / 2, gaps)
+
     def test_1_odometry_message(self):
         sim_sleep(1.0)
         msgs = list(self.odom.history)
@@ -73,9 +81,7 @@ class DiffDrive(unittest.TestCase):
         self.assertEqual((m.header.frame_id, m.child_frame_id), ("odom", "base_link"))
         self.assertEqual([m.pose.covariance[7 * i] for i in range(6)], [0.001, 0.001, 1e6, 1e6, 1e6, 0.03])
         self.assertEqual([m.twist.covariance[7 * i] for i in range(6)], [0.001, 0.001, 1e6, 1e6, 1e6, 0.03])
-        # publish_rate 50: 20 ms of simulated time apart
-        gaps = [(b.header.stamp - a.header.stamp).to_sec() for a, b in zip(msgs[-20:], msgs[-19:])]
-        self.assertTrue(all(abs(g - 0.02) < 1.5e-3 for g in gaps), gaps)
+        self.assert_rate(msgs[-20:], 0.02)     # publish_rate 50
 
     def test_2_drives_forward_and_odometry_follows_the_truth(self):
         x0, y0, _ = self.truth.pose
@@ -85,7 +91,7 @@ class DiffDrive(unittest.TestCase):
         drive.halt()
         sim_sleep(1.0)                          # cmd_vel_timeout 0.25 s, then braking
         x1, y1, _ = self.truth.pose
-        o1 = self.odom.msg.pose.pose.position
+        o1 = self.odom.fresh().pose.pose.position
         moved = math.hypot(x1 - x0, y1 - y0)
         self.assertGreater(moved, 0.8)          # about 3 s at 0.3 m/s, depending on the wall clock
         odo = math.hypot(o1.x - o0.x, o1.y - o0.y)
@@ -114,9 +120,7 @@ class DiffDrive(unittest.TestCase):
         client.update_configuration({"publish_rate": 10.0})
         n = len(self.odom.history)
         wait_until(lambda: len(self.odom.history) >= n + 8, 60, "odometry after the change")
-        msgs = self.odom.history[-5:]
-        gaps = [(b.header.stamp - a.header.stamp).to_sec() for a, b in zip(msgs, msgs[1:])]
-        self.assertTrue(all(abs(g - 0.1) < 1.5e-3 for g in gaps), gaps)
+        self.assert_rate(self.odom.history[-6:], 0.1)
         client.update_configuration({"publish_rate": 50.0})
 
     def test_4_nan_is_ignored_with_a_warning(self):
