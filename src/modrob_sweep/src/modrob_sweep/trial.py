@@ -25,14 +25,9 @@ import yaml
 from modrob_sweep import InfraError
 from modrob_sweep.reaper import EX_TEMPFAIL
 from modrob_sweep.spec import Trial, format_argv, format_result_path
+from modrob_sim.scenario_launch import free_port
 
 OUTCOMES = ("success", "failure", "crashed", "timeout", "infra_error", "lost", "error")
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def field(data, dotted):

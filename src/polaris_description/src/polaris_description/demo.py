@@ -9,9 +9,6 @@ polaris_cloud_top.png, and prints progress and one RESULT line."""
 import argparse
 import math
 import os
-import signal
-import socket
-import subprocess
 import sys
 import time
 
@@ -21,16 +18,9 @@ from polaris_description import parking_lot
 from polaris_description import seed_experiment as E
 from polaris_description.lap import gap_to
 from polaris_description.obstacle import LIDAR_OFFSET
+from modrob_sim import scenario_launch
 
 DEMO_CONE = (0.0, 8.0)
-
-
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
 
 
 def main(argv=None):
@@ -40,23 +30,16 @@ def main(argv=None):
     p.add_argument("--scenario", default="polaris", choices=["polaris"], help="(from make demo)")
     a = p.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
-    port = free_port()
-    os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % port
     log_path = os.path.join(a.out, "polaris_demo_launch.log")
     print("[polaris] starting the simulator (log: %s)" % log_path, flush=True)
+    scenario_launch.sigterm_as_exit()
     with open(log_path, "w") as logf:
-        launch = subprocess.Popen(["roslaunch", "-p", str(port), "polaris_description", "polaris.launch",
-                                   "velodyne:=true", "gui:=false"], stdout=logf, stderr=subprocess.STDOUT,
-                                  start_new_session=True)
+        launch = scenario_launch.start(["polaris_description", "polaris.launch", "velodyne:=true",
+                                        "gui:=false"], logf)
     try:
         return run(a, launch)
     finally:
-        if launch.poll() is None:
-            os.killpg(launch.pid, signal.SIGINT)
-            try:
-                launch.wait(30)
-            except subprocess.TimeoutExpired:
-                os.killpg(launch.pid, signal.SIGKILL)
+        scenario_launch.stop(launch)
 
 
 def run(a, launch):

@@ -8,20 +8,11 @@ ball's link pose stamped on tf; the /gazebo/model_states poses must lie on it (r
 import argparse
 import csv
 import os
-import signal
-import socket
-import subprocess
 import time
 
 import cv2
 
-
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
+from modrob_sim import scenario_launch
 
 
 def main(argv=None):
@@ -38,26 +29,20 @@ def main(argv=None):
                          "ptrz_network_log.txt (the sources of every fused estimate)")
     args = ap.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
-    port = free_port()
-    os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % port
     log = open(os.path.join(args.out, "ptrz_launch.log"), "w")
     # server_required: a simulator that dies (at start-up too) ends the launch, and the wait below
-    cmd = ["roslaunch", "-p", str(port), "ptrz_camera", "tracking.launch", "gui:=false",
+    cmd = ["ptrz_camera", "tracking.launch", "gui:=false",
            "server_required:=true", "cameras:=%d" % args.cameras,
            "real_time_factor:=%s" % args.real_time_factor]
     if args.audit:
         cmd.append("log:=%s" % os.path.abspath(os.path.join(args.out, "ptrz_network_log.txt")))
-    print("[ptrz demo] %s" % " ".join(cmd), flush=True)
-    launch = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    print("[ptrz demo] roslaunch %s" % " ".join(cmd), flush=True)
+    scenario_launch.sigterm_as_exit()
+    launch = scenario_launch.start(cmd, log)
     try:
         return run(args, launch)
     finally:
-        if launch.poll() is None:
-            os.killpg(launch.pid, signal.SIGINT)
-            try:
-                launch.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(launch.pid, signal.SIGKILL)
+        scenario_launch.stop(launch)
         log.close()
 
 

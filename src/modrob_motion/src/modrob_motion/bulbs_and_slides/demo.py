@@ -18,9 +18,6 @@ Exit status 0 only on success.
 """
 import argparse
 import os
-import signal
-import socket
-import subprocess
 import sys
 import threading
 import time
@@ -30,12 +27,7 @@ import yaml
 from modrob_motion.bulbs_and_slides import ScenarioError
 from modrob_motion.bulbs_and_slides.layout import Layout, SCENARIOS
 from modrob_msgs.errors import ModrobError
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+from modrob_sim import scenario_launch
 
 
 def wait_for_master(timeout=30.0):
@@ -63,25 +55,16 @@ def wait_for_param(name, timeout=60.0):
 
 
 def start_simulation(scenario, log_path, gui=False, rtf="0", grip_force=3.0, port=None, gains="tuned"):
-    port = port or free_port()
-    os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % port
     log = open(log_path, "w")
-    cmd = ["roslaunch", "-p", str(port), "modrob_motion", "bulbs_and_slides.launch",
-           "scenario:=%s" % scenario,
-           "run:=false", "gui:=%s" % ("true" if gui else "false"), "real_time_factor:=%s" % rtf,
-           "grip_force:=%s" % grip_force, "gains:=%s" % gains]
-    proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    proc = scenario_launch.start(["modrob_motion", "bulbs_and_slides.launch", "scenario:=%s" % scenario,
+                                  "run:=false", "gui:=%s" % ("true" if gui else "false"),
+                                  "real_time_factor:=%s" % rtf, "grip_force:=%s" % grip_force,
+                                  "gains:=%s" % gains], log, port=port)
     return proc, log
 
 
 def stop_simulation(proc, log):
-    if proc.poll() is None:
-        try:
-            os.killpg(proc.pid, signal.SIGINT)
-            proc.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
+    scenario_launch.stop(proc, grace=20.0)
     log.close()
 
 
@@ -140,6 +123,7 @@ def main(argv=None):
         return 2
     print("bulbs_and_slides_demo: %s, starting the simulation (log: %s_sim.log)" % (args.scenario, stem),
           flush=True)
+    scenario_launch.sigterm_as_exit()
     proc, log = start_simulation(args.scenario, stem + "_sim.log", args.gui, args.real_time_factor,
                                  args.grip_force, gains=args.gains)
     result = None

@@ -1,0 +1,54 @@
+"""A scenario's ``roslaunch`` as a runner script starts it (``make demo``, the sweeps' trials):
+on its own ROS master at a free port, in its own process group, and ended with the runner.
+
+The runner ends the launch from a ``finally``: SIGINT to the whole group (roslaunch's own clean
+shutdown, as Ctrl-C in a terminal), SIGKILL after ``grace`` seconds. Python runs no ``finally`` for
+a SIGTERM (what ``kill``, ``timeout`` and process supervisors send), so a runner ended that way
+used to leave its simulator running in its own session: :func:`sigterm_as_exit` turns SIGTERM into
+``SystemExit`` for the runner's main thread, and the ``finally`` runs.
+"""
+import os
+import signal
+import socket
+import subprocess
+
+
+def free_port(host="127.0.0.1"):
+    """A TCP port nobody listens on now (for a ROS master of one's own)."""
+    with socket.socket() as s:
+        s.bind((host, 0))
+        return s.getsockname()[1]
+
+
+def _exit_on_sigterm(signum, _frame):
+    raise SystemExit(128 + signum)
+
+
+def sigterm_as_exit():
+    """From now on SIGTERM raises SystemExit(143) in the main thread, so that ``finally`` blocks
+    (and context managers) end what the runner started. Call it from the main thread."""
+    signal.signal(signal.SIGTERM, _exit_on_sigterm)
+
+
+def start(args, log, port=None, program=("roslaunch",)):
+    """``roslaunch -p PORT ARGS...`` in a process group of its own, its output to the open file
+    ``log``; sets this process's ROS_MASTER_URI to that master. Returns the Popen."""
+    port = port or free_port()
+    os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % port
+    argv = list(program) + ["-p", str(port)] + [str(a) for a in args]
+    return subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+
+
+def stop(proc, grace=30.0):
+    """End the launch ``proc`` (from :func:`start`) and everything in its group: SIGINT, then
+    SIGKILL when it is not gone after ``grace`` seconds. Returns its exit status."""
+    if proc.poll() is None:
+        try:
+            os.killpg(proc.pid, signal.SIGINT)
+            proc.wait(timeout=grace)
+        except ProcessLookupError:
+            pass
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    return proc.returncode
