@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from modrob_sim.physics import World
+from modrob_sim.physics.transforms import quat_to_matrix
 from modrob_sim.sensors import raycast
 from modrob_sim.sensors.errors import SensorConfigError
 from modrob_sim.sensors.ray_sensor import RaySensor
@@ -94,6 +95,44 @@ def test_casters_agree_in_a_cluttered_world():
     both = np.isfinite(a) & np.isfinite(b)
     assert (np.isfinite(a) == np.isfinite(b)).mean() > 0.999
     assert np.abs(a[both] - b[both]).max() < 1e-6
+
+
+def test_casters_agree_for_a_turned_and_tilted_sensor():
+    # the native caster culls by the angles of the rays in the sensor's frame: a sensor rolled,
+    # pitched and turned must see what the numpy caster (no culling) sees, scan after scan, with
+    # the rays' angles kept from the first scan and computed afresh (a writable copy) alike
+    if not raycast.NATIVE_AVAILABLE:
+        pytest.skip("native caster unavailable")
+    rng = np.random.default_rng(7)
+    shapes = []
+    for k in range(24):
+        a, d = rng.uniform(0, 2 * math.pi), rng.uniform(1.0, 6)
+        g = [F.box((0.5, 0.7, 1.0)), F.cylinder(0.3, 1.2), F.sphere(0.4)][k % 3]
+        shapes.append((g, (d * math.cos(a), d * math.sin(a), rng.uniform(-0.5, 1.5))))
+    xml = F.laser_sensor(samples=180, rmax=15, v_samples=16, v_min=-0.6, v_max=0.4)
+    w = World(seed=3)
+    for i, (geom, xyz) in enumerate(shapes):
+        w.add_sdf(F.static_shape("obj%d" % i, geom, xyz))
+    r, p, y = 0.4, -0.3, 2.0        # roll, pitch, yaw
+    cr, sr, cp, sp, cy, sy = (math.cos(r / 2), math.sin(r / 2), math.cos(p / 2), math.sin(p / 2),
+                              math.cos(y / 2), math.sin(y / 2))
+    q = (sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy,
+         cr * cp * cy + sr * sp * sy)
+    m = w.add_urdf("bot", F.sensor_robot(xml), pose=((0.2, -0.1, 0.6), q))
+    ode_s, np_s = sensor_of(w, m, "ode"), sensor_of(w, m, "numpy")
+    for _ in range(2):
+        a, _ = ode_s.scan()
+        b, _ = np_s.scan()
+        assert np.isfinite(a).sum() > 100
+        assert np.array_equal(np.isfinite(a), np.isfinite(b))
+        both = np.isfinite(a)
+        assert np.abs(a[both] - b[both]).max() < 1e-6
+    pos, rot = ode_s.pose()
+    fresh = ode_s.caster.cast(pos, quat_to_matrix(rot), np.array(ode_s._dirs), ode_s.spec.range_min,
+                              ode_s.spec.range_max)
+    kept = ode_s.caster.cast(pos, quat_to_matrix(rot), ode_s._dirs, ode_s.spec.range_min,
+                             ode_s.spec.range_max)
+    assert np.array_equal(fresh, kept)
 
 
 def test_noise_stddev_as_configured():

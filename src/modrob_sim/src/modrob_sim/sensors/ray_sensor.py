@@ -88,6 +88,7 @@ class RaySensor(MountedSensor):
         self.world = world
         self.spec = RaySpec(sensor_elem, self.where)
         self._dirs = self.spec.local_dirs()
+        self._dirs.flags.writeable = False      # fixed: the caster keeps what it derives from them
         self.caster = make_caster(world, exclude=[(model.name, link_name)], kind=caster)
         self.seed = seed
         self.rng = noise_rng(world, seed)

@@ -58,6 +58,7 @@ class OdeRayCaster(object):
         self._exclude = set(exclude)
         self._ptrs = None
         self.labels = []
+        self._angles = (None, None, None)     # (local_dirs, azimuth bins, elevations) of the last cast
 
     def _refresh(self):
         if self._cache.current() or self._ptrs is None:
@@ -66,17 +67,32 @@ class OdeRayCaster(object):
             self._geoms = [g for g, _, _ in kept]   # keeps the PyODE objects alive while cast
             self._ptrs = (ctypes.c_void_p * max(1, len(kept)))(*[backends.geom_ptr(g) for g in self._geoms])
 
+    def _ray_angles(self, local_dirs, dirs):
+        """The rays' azimuth bins and elevations in the sensor frame (modrob_raycast.c's
+        rc_ray_angles), kept while the caller casts the same directions array (a sensor's rays)."""
+        kept, bins, els = self._angles
+        if kept is not local_dirs:
+            n = dirs.shape[0]
+            bins, els = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.float64)
+            native.LIB.rc_ray_angles(dirs.ctypes.data, n, bins.ctypes.data, els.ctypes.data)
+            if local_dirs is dirs and not dirs.flags.writeable:
+                self._angles = (local_dirs, bins, els)
+        return bins, els
+
     def cast(self, origin, rotation, local_dirs, rmin, rmax, want_hits=False):
+        """Ranges along R * local_dirs (a read-only array given again from cast to cast keeps its
+        rays' angles: a sensor's fixed directions)."""
         self._refresh()
         dirs = np.ascontiguousarray(local_dirs, dtype=np.float64)
         n = dirs.shape[0]
+        bins, els = self._ray_angles(local_dirs, dirs)
         out = np.empty(n, dtype=np.float64)
         hits = np.empty(n, dtype=np.int32) if want_hits else None
         o = np.ascontiguousarray(origin, dtype=np.float64)
         r = np.ascontiguousarray(rotation, dtype=np.float64).reshape(9)
         rc = native.LIB.rc_cast(self._ptrs, len(self._geoms), o.ctypes.data, r.ctypes.data,
                                 dirs.ctypes.data, n, float(rmin), float(rmax), out.ctypes.data,
-                                hits.ctypes.data if want_hits else None)
+                                hits.ctypes.data if want_hits else None, bins.ctypes.data, els.ctypes.data)
         if rc < 0:
             raise MemoryError("ray caster: out of memory for %d geoms" % len(self._geoms))
         return (out, hits) if want_hits else out

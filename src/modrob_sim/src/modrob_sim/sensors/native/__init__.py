@@ -25,7 +25,9 @@ STALE = False
 def _declare(lib):
     vp, i, d = ctypes.c_void_p, ctypes.c_int, ctypes.c_double
     lib.rc_cast.restype = i
-    lib.rc_cast.argtypes = [vp, i, vp, vp, vp, i, d, d, vp, vp]
+    lib.rc_cast.argtypes = [vp, i, vp, vp, vp, i, d, d, vp, vp, vp, vp]
+    lib.rc_ray_angles.restype = None
+    lib.rc_ray_angles.argtypes = [vp, i, vp, vp]
     lib.rc_geom_aabb.restype = None
     lib.rc_geom_aabb.argtypes = [vp, vp]
     return lib

@@ -5,9 +5,12 @@
  * rc_cast() casts n rays from one origin: direction i is R * local_dirs[i] (R row-major, the
  * sensor's world rotation). A ray starts at origin + rmin * d and is rmax - rmin long, as
  * Gazebo's ray sensor does; out[i] is the distance from the origin to the closest hit, or
- * INFINITY when nothing is hit. Geoms are culled per call (bounding sphere beyond rmax) and per
- * ray (slab test against the geom's AABB, nearest-first with early exit) before ODE's exact
- * ray collider runs, so a world of many objects costs little more than its visible ones.
+ * INFINITY when nothing is hit. Geoms are culled per call (bounding sphere beyond rmax, or
+ * within rmin, where no ray starts) and per ray (the azimuth bin and elevation interval the
+ * bounding sphere covers, then a slab test against the geom's AABB, nearest-first with early
+ * exit) before ODE's exact ray collider runs, so a world of many objects costs little more than
+ * its visible ones. The angles are those of the sensor's frame: a sensor's rays keep theirs from
+ * scan to scan, so rc_ray_angles() computes them once (the caller keeps them for rc_cast()).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -48,8 +51,25 @@ static int rc_cand_cmp(const void *a, const void *b)
 
 #define RC_NAZ 512                /* azimuth bins of the per-scan angular index */
 
+/* The azimuth bin and the elevation (rad) of n directions (need not be unit) in the frame they are
+ * given in: rc_cast's ray_bin and ray_el for its local_dirs */
+void rc_ray_angles(const double *dirs, int n, int *bins, double *els)
+{
+    for (int i = 0; i < n; ++i) {
+        const double *l = dirs + 3 * i;
+        double nn = sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+        double z = nn > 0 ? l[2] / nn : 0.0;
+        int b = (int)floor((atan2(l[1], l[0]) + M_PI) / (2 * M_PI) * RC_NAZ);
+        if (b < 0) b = 0;
+        if (b >= RC_NAZ) b = RC_NAZ - 1;
+        bins[i] = b;
+        els[i] = asin(fmax(-1.0, fmin(1.0, z)));
+    }
+}
+
+/* ray_bin, ray_el: rc_ray_angles() of dirs */
 int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, const double *dirs,
-            int n, double rmin, double rmax, double *out, int *hit)
+            int n, double rmin, double rmax, double *out, int *hit, const int *ray_bin, const double *ray_el)
 {
     if (n <= 0) return 0;
     if (!(rmax > rmin)) {
@@ -70,7 +90,8 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
         return -1;
     }
     /* 1. geoms in reach; planes apart (analytic, exact: ODE's plane is n.x = d); for the rest the
-     *    azimuth/elevation interval their bounding sphere covers as seen from the origin */
+     *    azimuth/elevation interval their bounding sphere covers as seen from the origin, in the
+     *    sensor's frame (rot's transpose takes the world's to it) */
     int m = 0, np_ = 0, na = 0;
     int *az0 = (int *)malloc(sizeof(int) * cap), *az1 = (int *)malloc(sizeof(int) * cap);
     for (int j = 0; j < ng; ++j) {
@@ -95,15 +116,17 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
             if (!isfinite(r->lo[k]) || !isfinite(r->hi[k]) || r->hi[k] - r->lo[k] > 1e12) r->infinite = 1;
         }
         if (r->infinite) { always[na++] = m; az0[m] = 1; az1[m] = 0;   /* empty bin range */ ++m; continue; }
-        double c[3], c2 = 0, rad2 = 0;
+        double cw[3], c[3], c2 = 0, rad2 = 0;
         for (int k = 0; k < 3; ++k) {
-            c[k] = 0.5 * (r->lo[k] + r->hi[k]) - origin[k];
+            cw[k] = 0.5 * (r->lo[k] + r->hi[k]) - origin[k];
             double h = 0.5 * (r->hi[k] - r->lo[k]);
-            c2 += c[k] * c[k];
+            c2 += cw[k] * cw[k];
             rad2 += h * h;
         }
+        for (int k = 0; k < 3; ++k) c[k] = rot[k] * cw[0] + rot[3 + k] * cw[1] + rot[6 + k] * cw[2];
         double dist = sqrt(c2), rad = sqrt(rad2) * 1.0001 + 1e-9;
         if (dist - rad > rmax) continue;                    /* out of reach */
+        if (dist + rad < rmin) continue;                    /* wholly nearer than where rays start */
         if (dist <= rad * 1.01 + 1e-6) {                    /* origin (nearly) inside */
             always[na++] = m; az0[m] = 1; az1[m] = 0;   /* empty bin range */ ++m; continue;
         }
@@ -144,10 +167,11 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
     for (int i = 0; i < n; ++i) {
         const double *l = dirs + 3 * i;
         double d[3], s[3], inv[3];
+        int have_inv = 0;
         for (int k = 0; k < 3; ++k) d[k] = rot[3 * k] * l[0] + rot[3 * k + 1] * l[1] + rot[3 * k + 2] * l[2];
         double nn = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         if (nn > 0) { d[0] /= nn; d[1] /= nn; d[2] /= nn; }
-        for (int k = 0; k < 3; ++k) { s[k] = origin[k] + rmin * d[k]; inv[k] = 1.0 / d[k]; }
+        for (int k = 0; k < 3; ++k) s[k] = origin[k] + rmin * d[k];
         double best = INFINITY;
         int besti = -1;
         /* planes */
@@ -159,20 +183,21 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
             if (t >= 0 && t <= len && t < best) { best = t; besti = planes[q]; }
         }
         /* candidates: this ray's azimuth bin, elevation interval, AABB slab; nearest first */
-        int nc = 0;
-        double el = asin(fmax(-1.0, fmin(1.0, d[2])));
-        int bin = (int)floor((atan2(d[1], d[0]) + M_PI) / (2 * M_PI) * RC_NAZ);
-        if (bin < 0) bin = 0;
-        if (bin >= RC_NAZ) bin = RC_NAZ - 1;
+        int nc = 0, bin = ray_bin[i];
+        double el = ray_el[i];
         double lim = best < len ? best : len;
+#define RC_INV() do { if (!have_inv) { inv[0] = 1.0 / d[0]; inv[1] = 1.0 / d[1]; inv[2] = 1.0 / d[2]; \
+                                       have_inv = 1; } } while (0)
         for (int e = bin_start[bin]; e < bin_start[bin + 1]; ++e) {
             int k = bin_list[e];
             if (el < el_lo[k] || el > el_hi[k]) continue;
+            RC_INV();
             double t = rc_slab(s, inv, gs[k].lo, gs[k].hi, 0.0, lim);
             if (t <= lim) { cand[nc].t = t; cand[nc].k = k; ++nc; }
         }
         for (int e = 0; e < na; ++e) {
             int k = always[e];
+            if (!gs[k].infinite) RC_INV();
             double t = gs[k].infinite ? 0.0 : rc_slab(s, inv, gs[k].lo, gs[k].hi, 0.0, lim);
             if (t <= lim) { cand[nc].t = t; cand[nc].k = k; ++nc; }
         }
@@ -194,6 +219,7 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
         else out[i] = INFINITY;
         if (hit) hit[i] = besti;
     }
+#undef RC_INV
     dGeomDestroy(ray);
     free(gs); free(cand); free(el_lo); free(el_hi); free(planes); free(pl); free(bin_start);
     free(bin_list); free(always); free(az0); free(az1);
