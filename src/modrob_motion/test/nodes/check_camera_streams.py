@@ -106,12 +106,15 @@ class CameraStreams(unittest.TestCase):
                                % (view, n))
 
     def test_2_end_effector_centred_views_centre_the_end_effector(self):
+        def centred(m):
+            c = magenta_centre(m)
+            return c is not None and abs(c[0] - W / 2.0) < 5.0 and abs(c[1] - H / 2.0) < 5.0
         for q in POSES:
             t = self._pose(q)
-            time.sleep(1.0)          # a few scene/tf updates after the jump
-            t = rospy.Time.now()
             for view in EE_VIEWS:
-                msg = fresh_image("/camera_%s/image" % view, t, 40.0, lambda m: magenta_centre(m) is not None)
+                # the view follows the jump with the next scene and tf updates: the first image
+                # after the pose that shows the end effector centred (else the last one, judged below)
+                msg = fresh_image("/camera_%s/image" % view, t, 40.0, centred)
                 self.assertIsNotNone(msg, "no image from the %s camera" % view)
                 save(msg, "%s_pose%d" % (view, POSES.index(q)))
                 c = magenta_centre(msg)
