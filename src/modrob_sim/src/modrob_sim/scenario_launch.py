@@ -30,13 +30,22 @@ def sigterm_as_exit():
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
 
 
+def _default_sigint():
+    # a runner started in the background by a shell (`make demo &`, nohup, a CI script) inherits an
+    # ignored SIGINT, and so would its launch: Python then installs no KeyboardInterrupt handler,
+    # roslaunch never sees the Ctrl-C that stop() sends, and only the SIGKILL 30 s later ends it
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def start(args, log, port=None, program=("roslaunch",)):
-    """``roslaunch -p PORT ARGS...`` in a process group of its own, its output to the open file
-    ``log``; sets this process's ROS_MASTER_URI to that master. Returns the Popen."""
+    """``roslaunch -p PORT ARGS...`` in a process group of its own (SIGINT at its default, whatever
+    the runner inherited), its output to ``log`` (an open file or subprocess.PIPE); sets this
+    process's ROS_MASTER_URI to that master. Returns the Popen."""
     port = port or free_port()
     os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % port
     argv = list(program) + ["-p", str(port)] + [str(a) for a in args]
-    return subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    return subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
+                            preexec_fn=_default_sigint)
 
 
 def stop(proc, grace=30.0):

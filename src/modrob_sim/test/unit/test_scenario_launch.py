@@ -45,7 +45,7 @@ def test_free_port_can_be_bound():
 
 
 def test_start_runs_on_its_own_master_port_in_its_own_group(tmp_path, monkeypatch):
-    monkeypatch.delenv("ROS_MASTER_URI", raising=False)
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:11311")
     with open(tmp_path / "log", "w") as log:
         proc = scenario_launch.start(["pkg", "x.launch"], log, port=12345,
                                      program=(sys.executable, "-c", "import sys; print(sys.argv[1:])"))
@@ -54,17 +54,21 @@ def test_start_runs_on_its_own_master_port_in_its_own_group(tmp_path, monkeypatc
     assert (tmp_path / "log").read_text().strip() == "['-p', '12345', 'pkg', 'x.launch']"
 
 
-def test_stop_ends_the_whole_group_and_escalates_when_sigint_is_ignored(tmp_path):
-    for args, grace in (([], 10.0), (["--deaf"], 0.3)):
-        proc = subprocess.Popen([sys.executable, "-c", FAMILY] + args, stdout=subprocess.PIPE,
-                                start_new_session=True)
-        child = int(proc.stdout.readline())
-        start = time.monotonic()
-        status = scenario_launch.stop(proc, grace=grace)
-        assert status == (-signal.SIGKILL if args else -signal.SIGINT)
-        assert time.monotonic() - start < grace + 5.0
-        assert wait_gone(child), "the launch's child %d outlived it" % child
-        proc.stdout.close()
+def test_stop_ends_the_whole_group_and_escalates_when_sigint_is_ignored(monkeypatch):
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:11311")     # start() sets it
+    ignored = signal.signal(signal.SIGINT, signal.SIG_IGN)   # as a runner started with `&` has it
+    try:
+        for args, grace in (([], 10.0), (["--deaf"], 0.3)):
+            proc = scenario_launch.start(args, subprocess.PIPE, program=(sys.executable, "-c", FAMILY))
+            child = int(proc.stdout.readline())
+            start = time.monotonic()
+            status = scenario_launch.stop(proc, grace=grace)
+            proc.stdout.close()
+            assert status == (-signal.SIGKILL if args else -signal.SIGINT)
+            assert time.monotonic() - start < grace + 5.0
+            assert wait_gone(child), "the launch's child %d outlived it" % child
+    finally:
+        signal.signal(signal.SIGINT, ignored)
 
 
 def test_a_runner_ended_by_sigterm_ends_its_launch(tmp_path):
@@ -73,8 +77,8 @@ def test_a_runner_ended_by_sigterm_ends_its_launch(tmp_path):
         from modrob_sim import scenario_launch
         scenario_launch.sigterm_as_exit()
         launch = scenario_launch.start([], open(sys.argv[1], "w"), program=%r)
-        print(launch.pid, flush=True)
         try:
+            print(launch.pid, flush=True)   # inside the try: the test's SIGTERM may come at once
             time.sleep(60)
         finally:
             scenario_launch.stop(launch, grace=5.0)
