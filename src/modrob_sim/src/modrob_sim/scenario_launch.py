@@ -30,11 +30,12 @@ def sigterm_as_exit():
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
 
 
-def _default_sigint():
-    # a runner started in the background by a shell (`make demo &`, nohup, a CI script) inherits an
-    # ignored SIGINT, and so would its launch: Python then installs no KeyboardInterrupt handler,
-    # roslaunch never sees the Ctrl-C that stop() sends, and only the SIGKILL 30 s later ends it
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
+# A runner started in the background by a shell (`make demo &`, nohup, a CI script) inherits an
+# ignored SIGINT, and an ignored signal stays ignored across exec: Python would install no
+# KeyboardInterrupt handler in roslaunch, which would then never see the Ctrl-C that stop() sends
+# (only the SIGKILL after the grace). coreutils' env puts it back to its default (no preexec_fn:
+# a runner may have threads; scripts/docs_test.py starts its blocks the same way).
+CTRL_C_ENDS = ("env", "--default-signal=INT")
 
 
 def start(args, log, port=None, program=("roslaunch",)):
@@ -43,9 +44,8 @@ def start(args, log, port=None, program=("roslaunch",)):
     process's ROS_MASTER_URI to that master. Returns the Popen."""
     port = port or free_port()
     os.environ["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % port
-    argv = list(program) + ["-p", str(port)] + [str(a) for a in args]
-    return subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
-                            preexec_fn=_default_sigint)
+    argv = list(CTRL_C_ENDS) + list(program) + ["-p", str(port)] + [str(a) for a in args]
+    return subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
 
 
 def stop(proc, grace=30.0):
