@@ -58,6 +58,17 @@ def lookup_transform(buffer, target, source, timeout):
         time.sleep(POLL)
 
 
+def wait_for_result(client, timeout):
+    """``client.wait_for_result`` (a SimpleActionClient) with a limit of ``timeout`` wall seconds:
+    True once its goal is done. actionlib's limit is simulated time and is checked before the
+    goal's state: a client that was not scheduled for a wall second at real_time_factor 0 wakes up
+    past a 60 s limit and says "no result" although the result came with the clock."""
+    from actionlib import SimpleGoalState
+    if client.gh is None:
+        raise ValueError("no goal sent on %s: send_goal first" % client.action_client.ns)
+    return wait_until(lambda: client.simple_state == SimpleGoalState.DONE, timeout)
+
+
 def result_time(client):
     """The simulated time at which the server decided the result ``client`` (a SimpleActionClient)
     has just received: its result message's stamp. A check of the state "after the goal ended"

@@ -209,3 +209,27 @@ def test_latest_keeps_messages_with_their_receipt_times_and_finds_one_by_stamp(m
         states.after(2.0, timeout=0.1)
     with pytest.raises(TypeError, match="no header stamp"):
         commands.after(1.0)
+
+
+def test_wait_for_result_is_limited_in_wall_time_and_needs_a_goal():
+    import types
+    import pytest
+    from actionlib import SimpleGoalState
+    looks = []
+
+    class Client(object):
+        gh = object()
+        action_client = types.SimpleNamespace(ns="/gripper_cmd")
+
+        @property
+        def simple_state(self):
+            looks.append(1)
+            return SimpleGoalState.DONE if len(looks) > 3 else SimpleGoalState.ACTIVE
+    assert waits.wait_for_result(Client(), 10.0) and len(looks) == 4
+    start = time.monotonic()
+    stuck = types.SimpleNamespace(gh=object(), simple_state=SimpleGoalState.ACTIVE,
+                                  action_client=types.SimpleNamespace(ns="/arm"))
+    assert not waits.wait_for_result(stuck, 0.2)
+    assert time.monotonic() - start >= 0.2
+    with pytest.raises(ValueError, match="send_goal first"):
+        waits.wait_for_result(types.SimpleNamespace(gh=None, action_client=stuck.action_client), 1.0)
