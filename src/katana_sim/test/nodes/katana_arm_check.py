@@ -96,7 +96,7 @@ class KatanaArm(unittest.TestCase):
             JointTrajectoryPoint(positions=[0.8, 1.5, -1.7, -0.3, 0.2], time_from_start=rospy.Duration(2.0)),
             JointTrajectoryPoint(positions=target, velocities=[0.0] * 5, time_from_start=rospy.Duration(4.0))]
         self.arm.send_goal(goal)
-        self.assertTrue(self.arm.wait_for_result(rospy.Duration(60)), "no result from the trajectory action")
+        self.assertTrue(waits.wait_for_result(self.arm, 60), "no result from the trajectory action")
         res = self.arm.get_result()
         self.assertEqual(self.arm.get_state(), GoalStatus.SUCCEEDED, res.error_string)
         positions = self.positions_after(self.arm)
@@ -108,7 +108,7 @@ class KatanaArm(unittest.TestCase):
         goal = GripperCommandGoal()
         goal.command.position, goal.command.max_effort = position, max_effort
         self.gripper.send_goal(goal)
-        self.assertTrue(self.gripper.wait_for_result(rospy.Duration(30)), "no result from the gripper")
+        self.assertTrue(waits.wait_for_result(self.gripper, 30), "no result from the gripper")
         return self.gripper.get_state(), self.gripper.get_result(), self.gripper.get_goal_status_text()
 
     def test_2_gripper_opens_and_closes_on_nothing(self):

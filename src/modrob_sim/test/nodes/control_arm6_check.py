@@ -75,7 +75,7 @@ class ArmWithThreeInterfaces(unittest.TestCase):
     def move(self, controller, target):
         c = self.client(controller)
         c.send_goal(goal(target))
-        self.assertTrue(c.wait_for_result(rospy.Duration(60)), "no result from %s" % controller)
+        self.assertTrue(waits.wait_for_result(c, 60), "no result from %s" % controller)
         self.assertEqual(c.get_state(), GoalStatus.SUCCEEDED, c.get_result().error_string)
         # from the result's stamp: this node's clock can be a simulated second behind it, mid-motion
         self.assertLess(self.error_after(target, waits.result_time(c)), 0.01)
@@ -96,7 +96,7 @@ class ArmWithThreeInterfaces(unittest.TestCase):
                             ([1e308, 0.0, 0.0, 0.0, 0.0, 0.0],
                              "position 1e+308 of joint 'shoulder_pan_joint' is outside its limits")):
             c.send_goal(goal(bad))
-            self.assertTrue(c.wait_for_result(rospy.Duration(30)))
+            self.assertTrue(waits.wait_for_result(c, 30))
             self.assertEqual(c.get_state(), GoalStatus.REJECTED)
             self.assertEqual(c.get_result().error_code, FollowJointTrajectoryResult.INVALID_GOAL)
             self.assertIn(needle, c.get_result().error_string)

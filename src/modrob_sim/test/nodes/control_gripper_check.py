@@ -13,6 +13,8 @@ from control_msgs.msg import GripperCommandAction, GripperCommandGoal
 from gazebo_msgs.srv import GetModelState, SpawnModel
 from geometry_msgs.msg import Pose
 
+from modrob_sim import waits
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from control_common import RosoutCollector, wait_for_action_server, wait_running  # noqa: E402
 
@@ -37,7 +39,7 @@ class GripperAction(unittest.TestCase):
 
     def send(self, position, max_effort):
         self.client.send_goal(command(position, max_effort))
-        self.assertTrue(self.client.wait_for_result(rospy.Duration(60)), "no result")
+        self.assertTrue(waits.wait_for_result(self.client, 60), "no result")
         return self.client.get_state(), self.client.get_result()
 
     def test_1_closing_on_a_can_stalls(self):

@@ -48,7 +48,7 @@ class FollowJointTrajectory(unittest.TestCase):
     def test_1_three_point_goal_succeeds_within_tolerance(self):
         g = goal([([0.3, 0.2, -0.3], 1.0), ([0.6, 0.5, -0.6], 2.0), ([0.4, 0.3, -0.2], 3.0)])
         self.client.send_goal(g)
-        self.assertTrue(self.client.wait_for_result(rospy.Duration(60)), "no result")
+        self.assertTrue(waits.wait_for_result(self.client, 60), "no result")
         res = self.client.get_result()
         self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED, res.error_string)
         self.assertEqual(res.error_code, FollowJointTrajectoryResult.SUCCESSFUL)
@@ -60,7 +60,7 @@ class FollowJointTrajectory(unittest.TestCase):
 
     def test_2_unknown_joint_is_rejected_by_name(self):
         self.client.send_goal(goal([([0.1, 0.1, 0.1], 1.0)], joints=["yaw", "shoulder", "wrist_roll"]))
-        self.assertTrue(self.client.wait_for_result(rospy.Duration(30)))
+        self.assertTrue(waits.wait_for_result(self.client, 30))
         self.assertEqual(self.client.get_state(), GoalStatus.REJECTED)
         res = self.client.get_result()
         self.assertEqual(res.error_code, FollowJointTrajectoryResult.INVALID_JOINTS)
@@ -73,9 +73,9 @@ class FollowJointTrajectory(unittest.TestCase):
         first.send_goal(goal([([-0.5, 0.4, -0.4], 3.0)]))
         wait_until(lambda: first.get_state() == GoalStatus.ACTIVE, 30, "the first goal to be active")
         self.client.send_goal(goal([([0.0, 0.1, 0.0], 1.5)]))
-        self.assertTrue(first.wait_for_result(rospy.Duration(30)))
+        self.assertTrue(waits.wait_for_result(first, 30))
         self.assertEqual(first.get_state(), GoalStatus.PREEMPTED)
-        self.assertTrue(self.client.wait_for_result(rospy.Duration(60)))
+        self.assertTrue(waits.wait_for_result(self.client, 60))
         self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED, self.client.get_result().error_string)
 
     def test_4_a_100k_point_goal_is_built_off_the_loop_thread(self):
@@ -122,7 +122,7 @@ class FollowJointTrajectory(unittest.TestCase):
                         "the service was answered only after the goal was built (sim time %.3f, goal "
                         "active at %.3f): the build blocked the loop" % (answered_at, seen["active_stamp"]))
         self.client.cancel_goal()
-        self.assertTrue(self.client.wait_for_result(rospy.Duration(30)))
+        self.assertTrue(waits.wait_for_result(self.client, 30))
         self.assertEqual(self.client.get_state(), GoalStatus.PREEMPTED)
 
     def test_5_the_goal_status_comes_at_5_hz_of_simulated_time_also_after_a_reset(self):
