@@ -48,16 +48,38 @@ def start(args, log, port=None, program=("roslaunch",)):
     return subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
 
 
+def _signal(proc, sig):
+    """``sig`` to the process group ``proc`` leads (its own session: start()), else to ``proc``."""
+    try:
+        if os.getpgid(proc.pid) == proc.pid:
+            os.killpg(proc.pid, sig)
+        else:
+            proc.send_signal(sig)
+    except ProcessLookupError:
+        pass
+
+
 def stop(proc, grace=30.0):
-    """End the launch ``proc`` (from :func:`start`) and everything in its group: SIGINT, then
-    SIGKILL when it is not gone after ``grace`` seconds. Returns its exit status."""
-    if proc.poll() is None:
+    """End ``proc`` and everything in the process group it leads (a launch from :func:`start`, a
+    renderer and the children it restarted): SIGINT, SIGKILL when ``proc`` is not gone after
+    ``grace`` seconds, and SIGKILL to what is left of its group after it ended (a child that
+    ignored the SIGINT would outlive it in a session nobody watches). Returns its exit status."""
+    leader = False
+    if proc.poll() is None:          # not reaped: its pid is still its own
         try:
-            os.killpg(proc.pid, signal.SIGINT)
-            proc.wait(timeout=grace)
+            leader = os.getpgid(proc.pid) == proc.pid
         except ProcessLookupError:
             pass
+    if proc.poll() is None:
+        _signal(proc, signal.SIGINT)
+        try:
+            proc.wait(timeout=grace)
         except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
+            _signal(proc, signal.SIGKILL)
             proc.wait()
+    if leader:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
     return proc.returncode

@@ -16,7 +16,11 @@ FAMILY = textwrap.dedent("""
     import signal, subprocess, sys, time
     if "--deaf" in sys.argv:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
-    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    child = subprocess.Popen([sys.executable, "-c", "import signal, sys, time; "
+                              "sys.argv[1] == 'deaf' and signal.signal(signal.SIGINT, signal.SIG_IGN); "
+                              "print(flush=True); time.sleep(60)",
+                              "deaf" if "--deaf-child" in sys.argv else "-"], stdout=subprocess.PIPE)
+    child.stdout.readline()     # its SIGINT handler is set
     print(child.pid, flush=True)
     time.sleep(60)
 """)
@@ -69,6 +73,25 @@ def test_stop_ends_the_whole_group_and_escalates_when_sigint_is_ignored(monkeypa
             assert wait_gone(child), "the launch's child %d outlived it" % child
     finally:
         signal.signal(signal.SIGINT, ignored)
+
+
+def test_stop_ends_a_child_that_outlives_its_leader(monkeypatch):
+    # a renderer whose restarted child ignores Ctrl-C: the leader ends, the child must too
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:11311")
+    proc = scenario_launch.start(["--deaf-child"], subprocess.PIPE, program=(sys.executable, "-c", FAMILY))
+    child = int(proc.stdout.readline())
+    assert scenario_launch.stop(proc, grace=10.0) == -signal.SIGINT
+    proc.stdout.close()
+    assert wait_gone(child), "the deaf child %d outlived its leader" % child
+
+
+def test_stop_of_a_process_that_leads_no_group_signals_only_it():
+    # in this test's own group (stop() must not signal that), SIGINT at its default, and ready
+    proc = subprocess.Popen(list(scenario_launch.CTRL_C_ENDS) + [
+        sys.executable, "-c", "import time; print(flush=True); time.sleep(60)"], stdout=subprocess.PIPE)
+    proc.stdout.readline()
+    assert scenario_launch.stop(proc, grace=10.0) == -signal.SIGINT
+    proc.stdout.close()
 
 
 def test_a_runner_ended_by_sigterm_ends_its_launch(tmp_path):

@@ -27,10 +27,11 @@ The counts are looked at every ``POLL`` s of wall time while a camera exists.
 import logging
 import os
 import shutil
-import signal
 import subprocess
 import threading
 import time
+
+from modrob_sim import scenario_launch
 
 LOG = logging.getLogger("modrob_sim.camera")
 
@@ -216,12 +217,8 @@ class RendererProcess(object):
         if child is None or child.poll() is not None:
             return
         LOG.info("camera renderer %s stopped: %s", self.renderer_name, why)
-        child.send_signal(signal.SIGINT)
-        try:
-            child.wait(STOP_TIMEOUT)
-        except subprocess.TimeoutExpired:
-            child.kill()
-            child.wait()
+        # the whole group: a renderer that restarted its crashed child must not leave it behind
+        scenario_launch.stop(child, STOP_TIMEOUT)
 
     def _once(self, key, level, text, *args):
         if key not in self._told:
