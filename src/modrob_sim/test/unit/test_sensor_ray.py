@@ -35,6 +35,31 @@ def sensor_of(w, m, caster=None):
     return RaySensor(w, m, "sensor_link", link.sensors[0], "libgazebo_ros_laser.so", caster=caster)
 
 
+def clutter(seed, count, near, far, height):
+    """``count`` shapes (a box, a cylinder, a sphere in turn) at random bearings between ``near``
+    and ``far`` m from the origin; ``height``: their z, or a (low, high) range drawn per shape."""
+    rng = np.random.default_rng(seed)
+    shapes = []
+    for k in range(count):
+        a, d = rng.uniform(0, 2 * math.pi), rng.uniform(near, far)
+        g = [F.box((0.5, 0.7, 1.0)), F.cylinder(0.3, 1.2), F.sphere(0.4)][k % 3]
+        z = rng.uniform(*height) if isinstance(height, tuple) else height
+        shapes.append((g, (d * math.cos(a), d * math.sin(a), z)))
+    return shapes
+
+
+def assert_same_scan(a, b, hits_agree=1.0):
+    """The two casters' ranges ``a`` and ``b``: the same beams hit something (all of them, or at
+    least the fraction ``hits_agree``: a ray grazing an edge may go either way), and the beams
+    both hit read the same range to 1 um."""
+    hit_a, hit_b = np.isfinite(a), np.isfinite(b)
+    agree = (hit_a == hit_b).mean()
+    assert agree >= hits_agree, "the casters disagree on which beams hit: %d of %d" % (
+        np.count_nonzero(hit_a != hit_b), a.size)
+    both = hit_a & hit_b
+    assert np.abs(a[both] - b[both]).max() < 1e-6
+
+
 @pytest.mark.parametrize("caster", CASTERS)
 def test_box_at_known_bearing_and_distance(caster):
     # sensor at (0, 0, 0.25); a 0.4 m cube centred 3 m away at bearing 30 degrees
@@ -82,19 +107,11 @@ def test_every_primitive_shape(caster):
 def test_casters_agree_in_a_cluttered_world():
     if not raycast.NATIVE_AVAILABLE:
         pytest.skip("native caster unavailable")
-    rng = np.random.default_rng(1)
-    shapes = []
-    for k in range(30):
-        a, d = rng.uniform(0, 2 * math.pi), rng.uniform(1.5, 8)
-        g = [F.box((0.5, 0.7, 1.0)), F.cylinder(0.3, 1.2), F.sphere(0.4)][k % 3]
-        shapes.append((g, (d * math.cos(a), d * math.sin(a), 0.4)))
     xml = F.laser_sensor(samples=300, rmax=15, v_samples=8, v_min=-0.3, v_max=0.2)
-    w, m = laser_world(xml, shapes)
+    w, m = laser_world(xml, clutter(seed=1, count=30, near=1.5, far=8, height=0.4))
     a, _ = sensor_of(w, m, "ode").scan()
     b, _ = sensor_of(w, m, "numpy").scan()
-    both = np.isfinite(a) & np.isfinite(b)
-    assert (np.isfinite(a) == np.isfinite(b)).mean() > 0.999
-    assert np.abs(a[both] - b[both]).max() < 1e-6
+    assert_same_scan(a, b, hits_agree=0.999)
 
 
 def test_casters_agree_for_a_turned_and_tilted_sensor():
@@ -103,12 +120,7 @@ def test_casters_agree_for_a_turned_and_tilted_sensor():
     # the rays' angles kept from the first scan and computed afresh (a writable copy) alike
     if not raycast.NATIVE_AVAILABLE:
         pytest.skip("native caster unavailable")
-    rng = np.random.default_rng(7)
-    shapes = []
-    for k in range(24):
-        a, d = rng.uniform(0, 2 * math.pi), rng.uniform(1.0, 6)
-        g = [F.box((0.5, 0.7, 1.0)), F.cylinder(0.3, 1.2), F.sphere(0.4)][k % 3]
-        shapes.append((g, (d * math.cos(a), d * math.sin(a), rng.uniform(-0.5, 1.5))))
+    shapes = clutter(seed=7, count=24, near=1.0, far=6, height=(-0.5, 1.5))
     xml = F.laser_sensor(samples=180, rmax=15, v_samples=16, v_min=-0.6, v_max=0.4)
     w = World(seed=3)
     for i, (geom, xyz) in enumerate(shapes):
@@ -124,9 +136,7 @@ def test_casters_agree_for_a_turned_and_tilted_sensor():
         a, _ = ode_s.scan()
         b, _ = np_s.scan()
         assert np.isfinite(a).sum() > 100
-        assert np.array_equal(np.isfinite(a), np.isfinite(b))
-        both = np.isfinite(a)
-        assert np.abs(a[both] - b[both]).max() < 1e-6
+        assert_same_scan(a, b)
     pos, rot = ode_s.pose()
     fresh = ode_s.caster.cast(pos, quat_to_matrix(rot), np.array(ode_s._dirs), ode_s.spec.range_min,
                               ode_s.spec.range_max)
