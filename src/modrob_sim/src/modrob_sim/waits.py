@@ -42,6 +42,21 @@ def wait_until(condition, timeout):
     return False
 
 
+def command_publisher(topic, cls, timeout):
+    """A latched publisher of ``cls`` on ``topic``, returned once a subscriber (the simulator, a
+    controller) is connected to it. A command published before that would wait for the connection
+    while the simulation runs on (at a high real-time factor a connection takes seconds of
+    simulated time); latched, the last command also reaches a subscriber that reconnects.
+    Raises rospy.ROSException (as rospy's own waits do) when nobody has connected after
+    ``timeout`` wall seconds."""
+    pub = rospy.Publisher(topic, cls, queue_size=1, latch=True)
+    if not wait_until(lambda: pub.get_num_connections() > 0, timeout):
+        raise rospy.ROSException("nobody subscribed to %s within %.0f s: is the node that takes these "
+                                 "commands running (`rostopic info %s`)?" % (pub.resolved_name, timeout,
+                                                                             pub.resolved_name))
+    return pub
+
+
 def lookup_transform(buffer, target, source, timeout):
     """``buffer.lookup_transform(target, source, latest)``, waiting up to ``timeout`` wall seconds
     for it to become known (tf2's own timeout is simulated time: at a high real-time factor its

@@ -21,7 +21,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 from modrob_sim import waits
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import (Latest, command_publisher, controller_states,  # noqa: E402
+from control_common import (Latest, controller_states,  # noqa: E402
                             wait_for_action_server, wait_running, wait_until)
 
 NS = "/arm6"
@@ -120,7 +120,7 @@ class ArmWithThreeInterfaces(unittest.TestCase):
         self.assertTrue(self.switch(["joint_group_pos_controller"], ["eff_joint_traj_controller"], STRICT,
                                     False, 0.0).ok)
         self.assertLess(self.error_after(FIRST, rospy.get_time() + 0.2), 0.01)   # holds where it was
-        pub = command_publisher(NS + "/joint_group_pos_controller/command", Float64MultiArray)
+        pub = waits.command_publisher(NS + "/joint_group_pos_controller/command", Float64MultiArray, 20)
         pub.publish(Float64MultiArray(data=SECOND))
         stamp = rospy.get_time()
         self.js.wait(lambda m: m.header.stamp.to_sec() >= stamp and self.error(m, SECOND) < 0.01, 30,

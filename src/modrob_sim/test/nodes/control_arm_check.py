@@ -14,8 +14,10 @@ from dynamic_reconfigure.client import Client
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
 
+from modrob_sim import waits
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import (Latest, RosoutCollector, command_publisher, sim_sleep, wait_running,  # noqa: E402
+from control_common import (Latest, RosoutCollector, sim_sleep, wait_running,  # noqa: E402
                             wait_until)
 
 NS = "/arm1"
@@ -30,7 +32,7 @@ class ArmPositionControl(unittest.TestCase):
         wait_running(NS, ["joint_state_controller", "shoulder_controller"])
         cls.state = Latest(CTRL + "/state", JointControllerState)
         cls.joints = Latest(NS + "/joint_states", JointState)
-        cls.pub = command_publisher(CTRL + "/command", Float64)
+        cls.pub = waits.command_publisher(CTRL + "/command", Float64, 20)
         wait_until(lambda: cls.state.msg is not None and cls.joints.msg is not None, 30, "state and "
                                                                                          "joint_states")
 

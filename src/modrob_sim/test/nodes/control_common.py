@@ -26,15 +26,6 @@ def wait_for_action_server(client, wall_timeout, what):
         raise AssertionError("timed out after %.0f s waiting for %s" % (wall_timeout, what))
 
 
-def command_publisher(topic, cls, timeout=20):
-    """A latched publisher on ``topic`` once the simulator has subscribed to it: a command
-    published before that would wait for the connection while the simulation runs on (at a high
-    real-time factor a connection takes seconds of simulated time)."""
-    pub = rospy.Publisher(topic, cls, queue_size=1, latch=True)
-    wait_until(lambda: pub.get_num_connections() > 0, timeout, "a subscriber of %s" % topic)
-    return pub
-
-
 def controller_states(ns):
     rospy.wait_for_service(ns + "/controller_manager/list_controllers", timeout=60)
     srv = rospy.ServiceProxy(ns + "/controller_manager/list_controllers", ListControllers)

@@ -14,8 +14,10 @@ from gazebo_msgs.msg import ModelStates
 from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import Odometry
 
+from modrob_sim import waits
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import (Latest, RosoutCollector, command_publisher, sim_sleep, wait_running,  # noqa: E402
+from control_common import (Latest, RosoutCollector, sim_sleep, wait_running,  # noqa: E402
                             wait_until)
 
 NS = "/diffbot_velocity_controller"
@@ -62,7 +64,7 @@ class DiffDrive(unittest.TestCase):
         cls.tf = tf2_ros.Buffer()
         cls.tf_listener = tf2_ros.TransformListener(cls.tf)
         wait_running("/", ["diffbot_joint_publisher", "diffbot_velocity_controller"])
-        cls.cmd = command_publisher(NS + "/cmd_vel", Twist)
+        cls.cmd = waits.command_publisher(NS + "/cmd_vel", Twist, 20)
         wait_until(lambda: cls.truth.pose is not None and cls.odom.msg is not None, 30,
                    "model states and odom")
 

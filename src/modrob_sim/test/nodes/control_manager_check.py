@@ -11,8 +11,10 @@ from controller_manager_msgs.srv import (ListControllers, ListControllerTypes, L
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
 
+from modrob_sim import waits
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import Latest, RosoutCollector, command_publisher, sim_sleep, wait_until  # noqa: E402
+from control_common import Latest, RosoutCollector, sim_sleep, wait_until  # noqa: E402
 
 STRICT, BEST_EFFORT = 2, 1
 
@@ -74,7 +76,7 @@ class ControllerManagerRoundTrip(unittest.TestCase):
         self.assertEqual(listed.claimed_resources[0].hardware_interface,
                          "hardware_interface::VelocityJointInterface")
         self.assertEqual(listed.claimed_resources[0].resources, ["wheel_v"])
-        pub = command_publisher("/wheels/wheel_v_controller/command", Float64)
+        pub = waits.command_publisher("/wheels/wheel_v_controller/command", Float64, 20)
         pub.publish(Float64(2.0))
         sim_sleep(2.0)
         self.assertAlmostEqual(self.velocity("wheel_v"), 2.0, delta=0.04)
@@ -92,7 +94,7 @@ class ControllerManagerRoundTrip(unittest.TestCase):
         self.assertTrue(m.switch(["wheel_e_controller"], []))
         self.assertFalse(m.switch(["wheel_e_effort_controller"], [], BEST_EFFORT))       # same joint
         self.log.wait_for("Resource conflict", "wheel_e")
-        pub = command_publisher("/wheels/wheel_e_controller/command", Float64)
+        pub = waits.command_publisher("/wheels/wheel_e_controller/command", Float64, 20)
         pub.publish(Float64(2.0))
         sim_sleep(3.0)
         self.assertAlmostEqual(self.velocity("wheel_e"), 2.0, delta=0.04)
@@ -124,7 +126,7 @@ class ControllerManagerRoundTrip(unittest.TestCase):
         self.assertTrue(m.switch(["shoulder_controller"], []))
         js = rospy.wait_for_message("/gazebo/model_states", rospy.AnyMsg, timeout=30)
         self.assertIsNotNone(js)
-        pub = command_publisher("/arm1p/shoulder_controller/command", Float64)
+        pub = waits.command_publisher("/arm1p/shoulder_controller/command", Float64, 20)
         pub.publish(Float64(0.5))
         sim_sleep(4.0)
         # no joint_state_controller here: read the joint through a second controller manager query

@@ -67,6 +67,34 @@ def test_lookup_transform_waits_in_wall_time_then_raises_tf2s_exception():
     assert time.monotonic() - start >= 0.2 and never.looks > 1
 
 
+class FakePublisher(object):
+    """rospy.Publisher with a subscriber connecting at the ``connect_after``-th look (None: never)."""
+    connect_after = None
+    made = []
+
+    def __init__(self, topic, cls, queue_size=None, latch=False):
+        self.resolved_name, self.latch, self.looks = "/" + topic.lstrip("/"), latch, 0
+        FakePublisher.made.append(self)
+
+    def get_num_connections(self):
+        self.looks += 1
+        return int(self.connect_after is not None and self.looks >= self.connect_after)
+
+
+def test_command_publisher_is_latched_and_returned_once_a_subscriber_is_connected(monkeypatch):
+    import pytest
+    import rospy
+    monkeypatch.setattr(rospy, "Publisher", FakePublisher)
+    monkeypatch.setattr(FakePublisher, "connect_after", 3)
+    pub = waits.command_publisher("arm/command", float, 10.0)
+    assert pub.latch and pub.looks == 3
+    monkeypatch.setattr(FakePublisher, "connect_after", None)
+    start = time.monotonic()
+    with pytest.raises(rospy.ROSException, match=r"nobody subscribed to /arm/command within 0 s"):
+        waits.command_publisher("arm/command", float, 0.2)
+    assert time.monotonic() - start >= 0.2 and FakePublisher.made[-1].looks > 1
+
+
 def test_stop_following_clock_drops_rospys_clock_subscription_once(monkeypatch):
     from rospy.impl import simtime
     dropped = []

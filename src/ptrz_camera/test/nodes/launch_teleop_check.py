@@ -16,6 +16,7 @@ import rostest
 import tf2_ros
 from std_msgs.msg import Float64
 
+from modrob_sim import waits
 from modrob_sim.waits import Latest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -40,10 +41,9 @@ class LaunchAndTeleop(unittest.TestCase):
         tf2_ros.TransformListener(buf)
 
         # a JointPositionController holds the position it started at (ros_controllers' starting()),
-        # wherever the arm had sagged to by then: command the seed's pose, all joints at 0 (latched:
-        # the simulator gets it whenever it connects)
-        pubs = [rospy.Publisher("%s/%s_position_controller/command" % (NS, j), Float64, queue_size=1,
-                                latch=True) for j in ("roll", "pan", "tilt")]
+        # wherever the arm had sagged to by then: command the seed's pose, all joints at 0
+        pubs = [waits.command_publisher("%s/%s_position_controller/command" % (NS, j), Float64, 30)
+                for j in ("roll", "pan", "tilt")]
         for p in pubs:
             p.publish(Float64(0.0))
 
