@@ -90,9 +90,12 @@ class ArmInterface(object):
     def model_pose(self, name):
         return self.model_poses().get(name)
 
-    def follow(self, points, timeout_margin=20.0, tolerance=None):
+    def follow(self, points, tolerance=None):
         """points [(t, q)]; ``tolerance`` (rad): the goal's position tolerance for every joint
-        instead of the controller's; returns (ok, error_code, text)."""
+        instead of the controller's; returns (ok, error_code, text). The result is waited for in
+        wall time (modrob_sim.waits): the move's own duration plus ``wait``; a limit in simulated
+        time would run out in wall milliseconds at real_time_factor 0 while this client waits for
+        its turn on the CPU."""
         goal = FollowJointTrajectoryGoal()
         goal.trajectory.joint_names = list(kin.JOINTS)
         if tolerance is not None:
@@ -104,9 +107,10 @@ class ArmInterface(object):
         with self.lock:
             self.desired = list(points[-1][1])
         self.arm.send_goal(goal)
-        if not self.arm.wait_for_result(rospy.Duration(points[-1][0] + timeout_margin)):
+        limit = points[-1][0] + self.wait
+        if not waits.wait_for_result(self.arm, limit):
             self.arm.cancel_goal()
-            return False, None, "no result within %.0f s" % (points[-1][0] + timeout_margin)
+            return False, None, "no result within %.0f wall seconds" % limit
         res = self.arm.get_result()
         ok = self.arm.get_state() == GoalStatus.SUCCEEDED
         code = res.error_code if res is not None else None
@@ -116,9 +120,9 @@ class ArmInterface(object):
         goal = GripperCommandGoal()
         goal.command.position, goal.command.max_effort = position, max_effort
         self.gripper.send_goal(goal)
-        if not self.gripper.wait_for_result(rospy.Duration(30.0)):
+        if not waits.wait_for_result(self.gripper, self.wait):
             self.gripper.cancel_goal()
-            return False, None, "the gripper gave no result within 30 s"
+            return False, None, "the gripper gave no result within %.0f wall seconds" % self.wait
         return (self.gripper.get_state() == GoalStatus.SUCCEEDED, self.gripper.get_result(),
                 self.gripper.get_goal_status_text())
 
