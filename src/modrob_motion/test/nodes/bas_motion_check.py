@@ -12,6 +12,8 @@ import rospy
 import rostest
 from sensor_msgs.msg import JointState
 
+from modrob_sim import waits
+
 ARM = ["joint%d" % i for i in range(1, 7)]
 
 
@@ -33,6 +35,7 @@ class MotionInterface(unittest.TestCase):
     @classmethod
     def _on_js(cls, msg):
         cls.q.update(zip(msg.name, msg.position))
+        cls.stamp = msg.header.stamp.to_sec()
 
     def measured(self):
         return np.array([self.q[n] for n in ARM])
@@ -81,18 +84,18 @@ class MotionInterface(unittest.TestCase):
         proc = self.terminal(["xyz %.4f %.4f %.4f\n" % goal, "xyz 5 5 5\n"])
         self.assertEqual(proc.returncode, 0, proc.stderr)
         self.assertIn("unreachable", proc.stdout)
-        deadline = time.time() + 40
-        dist = float("inf")
-        while time.time() < deadline:
+        # reached and settled: within 5 mm at every look for a simulated second (not passing through)
+        dist, since = float("inf"), None
+
+        def settled():
+            nonlocal dist, since
+            stamp = self.stamp
             dist = math.dist(chain.fk_position(list(self.measured())), goal)
-            if dist < 0.005:
-                time.sleep(1.0)
-                dist = math.dist(chain.fk_position(list(self.measured())), goal)
-                if dist < 0.005:
-                    break
-            time.sleep(0.1)
-        self.assertLess(dist, 0.005, "end effector %.1f mm from the xyz target\n%s"
-                        % (1000 * dist, proc.stdout))
+            since = None if dist >= 0.005 else (stamp if since is None else since)
+            return since is not None and stamp - since >= 1.0
+        self.assertTrue(waits.wait_until(settled, 40),
+                        "end effector %.1f mm from the xyz target, not within 5 mm for a simulated "
+                        "second\n%s" % (1000 * dist, proc.stdout))
 
 
 if __name__ == "__main__":
