@@ -2,10 +2,15 @@
 """rostest node: gazebo_ros's launch files as modrob_sim has them. shapes_world.launch (gui fixed
 to true, as gazebo_ros writes it) comes up on a machine without a display: the GUI warns once and
 stays away, the simulation runs with the world's three shapes; gzclient itself, started without a
-display, says so and exits cleanly."""
+display, says so and exits cleanly; with one (a private Xvfb) it runs RViz as its child in a
+process group of its own and a stop as roslaunch sends it (SIGINT to gzclient's group) ends both
+with exit code 0."""
 import os
+import select
+import signal
 import subprocess
 import sys
+import time
 import unittest
 
 import rosnode
@@ -40,6 +45,66 @@ class SimGazeboRosLaunches(unittest.TestCase):
         self.assertEqual(run.returncode, 0, run.stdout)
         self.assertIn("there is no display (DISPLAY is not set)", run.stdout)
         self.assertIn("the simulation runs on", run.stdout)
+
+    def test_gzclient_runs_rviz_as_its_child_and_stops_cleanly(self):
+        read, write = os.pipe()
+        xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "800x600x24",
+                                 "-nolisten", "tcp"], pass_fds=[write], stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL)
+        os.close(write)
+        with os.fdopen(read) as f:
+            number = f.readline().strip()
+        self.assertTrue(number, "Xvfb did not start")
+        env = dict(os.environ, DISPLAY=":" + number)
+        gz = subprocess.Popen(["rosrun", "modrob_sim", "gzclient", "__name:=gzclient_gui_probe"], env=env,
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
+        try:
+            up = wait_for(lambda: "/gzclient_gui_probe" in rosnode.get_node_names() or gz.poll() is not None,
+                          60.0)
+            self.assertTrue(up and gz.poll() is None, "RViz did not come up as /gzclient_gui_probe "
+                            "(gzclient ended with %s)" % gz.poll())
+            pids = [int(p) for p in os.listdir("/proc") if p.isdigit()]
+            rviz = [pid for pid in pids if proc_stat(pid)[1:2] == [gz.pid]]
+            self.assertEqual(len(rviz), 1, "gzclient %d has no one child process" % gz.pid)
+            self.assertIn("rviz", proc_stat(rviz[0])[0])
+            self.assertNotEqual(proc_stat(rviz[0])[2], gz.pid, "RViz is in gzclient's process group")
+            os.killpg(gz.pid, signal.SIGINT)                 # as roslaunch stops a node
+            self.assertEqual(gz.wait(30), 0)
+            out = read_to_end(gz.stdout, 30)
+            self.assertEqual([x for x in out.splitlines() if x.startswith("gzclient:") and
+                              "while stopping (a known RViz/Mesa crash at exit); ignored" not in x], [], out)
+        finally:
+            if gz.poll() is None:
+                os.killpg(gz.pid, signal.SIGKILL)
+                gz.wait()
+            gz.stdout.close()
+            xvfb.terminate()
+            xvfb.wait()
+
+
+def proc_stat(pid):
+    """[command name, parent pid, process group] of ``pid``, [] once it is gone."""
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            head, rest = f.read().rsplit(")", 1)
+    except OSError:
+        return []
+    fields = rest.split()
+    return [head.split("(", 1)[1], int(fields[1]), int(fields[2])]
+
+
+def read_to_end(pipe, timeout):
+    """Everything written to ``pipe`` until EOF (every process holding it has ended)."""
+    end, out = time.monotonic() + timeout, b""
+    while True:
+        left = end - time.monotonic()
+        if left <= 0 or not select.select([pipe], [], [], left)[0]:
+            raise AssertionError("output still open after %.0f s (a process outlived gzclient?):\n%s"
+                                 % (timeout, out.decode(errors="replace")))
+        chunk = os.read(pipe.fileno(), 4096)
+        if not chunk:
+            return out.decode(errors="replace")
+        out += chunk
 
 
 if __name__ == "__main__":

@@ -87,16 +87,26 @@ def test_gazebo_ros_launch_files_take_gazebo_ros_arguments(launch):
         assert includes == ["$(find modrob_sim)/launch/empty_world.launch"]
 
 
-def test_display_problem_tells_a_display_from_none(tmp_path, monkeypatch):
-    assert display.display_problem({}) == "DISPLAY is not set"
-    assert "not of the form" in display.display_problem({"DISPLAY": "nonsense"})
+def test_connect_display_tells_a_display_from_none(tmp_path, monkeypatch):
+    def problem(env):
+        conn, why = display.connect_display(env)
+        assert (conn is None) != (why is None)
+        if conn is not None:
+            conn.close()
+        return why
+    assert problem({}) == "DISPLAY is not set"
+    assert "not of the form" in problem({"DISPLAY": "nonsense"})
     monkeypatch.setattr(display, "X_SOCKET_DIR", str(tmp_path))
-    assert "accepts no connection" in display.display_problem({"DISPLAY": ":57"})
+    assert "accepts no connection" in problem({"DISPLAY": ":57"})
     server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     server.bind(str(tmp_path / "X57"))
-    server.listen(1)
+    server.listen(8)
     try:
-        assert display.display_problem({"DISPLAY": ":57"}) is None
-        assert display.display_problem({"DISPLAY": ":57.0"}) is None
+        assert problem({"DISPLAY": ":57"}) is None
+        assert problem({"DISPLAY": ":57.0"}) is None
+        # the connection is returned open (gzclient holds it while RViz runs)
+        conn, _ = display.connect_display({"DISPLAY": ":57"})
+        assert conn.getpeername() == str(tmp_path / "X57")
+        conn.close()
     finally:
         server.close()
