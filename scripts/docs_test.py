@@ -323,11 +323,13 @@ class Session(object):
     def display(self):
         """A private Xvfb for the blocks marked display=xvfb (started once per session). Xvfb picks
         a free display number itself (-displayfd) and says it once it accepts clients, so sessions
-        side by side never race for one."""
+        side by side never race for one. -noreset: by default an X server resets when its last
+        client leaves, and a GUI of the next block connecting during that reset fails at start."""
         if self.xvfb is None:
             read, write = os.pipe()
             proc = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24",
-                                     "-nolisten", "tcp"], pass_fds=(write,), stdout=subprocess.DEVNULL,
+                                     "-nolisten", "tcp", "-noreset"], pass_fds=(write,),
+                                    stdout=subprocess.DEVNULL,
                                     stderr=subprocess.DEVNULL, start_new_session=True)
             os.close(write)
             with os.fdopen(read) as f:
