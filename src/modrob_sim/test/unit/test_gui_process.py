@@ -68,16 +68,20 @@ def fake_display():
 
 
 class Gzclient(object):
-    """gzclient started as roslaunch starts a node (its own session), with ``child`` as rviz."""
+    """gzclient started as roslaunch starts a node (its own session), with ``child`` as rviz
+    (None: no rviz on PATH)."""
 
     def __init__(self, tmp_path, child):
         bin_dir = tmp_path / "bin"
         bin_dir.mkdir()
-        rviz = bin_dir / "rviz"
-        rviz.write_text("#!%s\n%s" % (sys.executable, child))
-        rviz.chmod(0o755)
+        path = str(bin_dir)
+        if child is not None:
+            rviz = bin_dir / "rviz"
+            rviz.write_text("#!%s\n%s" % (sys.executable, child))
+            rviz.chmod(0o755)
+            path += ":" + os.environ["PATH"]
         self.server, display = fake_display()
-        env = dict(os.environ, DISPLAY=display, PATH="%s:%s" % (bin_dir, os.environ["PATH"]))
+        env = dict(os.environ, DISPLAY=display, PATH=path)
         self.proc = subprocess.Popen([sys.executable, GZCLIENT, "--rviz-config", "x.rviz",
                                       "__name:=gazebo_gui"], env=env, stdout=subprocess.PIPE,
                                      stderr=subprocess.STDOUT, start_new_session=True)
@@ -207,3 +211,8 @@ def test_rviz_ends_with_a_killed_gzclient(gzclient):
     while alive(child) and time.monotonic() < end:
         time.sleep(0.01)
     assert not alive(child), "rviz %d outlived gzclient" % child
+
+
+def test_no_rviz_to_start_is_said_by_name(gzclient):
+    code, out = gzclient(None).wait()
+    assert code == 127 and "gzclient: cannot start rviz" in out and "Debian package rviz" in out, out
