@@ -1,6 +1,7 @@
-"""Process helpers the benchmark scripts share: a free port for a ROS master, a process's CPU
-time, the processes below one, starting/stopping a command in a session of its own (roslaunch
-and its nodes end together), and ending a child started in the bench's own session."""
+"""Process helpers the benchmark scripts share: a free port for a ROS master, the CPU time of a
+process and of its threads, the processes below one, starting/stopping a command in a session of
+its own (roslaunch and its nodes end together), and ending a child started in the bench's own
+session."""
 import os
 import signal
 import socket
@@ -18,6 +19,23 @@ def cpu_seconds(pid):
     with open("/proc/%d/stat" % pid) as f:
         fields = f.read().rsplit(")", 1)[1].split()
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def thread_cpu_seconds(pid):
+    """{thread id: user + system CPU seconds} of every thread of ``pid`` (empty once it ended)."""
+    out = {}
+    try:
+        tids = os.listdir("/proc/%d/task" % pid)
+    except OSError:
+        return out
+    for tid in tids:
+        try:
+            with open("/proc/%d/task/%s/stat" % (pid, tid)) as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        out[int(tid)] = (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    return out
 
 
 def descendants(pid):

@@ -23,7 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import physics_core as scene  # noqa: E402  (the scene, the PD gains, our engine and PyBullet's runs)
-from procs import cpu_seconds, descendants, free_port, stop, terminate  # noqa: E402
+from procs import cpu_seconds, descendants, free_port, stop, terminate, thread_cpu_seconds  # noqa: E402
 
 N = scene.N_JOINTS
 JOINTS = ["joint%d" % (i + 1) for i in range(N)]
@@ -802,8 +802,10 @@ def unit_demo_pace(scenario, args):
                 time.sleep(0.1)
             time.sleep(3.0)
         pids = descendants(launch.pid)
+        node = find_node(launch.pid)
         t0, w0 = world().sim_time, time.perf_counter()
         c0 = {p: _cpu(p) for p in pids}
+        th0 = thread_cpu_seconds(node) if node else {}
         n0 = dict(counts)
         if span:
             end = time.time() + 600
@@ -815,6 +817,7 @@ def unit_demo_pace(scenario, args):
             time.sleep(args.seconds or 10.0)
         t1, w1 = world().sim_time, time.perf_counter()
         c1 = {p: _cpu(p) for p in pids}
+        th1 = thread_cpu_seconds(node) if node else {}
         for sub in subs:
             sub.unregister()
         sim, wall, cpu = t1 - t0, w1 - w0, sum(c1[p] - c0[p] for p in pids)
@@ -827,6 +830,13 @@ def unit_demo_pace(scenario, args):
                "cpu_load": cpu / wall, "sim_time": sim, "wall": wall, "cpu": cpu,
                "cpu_per_sim_s": {k: round(v / sim, 5) for k, v in busiest if v > 0 and sim > 0},
                "rates": {k: (counts[k] - n0[k]) / sim if sim > 0 else 0.0 for k in counts}}
+        if node and sim > 0:
+            # the simulator node's busiest thread (the simulation loop: physics, plugins, what it
+            # publishes), which sets the pace, apart from the node's other threads (roscpp's and
+            # rospy's transport, the sensors' packing, the publishing sender)
+            spent = sorted((th1[tid] - th0.get(tid, 0.0) for tid in th1), reverse=True)
+            res["node_loop_thread_per_sim_s"] = round(spent[0] / sim, 5) if spent else None
+            res["node_other_threads_per_sim_s"] = round(sum(spent[1:]) / sim, 5)
         if span:
             with open(result_file) as f:
                 res["result"] = f.readline().strip()        # "success: true"
