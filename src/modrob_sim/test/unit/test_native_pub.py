@@ -323,4 +323,5 @@ def test_the_clock_ticks_in_the_after_hook_and_flushes_after_a_pass():
     out.after_pass()
     assert calls == [("ticker", 0.0), ("observer", 1234, 5678), ("tick", 1.5), ("flush",), ("scene", 1.5),
                      ("flush",), ("scene", 1.5)]
-    assert out.after_due() == pytest.approx(10.0 - 0.0005)       # /clock needs no Python step
+    # /clock needs no Python step; the states are due by their period's last step
+    assert out.after_due() == pytest.approx(10.0 - 0.0005)

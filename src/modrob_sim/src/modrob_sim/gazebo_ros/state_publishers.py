@@ -53,8 +53,8 @@ def set_clock(msg, t):
 
 def _next_on_grid(t, period):
     """The first multiple of ``period`` after ``t`` (0 with no period: every step). The states and
-    markers fall on their period's grid of simulated time (10, 20, .. ms at 100 Hz), as do the
-    guard's snapshots (every 50 steps of 1 ms), so that a batch of native steps ends at one step
+    markers count their periods on this grid of simulated time (10, 20, .. ms at 100 Hz), as the
+    guard's snapshots do (every 50 steps of 1 ms), so that a batch of native steps ends at one step
     for all of them instead of at one for each; the callers compare with half a step to spare,
     which absorbs the drift of the simulated time's float sum."""
     return (math.floor(t / period) + 1) * period if period > 0 else 0.0
@@ -140,12 +140,18 @@ class StatePublishers(object):
 
     # ---- due times and the loop's passes (the World steps natively in between) --------------------
     def after_due(self):
-        """The simulated time from which after_step has work (the World's due time for it):
-        states and markers on their grids; None (every step) when /clock goes out at every step and
-        only rospy can send it."""
+        """The simulated time by which after_step must run (the World's due time for it): the
+        states within their period, markers on their grid; None (every step) when /clock goes out
+        at every step and only rospy can send it."""
         if self._ticker is None and self._clock_period <= 0.0:
             return None
+        # the states go out at the first step at or after their grid time at which the World stops
+        # anyway (a sensor's sample, a controller's update), and make the World stop only at the
+        # period's last step when nothing else did: a sensor at the states' rate on another phase
+        # (an IMU counts its period from its first step) would otherwise double the stops
         due = self._next_state_t
+        if self._state_period > 0.0:
+            due += max(0.0, self._state_period - self.world.time_step)
         if self._marker_period > 0.0 and self._next_marker_t < due:
             due = self._next_marker_t
         return due - 0.5 * self.world.time_step
