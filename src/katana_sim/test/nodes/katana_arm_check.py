@@ -30,13 +30,6 @@ TOLERANCE = 0.05  # katana_arm_controller's goal tolerance (rad)
 PERIOD = 0.02     # joint_state_controller's publish_rate 50
 
 
-def wait_until(cond, timeout, what):
-    """Wait ``timeout`` wall seconds (simulated time runs 20-60x faster than the wall clock here, and
-    the nodes waited for answer in wall time)."""
-    if not waits.wait_until(cond, timeout):
-        raise AssertionError("timed out after %.0f s waiting for %s" % (timeout, what))
-
-
 class KatanaArm(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -178,8 +171,9 @@ class KatanaArm(unittest.TestCase):
         # the simulator's time now (this node's clock can be a simulated second behind): a
         # detection stamped 0.3 s later comes from a scan of the moved cans
         t0 = rospy.ServiceProxy("/gazebo/get_world_properties", GetWorldProperties)().sim_time
-        wait_until(lambda: self.detections is not None and self.detections.header.stamp.to_sec() > t0 + 0.3
-                   and len(self.detections.poses) == 2, 30, "two detections after the cans moved")
+        waits.wait_until(lambda: self.detections is not None
+                         and self.detections.header.stamp.to_sec() > t0 + 0.3
+                         and len(self.detections.poses) == 2, 30, "two detections after the cans moved")
         self.assertEqual(self.detections.header.frame_id, "katana_laser_link")
         found = [(p.position.x + 0.085, p.position.y) for p in self.detections.poses]
         for name, (x, y) in poses.items():

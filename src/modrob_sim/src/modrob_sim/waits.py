@@ -1,17 +1,25 @@
-"""Waits measured in wall-clock time, for clients of the simulator (scenarios, teleops, tests).
+"""Waits for clients of the simulator (scenarios, teleops, tests), with limits in wall-clock time.
 
 With ``use_sim_time`` set, actionlib's ``wait_for_server(timeout)``, ``rospy.sleep`` and
 ``rospy.get_time`` run on the simulator's clock: at ``real_time_factor`` 0 a minute of simulated
 time can pass in a fraction of a wall second (before the controller spawner has even started the
 action servers), and while the simulator is paused or not yet publishing ``/clock`` it never
 passes. How long a client is willing to wait for the rest of the system is a wall-clock question.
+
+The rule of this module: every ``timeout`` is wall seconds (``time.monotonic``) and ends the wait
+whatever the simulated clock does. Simulated time is only ever what is waited *for*: the
+``seconds`` of :func:`sim_sleep`, a message's stamp in ``Latest.after``. So a stopped clock (the
+simulator paused, dead, or not publishing ``/clock`` yet) never hangs a wait: it runs out its
+wall-clock limit and says so. A wait given ``what`` (a test's wait) raises AssertionError naming
+it; one without returns False, for callers that decide themselves what a missed wait means. Waits
+look at their condition every ``POLL`` wall seconds and give up at ROS shutdown.
 """
 import threading
 import time
 
 import rospy
 
-POLL = 0.02  # wall seconds between two looks at a condition
+POLL = 0.01  # wall seconds between two looks at a condition
 
 
 def wait_for_action_servers(clients, timeout):
@@ -30,16 +38,75 @@ def wait_for_action_servers(clients, timeout):
     return None
 
 
-def wait_until(condition, timeout):
-    """Poll ``condition()`` until it is true (True) or ``timeout`` wall seconds pass (False)."""
+def wait_until(condition, timeout, what=None, period=POLL):
+    """Look at ``condition()`` every ``period`` wall seconds until it is true, for at most
+    ``timeout`` wall seconds. True once it is; otherwise (the limit passed, or ROS shut down)
+    False, or with ``what`` AssertionError "timed out after <timeout> s waiting for <what>"."""
     end = time.monotonic() + timeout
     while not rospy.is_shutdown():
         if condition():
             return True
         if time.monotonic() > end:
-            return False
-        time.sleep(POLL)
-    return False
+            break
+        time.sleep(period)
+    if what is None:
+        return False
+    raise _missed(timeout, what)
+
+
+def _missed(timeout, what):
+    if rospy.is_shutdown():
+        return AssertionError("ROS shut down while waiting for %s" % what)
+    return AssertionError("timed out after %.0f s waiting for %s" % (timeout, what))
+
+
+def sim_sleep(seconds, timeout=60.0):
+    """Wait until this node's simulated clock (``rospy.get_time()``) has advanced ``seconds`` from
+    its value now, for at most ``timeout`` wall seconds; AssertionError after that, saying whether
+    the clock stood still (the simulator paused, or no ``/clock``) or only ran slower than that.
+    Unlike ``rospy.sleep`` it never waits forever on a stopped clock and does not raise when the
+    clock jumps back (a world reset: it then waits until the clock is at the end again). Before the
+    node's first ``/clock`` message its time is 0, so wait for something the simulator publishes
+    first. A test's wait: the caller resumes within ``POLL`` wall seconds of the end, which at a
+    high real-time factor is some simulated time past it."""
+    start = rospy.get_time()
+    end = start + seconds
+    if wait_until(lambda: rospy.get_time() >= end, timeout):
+        return
+    now = rospy.get_time()
+    if rospy.is_shutdown():
+        raise AssertionError("ROS shut down during a sleep of %g s of simulated time" % seconds)
+    if now == start:
+        raise AssertionError("the simulated clock stood still at %.3f s for %.0f wall s (a sleep of %g s of "
+                             "simulated time): is the simulator paused, or not publishing /clock?"
+                             % (now, timeout, seconds))
+    raise AssertionError("timed out after %.0f s: the simulated clock went from %.3f s to %.3f s of the "
+                         "%.3f s a sleep of %g s needs" % (timeout, start, now, end, seconds))
+
+
+def controller_states(ns, timeout=60.0):
+    """``{controller name: state}`` from ``<ns>/controller_manager/list_controllers``, waiting up to
+    ``timeout`` wall seconds for that service (rospy.ROSException naming it after that)."""
+    from controller_manager_msgs.srv import ListControllers
+    name = ns.rstrip("/") + "/controller_manager/list_controllers"
+    rospy.wait_for_service(name, timeout=timeout)
+    return {c.name: c.state for c in rospy.ServiceProxy(name, ListControllers)().controller}
+
+
+def wait_running(ns, names, timeout=60.0):
+    """Wait until each of the controllers ``names`` of the controller manager in ``ns`` is running
+    (its spawner has loaded and started it), for at most ``timeout`` wall seconds in all;
+    AssertionError naming them and their states after that. One list_controllers call per look,
+    a look every 0.2 s (a service call is a round trip through the simulator's node)."""
+    end = time.monotonic() + timeout
+    states = {}
+
+    def running():
+        states.update(controller_states(ns, max(end - time.monotonic(), 0.1)))
+        return all(states.get(n) == "running" for n in names)
+    if not wait_until(running, timeout, period=0.2):
+        raise _missed(timeout, "controllers %s running in %s (their states: %s)"
+                      % (", ".join(names), ns, states))
 
 
 def command_publisher(topic, cls, timeout):
@@ -189,9 +256,7 @@ class Latest(object):
             if m is not None and cond(m):
                 found.append(m)
             return bool(found)
-        if not wait_until(ready, timeout):
-            raise AssertionError("timed out after %.0f s waiting for %s on %s"
-                                 % (timeout, what or "a message", self.topic))
+        wait_until(ready, timeout, "%s on %s" % (what or "a message", self.topic))
         return found[0]
 
     def after(self, t, timeout=30.0):

@@ -19,10 +19,10 @@ from std_msgs.msg import Float64MultiArray
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from modrob_sim import waits
+from modrob_sim.waits import controller_states, wait_running, wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import (Latest, controller_states,  # noqa: E402
-                            wait_for_action_server, wait_running, wait_until)
+from control_common import Latest, wait_for_action_server  # noqa: E402
 
 NS = "/arm6"
 JOINTS = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",

@@ -15,10 +15,10 @@ from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import Odometry
 
 from modrob_sim import waits
+from modrob_sim.waits import sim_sleep, wait_running, wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import (Latest, RosoutCollector, sim_sleep, wait_running,  # noqa: E402
-                            wait_until)
+from control_common import Latest, RosoutCollector  # noqa: E402
 
 NS = "/diffbot_velocity_controller"
 

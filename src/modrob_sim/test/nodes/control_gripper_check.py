@@ -14,9 +14,10 @@ from gazebo_msgs.srv import GetModelState, SpawnModel
 from geometry_msgs.msg import Pose
 
 from modrob_sim import waits
+from modrob_sim.waits import wait_running
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import RosoutCollector, wait_for_action_server, wait_running  # noqa: E402
+from control_common import RosoutCollector, wait_for_action_server  # noqa: E402
 
 NS = "/gripper"
 

@@ -12,9 +12,10 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
 
 from modrob_sim import waits
+from modrob_sim.waits import sim_sleep, wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import Latest, RosoutCollector, sim_sleep, wait_until  # noqa: E402
+from control_common import Latest, RosoutCollector  # noqa: E402
 
 STRICT, BEST_EFFORT = 2, 1
 

@@ -1,9 +1,7 @@
 #!/usr/bin/env python3
 """rostest node for control_spawner.test: runs ``rosrun modrob_sim spawner`` as a user would."""
-import os
 import signal
 import subprocess
-import sys
 import time
 import unittest
 
@@ -11,8 +9,7 @@ import rosgraph
 import rospy
 import rostest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import controller_states, wait_until  # noqa: E402
+from modrob_sim.waits import controller_states, wait_until
 
 NS = "/arm1"
 

@@ -17,9 +17,10 @@ from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectory
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from modrob_sim import waits
+from modrob_sim.waits import wait_running, wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from control_common import Latest, wait_for_action_server, wait_running, wait_until  # noqa: E402
+from control_common import Latest, wait_for_action_server  # noqa: E402
 
 NS = "/arm3"
 JOINTS = ["yaw", "shoulder", "elbow"]

@@ -30,11 +30,129 @@ def test_a_missing_server_is_named_after_the_wall_clock_limit():
     assert gripper.looks > 1
 
 
+def bounded(fn, limit):
+    """``fn()`` in a thread: its result or exception, failing the test (instead of hanging it) when
+    it has not returned after ``limit`` wall seconds (a wait that never times out)."""
+    import threading
+    out = {}
+
+    def run():
+        try:
+            out["value"] = fn()
+        except BaseException as e:  # noqa: B902 - handed to the test
+            out["error"] = e
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    thread.join(limit)
+    assert not thread.is_alive(), "still waiting after %s wall s" % limit
+    if "error" in out:
+        raise out["error"]
+    return out["value"]
+
+
 def test_wait_until():
     calls = []
     assert waits.wait_until(lambda: calls.append(1) or len(calls) > 2, 10.0)
     assert len(calls) == 3
-    assert not waits.wait_until(lambda: False, 0.1)
+    start = time.monotonic()
+    assert bounded(lambda: waits.wait_until(lambda: False, 0.1), 5) is False
+    assert time.monotonic() - start >= 0.1
+
+
+def test_wait_until_with_what_fails_the_test_naming_it_after_the_wall_clock_limit():
+    import pytest
+    assert waits.wait_until(lambda: True, 0.1, "nothing") is True
+    looks = []
+    start = time.monotonic()
+    with pytest.raises(AssertionError, match=r"^timed out after 0 s waiting for the arm at rest$"):
+        bounded(lambda: waits.wait_until(lambda: looks.append(1), 0.3, "the arm at rest", period=0.05), 5)
+    assert time.monotonic() - start >= 0.3
+    assert 4 <= len(looks) <= 8        # one look every period, not a busy loop
+
+
+class FakeClock(object):
+    """rospy.get_time of a simulator: ``step`` simulated seconds more at each look."""
+
+    def __init__(self, t, step):
+        self.t, self.step, self.looks = t, step, 0
+
+    def __call__(self):
+        self.looks += 1
+        self.t += self.step
+        return self.t
+
+
+def test_sim_sleep_waits_for_simulated_time(monkeypatch):
+    import rospy
+    clock = FakeClock(10.0, 0.1)
+    monkeypatch.setattr(rospy, "get_time", clock)
+    bounded(lambda: waits.sim_sleep(2.0, timeout=10.0), 5)
+    assert clock.t >= 12.0 and clock.looks >= 20     # not back before the 2 s had passed
+    # a world reset sets the clock back: the sleep waits until the end comes again
+    times = iter([5.0, 5.5, 0.2, 1.0, 4.9, 6.0])
+    monkeypatch.setattr(rospy, "get_time", lambda: next(times))
+    bounded(lambda: waits.sim_sleep(1.0, timeout=10.0), 5)
+    assert next(times, None) is None
+
+
+def test_sim_sleep_on_a_stopped_clock_fails_after_its_wall_clock_limit(monkeypatch):
+    import pytest
+    import rospy
+    monkeypatch.setattr(rospy, "get_time", FakeClock(3.25, 0.0))
+    start = time.monotonic()
+    with pytest.raises(AssertionError, match=r"simulated clock stood still at 3.250 s for 0 wall s.*"
+                                             r"paused, or not publishing /clock"):
+        bounded(lambda: waits.sim_sleep(1.0, timeout=0.3), 5)
+    assert time.monotonic() - start >= 0.3
+    monkeypatch.setattr(rospy, "get_time", FakeClock(3.0, 1e-6))     # moving, far too slowly
+    with pytest.raises(AssertionError, match=r"timed out after 0 s: the simulated clock went from 3.000 s "
+                                             r"to 3.0\d\d s of the 4.000 s a sleep of 1 s needs"):
+        bounded(lambda: waits.sim_sleep(1.0, timeout=0.3), 5)
+
+
+class FakeControllerManager(object):
+    """rospy.wait_for_service + ServiceProxy of a controller manager whose controllers are listed
+    as ``states`` after ``ready_after`` list_controllers calls (loaded, not started, before)."""
+
+    def __init__(self, states, ready_after):
+        self.states, self.ready_after, self.calls, self.waited = states, ready_after, 0, []
+
+    def wait_for_service(self, name, timeout=None):
+        self.waited.append((name, timeout))
+
+    def ServiceProxy(self, name, cls):
+        import types
+
+        def call():
+            self.calls += 1
+            now = self.states if self.calls > self.ready_after else {n: "initialized" for n in self.states}
+            return types.SimpleNamespace(controller=[types.SimpleNamespace(name=n, state=s)
+                                                     for n, s in now.items()])
+        return call
+
+
+def test_wait_running_until_every_controller_is_running(monkeypatch):
+    import pytest
+    import rospy
+    manager = FakeControllerManager({"joint_state_controller": "running", "arm_controller": "running"}, 2)
+    monkeypatch.setattr(rospy, "wait_for_service", manager.wait_for_service)
+    monkeypatch.setattr(rospy, "ServiceProxy", manager.ServiceProxy)
+    bounded(lambda: waits.wait_running("/arm1", ["joint_state_controller", "arm_controller"], 10.0), 5)
+    assert manager.calls == 3
+    assert manager.waited[0][0] == "/arm1/controller_manager/list_controllers"
+    assert 0 < manager.waited[-1][1] <= 10.0       # the service's wait takes what is left of the limit
+    assert waits.controller_states("/") == {"joint_state_controller": "running", "arm_controller": "running"}
+    assert manager.waited[-1][0] == "/controller_manager/list_controllers"
+    manager = FakeControllerManager({"joint_state_controller": "running", "arm_controller": "stopped"}, 0)
+    monkeypatch.setattr(rospy, "wait_for_service", manager.wait_for_service)
+    monkeypatch.setattr(rospy, "ServiceProxy", manager.ServiceProxy)
+    start = time.monotonic()
+    said = (r"timed out after 1 s waiting for controllers joint_state_controller, arm_controller "
+            r"running in /arm1 \(their states: .*'arm_controller': 'stopped'")
+    with pytest.raises(AssertionError, match=said):
+        bounded(lambda: waits.wait_running("/arm1", ["joint_state_controller", "arm_controller"], 0.6), 5)
+    assert time.monotonic() - start >= 0.6
+    assert 3 <= manager.calls <= 5                 # a look every 0.2 s: a service call each
 
 
 class FakeTfBuffer(object):

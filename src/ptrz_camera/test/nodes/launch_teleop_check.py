@@ -17,10 +17,10 @@ import tf2_ros
 from std_msgs.msg import Float64
 
 from modrob_sim import waits
-from modrob_sim.waits import Latest
+from modrob_sim.waits import Latest, sim_sleep, wait_running, wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ptrz_test_common import Joints, sim_sleep, wait_running, wait_until  # noqa: E402
+from ptrz_test_common import CONTROLLERS, Joints  # noqa: E402
 
 NS = "/ptrz"
 
@@ -29,7 +29,7 @@ class LaunchAndTeleop(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("launch_teleop_check")
-        wait_running(NS)
+        wait_running(NS, CONTROLLERS)
         cls.joints = Joints(NS)
         cls.cmd = {j: Latest("%s/%s_position_controller/command" % (NS, j), Float64)
                    for j in ("roll", "pan", "tilt")}

@@ -15,10 +15,10 @@ import rostest
 from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float64
 
-from modrob_sim.waits import Latest
+from modrob_sim.waits import Latest, sim_sleep, wait_running, wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ptrz_test_common import Joints, sim_sleep, wait_running, wait_until  # noqa: E402
+from ptrz_test_common import CONTROLLERS, Joints  # noqa: E402
 
 from ptrz_camera import kinematics  # noqa: E402
 
@@ -44,7 +44,7 @@ class Network(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("network_check")
         for ns in CAMS:
-            wait_running("/" + ns)
+            wait_running("/" + ns, CONTROLLERS)
         cls.joints = {ns: Joints("/" + ns) for ns in CAMS}
         cls.images = {ns: Latest("/%s/camera1/image_raw" % ns, Image, queue_size=1, buff_size=2 ** 24)
                       for ns in CAMS}

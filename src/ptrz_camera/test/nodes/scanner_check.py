@@ -12,9 +12,10 @@ import rostest
 from std_msgs.msg import Float64
 
 from modrob_sim import waits
+from modrob_sim.waits import wait_running, wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ptrz_test_common import Joints, wait_running, wait_until  # noqa: E402
+from ptrz_test_common import CONTROLLERS, Joints  # noqa: E402
 
 NS = "/ptrz"
 STEP = 0.05
@@ -23,7 +24,7 @@ STEP = 0.05
 class ScannerBounds(unittest.TestCase):
     def test_scanner_goes_back_and_forth_between_0_and_pi(self):
         rospy.init_node("scanner_check")
-        wait_running(NS)
+        wait_running(NS, CONTROLLERS)
         joints = Joints(NS)
         cmd = waits.Latest(NS + "/tilt_position_controller/command", Float64, keep=True)
         pan = waits.Latest(NS + "/pan_position_controller/command", Float64)

@@ -11,8 +11,10 @@ import rospy
 import rostest
 from std_msgs.msg import Float64
 
+from modrob_sim.waits import sim_sleep, wait_running, wait_until
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ptrz_test_common import Joints, sim_sleep, wait_running, wait_until  # noqa: E402
+from ptrz_test_common import CONTROLLERS, Joints  # noqa: E402
 
 NS = "/ptrz"
 TOL = 0.02
@@ -26,7 +28,7 @@ class SeedMotion(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node("seed_motion_check")
-        wait_running(NS)
+        wait_running(NS, CONTROLLERS)
         cls.joints = Joints(NS)
         cls.pubs = {j: rospy.Publisher("%s/%s_position_controller/command" % (NS, j), Float64, queue_size=1,
                                        latch=True) for j in ("pan", "tilt", "roll")}

@@ -9,19 +9,15 @@ none farther than ~max_error, the ball in the central third of the tracking came
 least a share ~centred of the detections, and estimates all along the run: for a share
 ~published of the image times with a detection (the network withholds the estimates it cannot
 trust)."""
-import os
-import sys
 import time
 import unittest
 
 import rospy
 import rostest
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ptrz_test_common import wait_until  # noqa: E402
-
-from ptrz_camera.ros.recorder import TrackingRecorder  # noqa: E402
-from ptrz_camera.tracking import evaluate  # noqa: E402
+from modrob_sim.waits import wait_until
+from ptrz_camera.ros.recorder import TrackingRecorder
+from ptrz_camera.tracking import evaluate
 
 
 class Tracking(unittest.TestCase):
