@@ -10,14 +10,7 @@ import rostest
 from geometry_msgs.msg import Twist
 from visualization_msgs.msg import InteractiveMarkerFeedback, InteractiveMarkerInit
 
-
-def wait_until(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return
-        time.sleep(0.01)
-    raise AssertionError("timed out after %g s waiting for %s" % (timeout, what))
+from modrob_sim.waits import wait_until
 
 
 class MarkerServer(unittest.TestCase):

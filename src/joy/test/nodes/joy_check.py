@@ -6,7 +6,6 @@ import shutil
 import subprocess
 import tempfile
 import threading
-import time
 import unittest
 
 import rospy
@@ -14,16 +13,9 @@ import rostest
 from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import Joy
 
+from modrob_sim.waits import wait_until
+
 from joy.joystick import AXIS, BUTTON, INIT, encode
-
-
-def wait_until(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return
-        time.sleep(0.01)
-    raise AssertionError("timed out after %g s waiting for %s" % (timeout, what))
 
 
 class JoyNodeDevice(unittest.TestCase):

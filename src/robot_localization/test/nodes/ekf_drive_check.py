@@ -14,17 +14,10 @@ import tf2_ros
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu
 
+from modrob_sim.waits import wait_until
+
 from robot_localization import drive_sim
 from robot_localization.measurements import quaternion_of_rpy
-
-
-def wait_until(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return
-        time.sleep(0.01)
-    raise AssertionError("timed out after %g s waiting for %s" % (timeout, what))
 
 
 class EkfDrive(unittest.TestCase):

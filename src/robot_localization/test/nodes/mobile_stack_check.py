@@ -2,7 +2,6 @@
 """rostest node for mobile_stack.test."""
 import math
 import threading
-import time
 import unittest
 
 import rospy
@@ -15,14 +14,7 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool
 from visualization_msgs.msg import InteractiveMarkerFeedback
 
-
-def wait_until(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return
-        time.sleep(0.02)
-    raise AssertionError("timed out after %g s waiting for %s" % (timeout, what))
+from modrob_sim.waits import sim_sleep, wait_until
 
 
 def yaw_of(q):
@@ -67,11 +59,9 @@ class MobileStack(unittest.TestCase):
         """``publish()`` at 20 Hz of simulated time for ``seconds``, then 1 s to stop."""
         publish()
         timer = rospy.Timer(rospy.Duration(0.05), lambda event: publish())
-        end = rospy.get_time() + seconds
-        wait_until(lambda: rospy.get_time() >= end, 120, "%g s of simulated time" % seconds)
+        sim_sleep(seconds, 120)
         timer.shutdown()
-        end = rospy.get_time() + 1.0
-        wait_until(lambda: rospy.get_time() >= end, 60, "1 s of simulated time")
+        sim_sleep(1.0)
 
     def twist(self, linear, angular):
         t = Twist()
@@ -123,8 +113,7 @@ class MobileStack(unittest.TestCase):
 
     def test_3_e_stop_stops_everything(self):
         self.estop.publish(Bool(True))
-        end = rospy.get_time() + 0.5
-        wait_until(lambda: rospy.get_time() >= end, 60, "0.5 s of simulated time")
+        sim_sleep(0.5)
         start = self.truth
         self.drive(self.twist(0.4, 0.0), 2.0)
         self.assertLess(math.hypot(self.truth[0] - start[0], self.truth[1] - start[1]), 0.005)

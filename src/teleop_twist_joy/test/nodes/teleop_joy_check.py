@@ -1,6 +1,5 @@
 #!/usr/bin/env python3
 """rostest node for teleop_twist_joy.test."""
-import time
 import unittest
 
 import rospy
@@ -8,14 +7,7 @@ import rostest
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Joy
 
-
-def wait_until(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return
-        time.sleep(0.01)
-    raise AssertionError("timed out after %g s waiting for %s" % (timeout, what))
+from modrob_sim.waits import wait_until
 
 
 class TeleopJoy(unittest.TestCase):

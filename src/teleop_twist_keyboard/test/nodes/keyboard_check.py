@@ -6,21 +6,13 @@ import pty
 import subprocess
 import termios
 import threading
-import time
 import unittest
 
 import rospy
 import rostest
 from geometry_msgs.msg import Twist
 
-
-def wait_until(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return
-        time.sleep(0.01)
-    raise AssertionError("timed out after %g s waiting for %s" % (timeout, what))
+from modrob_sim.waits import wait_until
 
 
 class KeyboardTeleop(unittest.TestCase):
