@@ -40,12 +40,14 @@ def wait_for_action_servers(clients, timeout):
 
 def wait_until(condition, timeout, what=None, period=POLL):
     """Look at ``condition()`` every ``period`` wall seconds until it is true, for at most
-    ``timeout`` wall seconds. True once it is; otherwise (the limit passed, or ROS shut down)
-    False, or with ``what`` AssertionError "timed out after <timeout> s waiting for <what>"."""
+    ``timeout`` wall seconds. Its true value once it is (a message, a state to judge);
+    otherwise (the limit passed, or ROS shut down) False, or with ``what`` AssertionError "timed
+    out after <timeout> s waiting for <what>"."""
     end = time.monotonic() + timeout
     while not rospy.is_shutdown():
-        if condition():
-            return True
+        value = condition()
+        if value:
+            return value
         if time.monotonic() > end:
             break
         time.sleep(period)

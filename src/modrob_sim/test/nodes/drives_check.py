@@ -19,8 +19,10 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Imu, JointState, LaserScan
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sim_helpers import Latest, wait_for  # noqa: E402
+from sim_helpers import Latest  # noqa: E402
 
 ROBOT = sys.argv[1] if len(sys.argv) > 1 and not sys.argv[1].startswith("_") else "diff_bot"
 # rest height of the root link, base frame of /odom, a wheel link at the end of the tf chain
@@ -43,7 +45,7 @@ class DrivesCheck(unittest.TestCase):
         cls.cmd = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
         cls.tf = tf2_ros.Buffer()
         cls.listener = tf2_ros.TransformListener(cls.tf)
-        assert wait_for(lambda: cls.odom.count > 0 and cls.truth() is not None, 60.0), "no /odom"
+        assert wait_until(lambda: cls.odom.count > 0 and cls.truth() is not None, 60.0), "no /odom"
 
     @classmethod
     def truth(cls):
@@ -54,7 +56,7 @@ class DrivesCheck(unittest.TestCase):
 
     def wait_sim(self, seconds):
         end = rospy.Time.now() + rospy.Duration(seconds)
-        self.assertTrue(wait_for(lambda: rospy.Time.now() >= end, 120.0), "simulated time stands still")
+        self.assertTrue(wait_until(lambda: rospy.Time.now() >= end, 120.0), "simulated time stands still")
 
     def send(self, v, w):
         """One command (none of the fixtures' drives needs it repeated: planar_bot's cmdTimeout
@@ -78,7 +80,7 @@ class DrivesCheck(unittest.TestCase):
         """0.1 m/s: 0.5 m in 5 simulated s, measured on /odom's own stamps (the node runs many
         times faster than real time, so when a command lands is not the test's business); then
         stopped, /odom agrees with ground truth."""
-        wait_for(lambda: self.cmd.get_num_connections() > 0, 20.0)
+        wait_until(lambda: self.cmd.get_num_connections() > 0, 20.0)
         samples = []
 
         def keep(m):
@@ -86,17 +88,17 @@ class DrivesCheck(unittest.TestCase):
             samples.append((m.header.stamp.to_sec(), p.x, p.y, m.twist.twist.linear.x))
         sub = rospy.Subscriber("/odom", Odometry, keep)
         self.send(0.1, 0.0)
-        self.assertTrue(wait_for(lambda: len(samples) > 1 and samples[-1][3] > 0.09, 60.0),
+        self.assertTrue(wait_until(lambda: len(samples) > 1 and samples[-1][3] > 0.09, 60.0),
                         "it does not move")
         t0 = samples[-1][0] + 0.5
-        self.assertTrue(wait_for(lambda: samples[-1][0] > t0 + 5.2, 120.0))
+        self.assertTrue(wait_until(lambda: samples[-1][0] > t0 + 5.2, 120.0))
         sub.unregister()
         a = min(samples, key=lambda s: abs(s[0] - t0))
         b = min(samples, key=lambda s: abs(s[0] - (t0 + 5.0)))
         distance = math.hypot(b[1] - a[1], b[2] - a[2]) * 5.0 / (b[0] - a[0])
         self.assertAlmostEqual(distance, 0.5, delta=0.03 * 0.5)
         self.send(0.0, 0.0)
-        self.assertTrue(wait_for(lambda: abs(self.odom.get().twist.twist.linear.x) < 1e-3, 60.0))
+        self.assertTrue(wait_until(lambda: abs(self.odom.get().twist.twist.linear.x) < 1e-3, 60.0))
         self.wait_sim(0.5)
         # the pose now (the service's answer), and odometry from then on: the last messages taken
         # can be a simulated second old at real_time_factor 0 (CI: 0.061 m apart)
@@ -113,7 +115,7 @@ class DrivesCheck(unittest.TestCase):
 
     def test_3_tf_chain_from_odom_to_a_wheel(self):
         base, wheel = SPEC[ROBOT][1], SPEC[ROBOT][2]
-        ok = wait_for(lambda: self.tf.can_transform("odom", wheel, rospy.Time(0)), 30.0)
+        ok = wait_until(lambda: self.tf.can_transform("odom", wheel, rospy.Time(0)), 30.0)
         self.assertTrue(ok, "no tf odom -> %s: %s" % (wheel, self.tf.all_frames_as_string()))
         tr = self.tf.lookup_transform("odom", base, rospy.Time(0))
         odom = self.odom.get()
@@ -123,7 +125,7 @@ class DrivesCheck(unittest.TestCase):
     def test_4_scan_imu_and_wheel_joint_states_publish(self):
         scans, imus = Latest("/scan", LaserScan), Latest("/imu", Imu)
         joints = Latest("/joint_states", JointState)
-        self.assertTrue(wait_for(lambda: scans.count > 1 and imus.count > 1 and joints.count > 0, 60.0))
+        self.assertTrue(wait_until(lambda: scans.count > 1 and imus.count > 1 and joints.count > 0, 60.0))
         self.assertEqual(scans.get().header.frame_id, "base_scan")
         self.assertEqual(len(scans.get().ranges), 360)
         self.assertEqual(imus.get().header.frame_id, "imu_link")
@@ -138,16 +140,16 @@ class DrivesCheck(unittest.TestCase):
         t = Twist()
         t.linear.y = 0.1
         self.cmd.publish(t)
-        self.assertTrue(wait_for(lambda: self.odom.get().twist.twist.linear.y > 0.05, 60.0),
+        self.assertTrue(wait_until(lambda: self.odom.get().twist.twist.linear.y > 0.05, 60.0),
                         "it does not move")
-        self.assertTrue(wait_for(lambda: abs(self.odom.get().twist.twist.linear.y) < 1e-3, 120.0),
+        self.assertTrue(wait_until(lambda: abs(self.odom.get().twist.twist.linear.y) < 1e-3, 120.0),
                         "it does not stop by itself")
         self.assertAlmostEqual(self.odom.get().pose.pose.position.y - before, 0.8, delta=0.015)
 
     @unittest.skipUnless(ROBOT == "trike_bot", "the tricycle publishes its wheels' joint states")
     def test_6_tricycle_wheel_joint_states(self):
         joints = Latest("/joint_states", JointState)
-        self.assertTrue(wait_for(lambda: joints.count > 1, 60.0))
+        self.assertTrue(wait_until(lambda: joints.count > 1, 60.0))
         self.assertEqual(sorted(joints.get().name), ["front_steering_joint", "front_wheel_joint",
                                                      "left_wheel_joint", "right_wheel_joint"])
 

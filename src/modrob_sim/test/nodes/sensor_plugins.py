@@ -20,8 +20,10 @@ from sensor_msgs.msg import Imu, LaserScan, NavSatFix, PointCloud, PointCloud2, 
 from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sim_helpers import Gazebo, Latest, wait_for  # noqa: E402
+from sim_helpers import Gazebo, Latest  # noqa: E402
 
 _FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "sensors")
 _spec = importlib.util.spec_from_file_location("sensor_fixtures", os.path.join(_FIX, "sensor_fixtures.py"))
@@ -39,7 +41,7 @@ def pose(x=0.0, y=0.0, z=0.0, yaw=0.0):
 
 
 def next_msg(latest, after_count, timeout=30.0):
-    ok = wait_for(lambda: latest.count > after_count, timeout)
+    ok = wait_until(lambda: latest.count > after_count, timeout)
     return latest.get() if ok else None
 
 
@@ -115,7 +117,7 @@ class SensorPlugins(unittest.TestCase):
                              static=False)
         imu = Latest("/imu", Imu)
         self.spawn_urdf("imu_bot", xml, z=0.11)
-        self.assertTrue(wait_for(lambda: imu.count >= 15, 60.0), "too few Imu messages")
+        self.assertTrue(wait_until(lambda: imu.count >= 15, 60.0), "too few Imu messages")
         m = imu.get()
         self.assertEqual(m.header.frame_id, "sensor_link")
         self.assertLess(abs(m.linear_acceleration.z - 9.81), 0.01, m.linear_acceleration)
@@ -130,7 +132,7 @@ class SensorPlugins(unittest.TestCase):
         xml = F.sensor_robot("", static=False, extra=extra)
         imu = Latest("/imu_data", Imu)
         self.spawn_urdf("imu_bot", xml, z=0.11)
-        self.assertTrue(wait_for(lambda: imu.count >= 50, 60.0), "too few Imu messages")
+        self.assertTrue(wait_until(lambda: imu.count >= 50, 60.0), "too few Imu messages")
         m = imu.get()
         self.assertEqual(m.header.frame_id, "base_link")
         self.assertLess(abs(m.linear_acceleration.z - 9.81), 0.06)
@@ -191,7 +193,7 @@ class SensorPlugins(unittest.TestCase):
         fix = Latest("/fix", NavSatFix)
         vel = Latest("/fix_velocity", Vector3Stamped)
         self.spawn_urdf("gps_bot", F.sensor_robot("", static=True, extra=extra), z=0.1)
-        self.assertTrue(wait_for(lambda: fix.count >= 3 and vel.count >= 3, 60.0))
+        self.assertTrue(wait_until(lambda: fix.count >= 3 and vel.count >= 3, 60.0))
         m = fix.get()
         self.assertEqual(m.header.frame_id, "/world")
         self.assertEqual(list(m.position_covariance), [25.01, 0, 0, 0, 25.01, 0, 0, 0, 25.01])
@@ -217,7 +219,7 @@ class SensorPlugins(unittest.TestCase):
                  "<frameName>base_link</frameName></plugin></sensor></gazebo>" % (cone, cone))
         ir, us, block = Latest("/range_ir", Range), Latest("/sonar", Range), Latest("/block", PointCloud)
         self.spawn_urdf("range_bot", F.sensor_robot(sensors, static=True, extra=sonar), z=0.1)
-        self.assertTrue(wait_for(lambda: ir.count > 1 and us.count > 1 and block.count > 1, 60.0))
+        self.assertTrue(wait_until(lambda: ir.count > 1 and us.count > 1 and block.count > 1, 60.0))
         m = ir.get()
         self.assertEqual((m.header.frame_id, m.radiation_type), ("sensor_link", Range.INFRARED))
         self.assertAlmostEqual(m.field_of_view, 0.2)
@@ -243,7 +245,7 @@ class SensorPlugins(unittest.TestCase):
         imu, bias = Latest("/imu/data", Imu), Latest("/imu/data/bias", Imu)
         mag = Latest("/magnetic", Vector3Stamped)
         self.spawn_urdf("hector_bot", F.sensor_robot("", static=True, extra=extra), z=0.1)
-        self.assertTrue(wait_for(lambda: imu.count > 5 and bias.count > 0 and mag.count > 1, 60.0))
+        self.assertTrue(wait_until(lambda: imu.count > 5 and bias.count > 0 and mag.count > 1, 60.0))
         m = imu.get()
         self.assertEqual(m.header.frame_id, "base_link")
         self.assertAlmostEqual(m.linear_acceleration.z, 9.81, delta=0.1)
@@ -265,7 +267,7 @@ class SensorPlugins(unittest.TestCase):
         states = Latest("/gazebo/model_states", ModelStates)
         self.spawn_urdf("p3d_bot", F.sensor_robot("", static=False, extra=extra),
                         x=1.0, y=-2.0, z=0.5, yaw=0.7)
-        self.assertTrue(wait_for(lambda: odom.count >= 5, 60.0))
+        self.assertTrue(wait_until(lambda: odom.count >= 5, 60.0))
         # compare at rest: odom is a 50 Hz sample, model_states the pose of the last step, so a
         # falling body would differ by up to 20 ms of its motion between the two
 
@@ -273,12 +275,12 @@ class SensorPlugins(unittest.TestCase):
             t = odom.get().twist.twist
             return max(abs(t.linear.x), abs(t.linear.y), abs(t.linear.z),
                        abs(t.angular.x), abs(t.angular.y), abs(t.angular.z)) < 1e-3
-        self.assertTrue(wait_for(at_rest, 60.0), "p3d_bot did not come to rest")
+        self.assertTrue(wait_until(at_rest, 60.0), "p3d_bot did not come to rest")
         self.gz.pause_physics()
         c = odom.count
-        wait_for(lambda: odom.count > c, 2.0)   # nothing new once paused
+        wait_until(lambda: odom.count > c, 2.0)   # nothing new once paused
         s = states.get()
-        wait_for(lambda: states.get() is not s, 5.0)
+        wait_until(lambda: states.get() is not s, 5.0)
         s = states.get()
         o = odom.get()
         k = list(s.name).index("p3d_bot")
@@ -306,7 +308,7 @@ class SensorPlugins(unittest.TestCase):
                        .replace("<link name='link'>",
                                 "<link name='link'><inertial><mass>0.5</mass></inertial>"),
                        z=0.33)
-        ok = wait_for(lambda: bumper.get() is not None and any(
+        ok = wait_until(lambda: bumper.get() is not None and any(
             "weight" in st.collision2_name for st in bumper.get().states), 60.0)
         self.assertTrue(ok, "the box resting on the sensor link is not reported")
         st = [s for s in bumper.get().states if "weight" in s.collision2_name][0]
@@ -319,7 +321,7 @@ class SensorPlugins(unittest.TestCase):
             m = bumper.get()
             s = [x for x in m.states if "weight" in x.collision2_name] if m is not None else []
             return s[0] if s and abs(s[0].total_wrench.force.z + 0.5 * 9.81) < 0.01 * 0.5 * 9.81 else None
-        st = wait_for(weight_on_plate, 30.0)     # the state judged below (a later one may differ)
+        st = wait_until(weight_on_plate, 30.0)     # the state judged below (a later one may differ)
         self.assertTrue(st, "the contact forces on the plate do not settle at the box's weight: %s"
                         % [x.total_wrench for x in bumper.get().states])
         self.assertEqual(len(st.wrenches), len(st.contact_positions))
@@ -339,7 +341,7 @@ class SensorPlugins(unittest.TestCase):
         wrist = Latest("/wrist_ft", WrenchStamped)
         self.spawn_urdf("ft_arm", urdf, x=3.0)
         weight = 2.0 * 9.81
-        ok = wait_for(lambda: ft.count > 2 and wrist.count > 2, 30.0)
+        ok = wait_until(lambda: ft.count > 2 and wrist.count > 2, 30.0)
         self.assertTrue(ok, "no WrenchStamped on /ft_sensor and /wrist_ft")
         m = ft.get()
         self.assertEqual(m.header.frame_id, "load")
@@ -354,7 +356,7 @@ class SensorPlugins(unittest.TestCase):
             stamps = []
             sub = rospy.Subscriber(topic, WrenchStamped, lambda m: stamps.append(m.header.stamp.to_sec()),
                                    queue_size=100)
-            self.assertTrue(wait_for(lambda: len(stamps) >= 30, 30.0), "%s: too few messages" % topic)
+            self.assertTrue(wait_until(lambda: len(stamps) >= 30, 30.0), "%s: too few messages" % topic)
             sub.unregister()
             gaps = [b - a for a, b in zip(stamps, stamps[1:])]
             self.assertTrue(all(g > 0 and abs(g / period - round(g / period)) < 1e-4 for g in gaps),
@@ -369,13 +371,13 @@ class SensorPlugins(unittest.TestCase):
             with open(os.path.join(force, name)) as f:
                 return f.read()
         clock = Latest("/clock", Clock)
-        self.assertTrue(wait_for(lambda: clock.get() is not None, 10.0), "no /clock")
+        self.assertTrue(wait_until(lambda: clock.get() is not None, 10.0), "no /clock")
 
         def after(seconds):
             """Until that much simulated time has passed from the simulator's time now (the /clock
             message last taken here can be a simulated second old at real_time_factor 0)."""
             t0 = self.gz.sim_time()
-            return wait_for(lambda: clock.get().clock.to_sec() >= t0 + seconds, 30.0)
+            return wait_until(lambda: clock.get().clock.to_sec() >= t0 + seconds, 30.0)
 
         def z(link):
             return self.gz.get_link_state(link_name=link, reference_frame="").link_state.pose.position.z
@@ -394,11 +396,11 @@ class SensorPlugins(unittest.TestCase):
         effort("right_finger_joint", 5.0)
         self.assertTrue(after(0.4))
         effort("lift", 30.0)          # the palm goes up to its stop (0.3 m), the can with it
-        self.assertTrue(wait_for(lambda: z("can::can") > 0.25, 30.0),
+        self.assertTrue(wait_until(lambda: z("can::can") > 0.25, 30.0),
                         "the can did not go up with the palm (z %.3f): not attached" % z("can::can"))
         effort("left_finger_joint", -5.0)
         effort("right_finger_joint", -5.0)
-        self.assertTrue(wait_for(lambda: z("can::can") < 0.05, 30.0),
+        self.assertTrue(wait_until(lambda: z("can::can") < 0.05, 30.0),
                         "the can was not let go when the fingers opened (z %.3f)" % z("can::can"))
 
         # the left finger mimics the right one (-1, +0.05 rad): tipped over, the right one falls to
@@ -427,7 +429,7 @@ class SensorPlugins(unittest.TestCase):
             def followed():
                 right, left = q(model, "right_finger_joint"), q(model, "left_finger_joint")
                 return right > 0.79 and abs(left - (-right + 0.05)) < 1e-3
-            self.assertTrue(wait_for(followed, 30.0), "%s: right %.4f left %.4f" % (
+            self.assertTrue(wait_until(followed, 30.0), "%s: right %.4f left %.4f" % (
                 model, q(model, "right_finger_joint"), q(model, "left_finger_joint")))
 
 

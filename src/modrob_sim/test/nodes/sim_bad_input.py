@@ -9,8 +9,10 @@ import rostest
 from geometry_msgs.msg import Pose
 from std_msgs.msg import String
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from sim_helpers import Gazebo, fixture, wait_for  # noqa: E402
+from sim_helpers import Gazebo, fixture  # noqa: E402
 
 
 class SimBadInput(unittest.TestCase):
@@ -93,12 +95,13 @@ class SimBadInput(unittest.TestCase):
                                        duration=rospy.Duration(0.05))
         self.assertTrue(e.success, e.status_message)
         mine = lambda: [t for t in self.guard_events if "model=unstable" in t]  # noqa: E731
-        self.assertTrue(wait_for(mine, 20.0), "no guard event for the unstable model: %s" % self.guard_events)
+        self.assertTrue(wait_until(mine, 20.0),
+                        "no guard event for the unstable model: %s" % self.guard_events)
         self.assertIn("link=feather", mine()[0])
         self.assertIn("runaway", mine()[0])
         self.still_serving()
         t0 = self.gz.sim_time()
-        self.assertTrue(wait_for(lambda: self.gz.sim_time() > t0 + 0.1, 10.0), "simulation stopped")
+        self.assertTrue(wait_until(lambda: self.gz.sim_time() > t0 + 0.1, 10.0), "simulation stopped")
         s = self.gz.get_link_state(link_name="unstable::feather", reference_frame="world").link_state
         self.assertLess(abs(s.pose.position.x), 1000.0)
         self.assertLess(abs(s.twist.linear.x), 1e3)
@@ -114,18 +117,18 @@ class SimBadInput(unittest.TestCase):
         self.assertTrue(e.success, e.status_message)
         mine = lambda: [t for t in self.guard_events if "model=runaway " in t]  # noqa: E731
         frozen = lambda: [t for t in mine() if t.endswith("reason=frozen")]  # noqa: E731
-        self.assertTrue(wait_for(frozen, 60.0), "never frozen: %d events" % len(mine()))
+        self.assertTrue(wait_until(frozen, 60.0), "never frozen: %d events" % len(mine()))
         # the rest of the world goes on: physics not paused, time advances, no more events of it
         self.assertFalse(self.gz.get_physics_properties().pause)
         n, t0 = len(mine()), self.gz.sim_time()
-        self.assertTrue(wait_for(lambda: self.gz.sim_time() > t0 + 0.3, 20.0), "simulation stopped")
+        self.assertTrue(wait_until(lambda: self.gz.sim_time() > t0 + 0.3, 20.0), "simulation stopped")
         self.assertEqual(len(mine()), n, "a frozen model was still restored: %s" % mine()[n:])
         # set_model_state releases it (the effort still runs: it blows up again, now reported)
         state = ModelState(model_name="runaway")
         state.pose.position.y = 3.0
         state.pose.orientation.w = 1.0
         self.assertTrue(self.gz.set_model_state(model_state=state).success)
-        self.assertTrue(wait_for(lambda: len(mine()) > n, 20.0), "not released by set_model_state")
+        self.assertTrue(wait_until(lambda: len(mine()) > n, 20.0), "not released by set_model_state")
         self.assertTrue(self.gz.delete_model(model_name="runaway").success)
         self.still_serving()
 

@@ -15,8 +15,10 @@ import rospy
 import rostest
 from rosgraph_msgs.msg import Clock
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from sim_helpers import Gazebo, wait_for  # noqa: E402
+from sim_helpers import Gazebo  # noqa: E402
 
 STEP_NS = 1000000
 
@@ -43,13 +45,13 @@ class SimClockEveryStep(unittest.TestCase):
         # a queue that holds everything (/use_sim_time is false here: this process's rospy does not
         # subscribe to /clock itself, which would make the one connection's queue 1 message)
         sub = rospy.Subscriber("/clock", Clock, self._cb, queue_size=None)
-        self.assertTrue(wait_for(lambda: self.received(), 20.0), "no latched /clock")
+        self.assertTrue(wait_until(lambda: self.received(), 20.0), "no latched /clock")
         start = self.received()[-1]
         self.gz.unpause_physics()
-        wait_for(lambda: self.received()[-1] >= start + 3 * 10 ** 9, 60.0)
+        wait_until(lambda: self.received()[-1] >= start + 3 * 10 ** 9, 60.0)
         self.gz.pause_physics()
         end = int(round(self.gz.sim_time() * 1e9))
-        self.assertTrue(wait_for(lambda: self.received()[-1] == end, 20.0),
+        self.assertTrue(wait_until(lambda: self.received()[-1] == end, 20.0),
                         "the paused time %d never arrived (last %d)" % (end, self.received()[-1]))
         sub.unregister()
         got = self.received()

@@ -12,8 +12,10 @@ import rospy
 import rostest
 from geometry_msgs.msg import Point, Vector3, Wrench
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from sim_helpers import Gazebo, wait_for  # noqa: E402
+from sim_helpers import Gazebo  # noqa: E402
 
 SCRIPT = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
                       "scripts", "gazebo")
@@ -49,7 +51,7 @@ def run_once(seed, box3_x=0.05):
     finally:
         node.terminate()
         node.wait(10)
-        wait_for(lambda: "/gazebo" not in rosnode.get_node_names(), 10.0)
+        wait_until(lambda: "/gazebo" not in rosnode.get_node_names(), 10.0)
 
 
 class SimDeterminism(unittest.TestCase):

@@ -13,8 +13,10 @@ from gazebo_msgs.msg import PerformanceMetrics
 from rosgraph_msgs.msg import Clock
 from visualization_msgs.msg import MarkerArray
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from sim_helpers import Gazebo, Latest, wait_for  # noqa: E402
+from sim_helpers import Gazebo, Latest  # noqa: E402
 
 
 class SimEmptyWorld(unittest.TestCase):
@@ -29,7 +31,7 @@ class SimEmptyWorld(unittest.TestCase):
 
     def test_clock(self):
         clock = Latest("/clock", Clock)
-        self.assertTrue(wait_for(lambda: clock.get() is not None, 20.0), "no /clock")
+        self.assertTrue(wait_until(lambda: clock.get() is not None, 20.0), "no /clock")
         first = clock.get().clock
         if self.expect_paused:
             # nothing to wait for: a wall second in which a running simulator would have published
@@ -38,12 +40,12 @@ class SimEmptyWorld(unittest.TestCase):
             self.assertEqual(clock.get().clock, first)
             self.assertTrue(self.gz.get_physics_properties().pause)
         else:
-            self.assertTrue(wait_for(lambda: clock.get().clock > first, 10.0), "/clock does not advance")
+            self.assertTrue(wait_until(lambda: clock.get().clock > first, 10.0), "/clock does not advance")
 
     def test_world_file_loaded_and_shown(self):
         self.assertIn("ground_plane", self.gz.get_world_properties().model_names)
         markers = Latest("/gazebo/world_markers", MarkerArray)
-        self.assertTrue(wait_for(lambda: markers.get() is not None, 10.0), "no world markers (latched)")
+        self.assertTrue(wait_until(lambda: markers.get() is not None, 10.0), "no world markers (latched)")
         ground = [m for m in markers.get().markers if m.ns == "ground_plane"]
         self.assertTrue(ground)
         self.assertGreater(ground[0].scale.x, 10.0)
@@ -63,7 +65,7 @@ class SimEmptyWorld(unittest.TestCase):
         if self.expect_paused:
             return
         perf = Latest("/gazebo/performance_metrics", PerformanceMetrics)
-        self.assertTrue(wait_for(lambda: perf.get() is not None, 10.0))
+        self.assertTrue(wait_until(lambda: perf.get() is not None, 10.0))
         self.assertGreater(perf.get().real_time_factor, 0.0)
 
 

@@ -14,8 +14,10 @@ import rostest
 from gazebo_msgs.msg import LinkStates, ModelState, ModelStates
 from geometry_msgs.msg import Pose, Vector3, Wrench
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from sim_helpers import Gazebo, fixture, wait_for  # noqa: E402
+from sim_helpers import Gazebo, fixture  # noqa: E402
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures"))
 import fuzz_models as F  # noqa: E402
@@ -134,7 +136,7 @@ class SimFuzz(unittest.TestCase):
                                        duration=rospy.Duration(-1))
         self.refused(r, "weld", "fixed")
         t0 = self.gz.sim_time()
-        self.assertTrue(wait_for(lambda: self.gz.sim_time() > t0 + 0.05, 20.0), "physics stopped")
+        self.assertTrue(wait_until(lambda: self.gz.sim_time() > t0 + 0.05, 20.0), "physics stopped")
 
     # ---- random hostile requests -----------------------------------------------------------------
     def test_4_random_hostile_requests(self):
@@ -186,9 +188,9 @@ class SimFuzz(unittest.TestCase):
                                            ode_config=req.ode_config)
         self.assertTrue(r.success, r.status_message)
         t0 = self.gz.sim_time()
-        self.assertTrue(wait_for(lambda: self.gz.sim_time() > t0 + 0.05, 20.0), "physics stopped")
+        self.assertTrue(wait_until(lambda: self.gz.sim_time() > t0 + 0.05, 20.0), "physics stopped")
         n = self.watch.count
-        self.assertTrue(wait_for(lambda: self.watch.count > n + 2, 20.0), "no state messages")
+        self.assertTrue(wait_until(lambda: self.watch.count > n + 2, 20.0), "no state messages")
         with self.watch.lock:
             self.assertEqual(self.watch.bad, [], "NaN/inf published")
 

@@ -18,8 +18,10 @@ import rospy
 import rostest
 from rosgraph_msgs.msg import Clock
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sim_helpers import Gazebo, Latest, wait_for  # noqa: E402
+from sim_helpers import Gazebo, Latest  # noqa: E402
 
 
 class SimGazeboRosLaunches(unittest.TestCase):
@@ -28,9 +30,9 @@ class SimGazeboRosLaunches(unittest.TestCase):
         names = gz.get_world_properties().model_names
         self.assertEqual(sorted(names), ["box", "cylinder", "ground_plane", "sphere"])
         clock = Latest("/clock", Clock)
-        self.assertTrue(wait_for(lambda: clock.get() is not None, 20.0), "no /clock")
+        self.assertTrue(wait_until(lambda: clock.get() is not None, 20.0), "no /clock")
         first = clock.get().clock
-        self.assertTrue(wait_for(lambda: clock.get().clock.to_sec() > first.to_sec() + 0.5, 30.0),
+        self.assertTrue(wait_until(lambda: clock.get().clock.to_sec() > first.to_sec() + 0.5, 30.0),
                         "the simulation does not run on")
         # the box stands where the world put it, 1 m tall on the ground
         box = gz.get_model_state("box", "world")
@@ -59,8 +61,8 @@ class SimGazeboRosLaunches(unittest.TestCase):
         gz = subprocess.Popen(["rosrun", "modrob_sim", "gzclient", "__name:=gzclient_gui_probe"], env=env,
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
         try:
-            up = wait_for(lambda: "/gzclient_gui_probe" in rosnode.get_node_names() or gz.poll() is not None,
-                          60.0)
+            up = wait_until(lambda: "/gzclient_gui_probe" in rosnode.get_node_names()
+                            or gz.poll() is not None, 60.0)
             self.assertTrue(up and gz.poll() is None, "RViz did not come up as /gzclient_gui_probe "
                             "(gzclient ended with %s)" % gz.poll())
             pids = [int(p) for p in os.listdir("/proc") if p.isdigit()]

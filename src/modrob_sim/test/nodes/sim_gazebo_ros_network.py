@@ -15,8 +15,10 @@ import rostest
 from dynamic_reconfigure.client import Client
 from rosgraph_msgs.msg import Clock
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from sim_helpers import Gazebo, Latest, wait_for  # noqa: E402
+from sim_helpers import Gazebo, Latest  # noqa: E402
 
 
 def graph():
@@ -31,7 +33,7 @@ def graph():
 class NetworkOff(unittest.TestCase):
     def test_only_clock_and_the_simulation_runs(self):
         clock = Latest("/clock", Clock)
-        ok = wait_for(lambda: clock.get() is not None and clock.get().clock.to_sec() > 0.2, 30.0)
+        ok = wait_until(lambda: clock.get() is not None and clock.get().clock.to_sec() > 0.2, 30.0)
         self.assertTrue(ok, "no /clock")
         pubs, services = graph()
         self.assertIn("/clock", pubs)

@@ -10,7 +10,7 @@ from geometry_msgs.msg import Pose
 from std_srvs.srv import Empty
 
 from modrob_msgs.srv import StepSimulation
-from modrob_sim.waits import Latest  # noqa: F401 - the checks import it from here
+from modrob_sim.waits import Latest, wait_until  # noqa: F401 - the checks import Latest from here
 
 FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "sim")
 
@@ -59,19 +59,9 @@ class Gazebo(object):
         return self.step(steps=0).iterations
 
 
-def wait_for(predicate, timeout=20.0, poll=0.02):
-    """Wall-clock wait until predicate() is true; returns its last value."""
-    deadline = time.time() + timeout
-    value = predicate()
-    while not value and time.time() < deadline and not rospy.is_shutdown():
-        time.sleep(poll)
-        value = predicate()
-    return value
-
-
 def model_names():
     latest = Latest("/gazebo/model_states", ModelStates)
-    wait_for(lambda: latest.get() is not None, 10.0)
+    wait_until(lambda: latest.get() is not None, 10.0)
     msg = latest.get()
     latest.sub.unregister()
     return list(msg.name) if msg else None

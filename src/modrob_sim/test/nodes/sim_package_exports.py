@@ -19,8 +19,10 @@ import rostest
 from gazebo_msgs.srv import GetModelState, GetWorldProperties
 from std_msgs.msg import String
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sim_helpers import Latest, wait_for  # noqa: E402
+from sim_helpers import Latest  # noqa: E402
 
 TEST_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OTHER_WS = os.path.join(TEST_DIR, "fixtures", "other_ws", "src")
@@ -53,8 +55,8 @@ class SimPackageExports(unittest.TestCase):
     def test_exported_plugin_is_loaded_by_file_name(self):
         self.start()
         report = Latest("/exported_probe/probe_robot", String)
-        ok = wait_for(lambda: report.get() is not None and report.get().data.startswith("running")
-                      and int(report.get().data.rsplit("=", 1)[1]) > 100, 90.0)
+        ok = wait_until(lambda: report.get() is not None and report.get().data.startswith("running")
+                        and int(report.get().data.rsplit("=", 1)[1]) > 100, 90.0)
         msg = report.get().data if report.get() else "nothing on /exported_probe/probe_robot"
         self.assertTrue(ok, "%s; roslaunch said:\n%s" % (msg, self.launch_output()))
         self.assertIn("label=from_another_workspace", msg)
@@ -63,7 +65,7 @@ class SimPackageExports(unittest.TestCase):
         self.start("world_name:=worlds/probe_yard.world")
         rospy.wait_for_service("/gazebo/get_world_properties", timeout=90.0)
         props = rospy.ServiceProxy("/gazebo/get_world_properties", GetWorldProperties)
-        ok = wait_for(lambda: "probe_robot" in props().model_names, 60.0)
+        ok = wait_until(lambda: "probe_robot" in props().model_names, 60.0)
         names = props().model_names
         self.assertTrue(ok, "models %s; roslaunch said:\n%s" % (names, self.launch_output()))
         self.assertEqual(sorted(names), ["ground_plane", "probe_crate", "probe_robot"])

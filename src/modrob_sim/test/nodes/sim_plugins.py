@@ -10,8 +10,10 @@ import rospy
 import rostest
 from std_msgs.msg import String
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from sim_helpers import Gazebo, Latest, wait_for  # noqa: E402
+from sim_helpers import Gazebo, Latest  # noqa: E402
 
 
 def fields(msg):
@@ -26,7 +28,7 @@ class SimPlugins(unittest.TestCase):
 
     def probe(self, model):
         latest = Latest("/probe/%s" % model, String)
-        self.assertTrue(wait_for(lambda: latest.get() is not None, 10.0), "no report from the probe")
+        self.assertTrue(wait_until(lambda: latest.get() is not None, 10.0), "no report from the probe")
         return latest
 
     def test_namespace_updates_reset_shutdown(self):
@@ -38,17 +40,17 @@ class SimPlugins(unittest.TestCase):
         it0 = self.gz.iterations()
         step = self.gz.step(steps=100)
         self.assertTrue(step.success)
-        self.assertTrue(wait_for(lambda: fields(p1.get())["updates"] == "100", 10.0), p1.get().data)
+        self.assertTrue(wait_until(lambda: fields(p1.get())["updates"] == "100", 10.0), p1.get().data)
         # update(t, dt) of the last step ran at the time before that step
         self.assertAlmostEqual(float(fields(p1.get())["last_t"]), step.sim_time - 0.001, places=6)
         self.assertEqual(step.iterations, it0 + 100)
         first_random = fields(p1.get())["first_random"]
         self.gz.reset_simulation()
-        self.assertTrue(wait_for(lambda: fields(p1.get())["state"] == "reset", 10.0), p1.get().data)
+        self.assertTrue(wait_until(lambda: fields(p1.get())["state"] == "reset", 10.0), p1.get().data)
         # reset_simulation re-seeds the plugin's random stream: the same first draw again
         self.assertEqual(fields(p1.get())["first_random"], first_random)
         self.gz.delete_model(model_name="p1")
-        self.assertTrue(wait_for(lambda: fields(p1.get())["state"] == "shutdown", 10.0), p1.get().data)
+        self.assertTrue(wait_until(lambda: fields(p1.get())["state"] == "shutdown", 10.0), p1.get().data)
 
     def test_own_robot_namespace_wins(self):
         r = self.gz.spawn("p2", "probe_own_ns.urdf", ns="/robotB", x=2.0, z=1.0)

@@ -14,8 +14,10 @@ from geometry_msgs.msg import Point, Pose, Quaternion, Twist, Vector3, Wrench
 from rosgraph_msgs.msg import Clock
 from visualization_msgs.msg import MarkerArray
 
+from modrob_sim.waits import wait_until
+
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
-from sim_helpers import Gazebo, Latest, fixture, wait_for  # noqa: E402
+from sim_helpers import Gazebo, Latest, fixture  # noqa: E402
 
 
 class SimServices(unittest.TestCase):
@@ -85,12 +87,13 @@ class SimServices(unittest.TestCase):
     def test_delete_model_removes_it_from_model_states(self):
         self.gz.spawn("box", "box.urdf", z=0.5)
         self.gz.unpause_physics()
-        self.assertTrue(wait_for(lambda: self.models.get() and "box" in self.models.get().name))
-        self.assertTrue(wait_for(lambda: self.links.get() and "box::body" in self.links.get().name))
+        self.assertTrue(wait_until(lambda: self.models.get() and "box" in self.models.get().name, 20.0))
+        self.assertTrue(wait_until(lambda: self.links.get() and "box::body" in self.links.get().name, 20.0))
         r = self.gz.delete_model(model_name="box")
         self.assertTrue(r.success, r.status_message)
         t0 = self.models.count
-        self.assertTrue(wait_for(lambda: self.models.count > t0 + 1 and "box" not in self.models.get().name))
+        self.assertTrue(wait_until(lambda: self.models.count > t0 + 1 and "box" not in self.models.get().name,
+                                   20.0))
         self.assertNotIn("box", self.gz.get_world_properties().model_names)
         again = self.gz.delete_model(model_name="box")
         self.assertFalse(again.success)
@@ -107,8 +110,8 @@ class SimServices(unittest.TestCase):
         self.assertAlmostEqual(s.pose.position.x, 0.5, places=2)
         pub = rospy.Publisher("/gazebo/set_model_state", ModelState, queue_size=1)
         st.pose.position.x = -0.7
-        self.assertTrue(wait_for(lambda: pub.publish(st) or abs(self.gz.get_model_state(
-            model_name="box", relative_entity_name="").pose.position.x + 0.7) < 0.01, 10.0, 0.2))
+        self.assertTrue(wait_until(lambda: pub.publish(st) or abs(self.gz.get_model_state(
+            model_name="box", relative_entity_name="").pose.position.x + 0.7) < 0.01, 10.0, period=0.2))
         nan = ModelState(model_name="box", pose=Pose(Point(float("nan"), 0, 0), Quaternion(0, 0, 0, 1)))
         r = self.gz.set_model_state(model_state=nan)
         self.assertFalse(r.success)
@@ -201,12 +204,12 @@ class SimServices(unittest.TestCase):
     # ---- time --------------------------------------------------------------------------------
     def test_pause_stops_clock_and_unpause_restarts_it(self):
         self.gz.unpause_physics()
-        self.assertTrue(wait_for(lambda: self.clock.get() is not None))
+        self.assertTrue(wait_until(lambda: self.clock.get() is not None, 20.0))
         self.gz.pause_physics()
         # the clock messages still on their way (at real_time_factor 0 a simulated second of them
         # can be) have arrived once the latest is the paused simulator's time
         paused_at = self.gz.sim_time()
-        self.assertTrue(wait_for(lambda: abs(self.clock.get().clock.to_sec() - paused_at) < 1e-6, 10.0),
+        self.assertTrue(wait_until(lambda: abs(self.clock.get().clock.to_sec() - paused_at) < 1e-6, 10.0),
                         "/clock never reached the paused time %.3f (at %.3f)"
                         % (paused_at, self.clock.get().clock.to_sec()))
         frozen = self.clock.get().clock
@@ -215,7 +218,7 @@ class SimServices(unittest.TestCase):
         self.assertEqual(self.clock.get().clock, frozen)
         self.assertEqual(self.clock.count, n)
         self.gz.unpause_physics()
-        self.assertTrue(wait_for(lambda: self.clock.get().clock > frozen, 10.0))
+        self.assertTrue(wait_until(lambda: self.clock.get().clock > frozen, 10.0))
 
     def test_step_advances_exactly_n_steps(self):
         it0 = self.gz.iterations()
@@ -223,7 +226,7 @@ class SimServices(unittest.TestCase):
         self.assertTrue(r.success, r.status_message)
         self.assertEqual(r.iterations, it0 + 250)
         self.assertEqual(self.gz.iterations(), it0 + 250)
-        self.assertTrue(wait_for(lambda: abs(self.clock.get().clock.to_sec() - r.sim_time) < 1e-6, 5.0))
+        self.assertTrue(wait_until(lambda: abs(self.clock.get().clock.to_sec() - r.sim_time) < 1e-6, 5.0))
         self.gz.unpause_physics()
         refused = self.gz.step(steps=1)
         self.assertFalse(refused.success)
@@ -299,10 +302,10 @@ class SimServices(unittest.TestCase):
         self.gz.spawn("box", "box.urdf", z=0.5)
         self.gz.unpause_physics()
         perf = Latest("/gazebo/performance_metrics", PerformanceMetrics)
-        self.assertTrue(wait_for(lambda: perf.get() is not None, 10.0))
+        self.assertTrue(wait_until(lambda: perf.get() is not None, 10.0))
         self.assertGreater(perf.get().real_time_factor, 0.0)
         markers = Latest("/gazebo/world_markers", MarkerArray)
-        self.assertTrue(wait_for(lambda: markers.get() is not None and any(
+        self.assertTrue(wait_until(lambda: markers.get() is not None and any(
             m.ns == "box" for m in markers.get().markers), 10.0))
         self.assertTrue(any(m.ns == "ground" for m in markers.get().markers))
         self.assertFalse(any(m.ns == "arm2" for m in markers.get().markers))
@@ -323,7 +326,7 @@ class SimServices(unittest.TestCase):
 
         # the first message may be one this process had already received (rospy hands a new
         # subscriber the last message of its open connection), so wait for the teleported box
-        moved = wait_for(lambda: box_markers() and all(
+        moved = wait_until(lambda: box_markers() and all(
             abs(m.pose.position.x - 1.5) < 1e-3 and abs(m.pose.position.y + 1.0) < 1e-3
             and abs(m.pose.position.z - 0.7) < 1e-3 for m in box_markers()), 10.0)
         where = [(m.pose.position.x, m.pose.position.y, m.pose.position.z) for m in box_markers()]

@@ -54,6 +54,8 @@ def test_wait_until():
     calls = []
     assert waits.wait_until(lambda: calls.append(1) or len(calls) > 2, 10.0)
     assert len(calls) == 3
+    states = iter([None, [], {"box": 1}])
+    assert waits.wait_until(lambda: next(states), 10.0) == {"box": 1}      # the value, to be judged
     start = time.monotonic()
     assert bounded(lambda: waits.wait_until(lambda: False, 0.1), 5) is False
     assert time.monotonic() - start >= 0.1
