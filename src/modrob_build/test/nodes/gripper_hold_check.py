@@ -30,6 +30,7 @@ from std_srvs.srv import Empty
 from modrob_kinematics.kdl_urdf import KinematicChain
 from modrob_msgs.srv import StepSimulation
 from modrob_sim import waits
+from modrob_sim.waits import wait_until
 
 FINGERS = ("gripper_finger1",)      # the actuated finger; gripper_finger2 mimics it
 SPHERE_SDF = """<?xml version="1.0"?>
@@ -41,16 +42,6 @@ SPHERE_SDF = """<?xml version="1.0"?>
   <visual name="glass"><geometry><sphere><radius>0.03</radius></sphere></geometry></visual>
 </link></model></sdf>"""
 HOLDING_Q = 0.03   # flat pads: the pad-to-centre distance on a 30 mm radius sphere
-
-
-def wait_for(predicate, timeout, what):
-    end = time.monotonic() + timeout
-    while not rospy.is_shutdown() and time.monotonic() < end:
-        value = predicate()
-        if value:
-            return value
-        time.sleep(0.02)
-    raise AssertionError("%s: not within %.0f s" % (what, timeout))
 
 
 class GripperHold(unittest.TestCase):
@@ -99,16 +90,16 @@ class GripperHold(unittest.TestCase):
     def test_holds_sphere_with_grip_force(self):
         grip_force = rospy.get_param("~grip_force")
         arm_targets = rospy.get_param("~arm_targets")
-        wait_for(lambda: rospy.has_param(self.ns + "/robot_description"), 60, "robot_description")
+        wait_until(lambda: rospy.has_param(self.ns + "/robot_description"), 60, "robot_description")
         urdf = rospy.get_param(self.ns + "/robot_description")
         # a controller's starting() holds the current position, so command only running controllers
         srv = self.ns + "/controller_manager/list_controllers"
         rospy.wait_for_service(srv, timeout=60)
         proxy = rospy.ServiceProxy(srv, ListControllers)
         expected = ["%s_position_controller" % j for j in list(arm_targets) + list(FINGERS)]
-        wait_for(lambda: all(c.state == "running" for c in proxy().controller if c.name in expected)
-                 and len([c for c in proxy().controller if c.name in expected]) == len(expected),
-                 60, "controllers %s running" % expected)
+        wait_until(lambda: all(c.state == "running" for c in proxy().controller if c.name in expected)
+                   and len([c for c in proxy().controller if c.name in expected]) == len(expected),
+                   60, "controllers %s running" % expected)
         t0 = time.monotonic()
         for joint, value in arm_targets.items():
             self.command(joint, value)
@@ -121,7 +112,7 @@ class GripperHold(unittest.TestCase):
         # run the sphere was spawned into a finger still on its way out)
         tol = {j: (0.0005 if j.startswith("gripper_") else 0.01) for j in targets}
         try:
-            wait_for(lambda: self.at_rest(targets, tol), 60, "arm at %s, fingers open" % targets)
+            wait_until(lambda: self.at_rest(targets, tol), 60, "arm at %s, fingers open" % targets)
         except AssertionError as e:
             raise AssertionError("%s; last joint state: %s" % (e, self.state))
 
@@ -147,14 +138,14 @@ class GripperHold(unittest.TestCase):
         def closing():
             start.append(step(steps=1).sim_time)
             return all(s.msg is not None and s.msg.set_point < HOLDING_Q for s in self.finger_states)
-        wait_for(closing, 30, "the fingers' close command in their controllers' state")
+        wait_until(closing, 30, "the fingers' close command in their controllers' state")
         rospy.loginfo("close command in the controllers after %d steps", len(start))
         rospy.ServiceProxy("/gazebo/unpause_physics", Empty)()
         hold = rospy.get_param("~grip_seconds", 2.0)
-        wait_for(lambda: self.state.header.stamp.to_sec() - start[-1] > hold, 60,
-                 "%.1f s of simulated time" % hold)
+        wait_until(lambda: self.state.header.stamp.to_sec() - start[-1] > hold, 60,
+                   "%.1f s of simulated time" % hold)
 
-        sphere = wait_for(self.sphere_position, 10, "bulb on /gazebo/link_states")
+        sphere = wait_until(self.sphere_position, 10, "bulb on /gazebo/link_states")
         # the grasp centre where the arm is now: the arm may still settle by up to the rest
         # tolerance after the spawn and carries the sphere with it
         pos = self.positions()

@@ -11,7 +11,6 @@
 """
 import math
 import shutil
-import time
 import unittest
 import xml.etree.ElementTree as ET
 
@@ -24,19 +23,9 @@ from std_msgs.msg import Float64
 from std_srvs.srv import Empty
 
 from modrob_kinematics.kdl_urdf import KinematicChain, tree_from_urdf_string
+from modrob_sim.waits import wait_until
 
 FK_TOLERANCE = 0.001
-
-
-def wait_for(predicate, timeout, what):
-    """Poll predicate (wall clock: the simulation may run faster or slower than real time)."""
-    end = time.monotonic() + timeout
-    while not rospy.is_shutdown() and time.monotonic() < end:
-        value = predicate()
-        if value:
-            return value
-        time.sleep(0.05)
-    raise AssertionError("%s: not within %.0f s" % (what, timeout))
 
 
 class SimRobotsCheck(unittest.TestCase):
@@ -45,7 +34,7 @@ class SimRobotsCheck(unittest.TestCase):
         cls.n = rospy.get_param("~robots")
         cls.targets = rospy.get_param("~targets")
         cls.tolerance = rospy.get_param("~tolerance", 0.02)
-        cls.robots = wait_for(lambda: rospy.get_param("/modrob_robots", None), 60, "/modrob_robots")
+        cls.robots = wait_until(lambda: rospy.get_param("/modrob_robots", None), 60, "/modrob_robots")
         cls.states = {}
         cls.subs = [rospy.Subscriber("%s/joint_states" % r["namespace"], JointState, cls._on_state,
                                      callback_args=r["name"], queue_size=1) for r in cls.robots]
@@ -65,7 +54,7 @@ class SimRobotsCheck(unittest.TestCase):
             def all_running():
                 states = {c.name: c.state for c in proxy().controller}
                 return all(states.get(c) == "running" for c in r["controllers"]) and states
-            states = wait_for(all_running, 60, "%s: controllers %s running" % (r["name"], r["controllers"]))
+            states = wait_until(all_running, 60, "%s: controllers %s running" % (r["name"], r["controllers"]))
             self.assertEqual(set(states), set(r["controllers"]))
 
     def step_2_targets_reached(self):
@@ -85,7 +74,7 @@ class SimRobotsCheck(unittest.TestCase):
             ok = all(abs(pos[j] - v) < self.tolerance for j, v in self.targets.items())
             return ok and all(abs(vel[j]) < 1e-3 for j in r["joints"])
         for r in self.robots:
-            wait_for(lambda: reached(r), 60, "%s: joints at %s and at rest" % (r["name"], self.targets))
+            wait_until(lambda: reached(r), 60, "%s: joints at %s and at rest" % (r["name"], self.targets))
 
     def step_3_fk_matches_link_states(self):
         """Pause physics and compare, at that one instant, KDL FK of the simulator's joint

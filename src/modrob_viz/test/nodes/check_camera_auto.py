@@ -24,6 +24,7 @@ from sensor_msgs.msg import CameraInfo, Image, PointCloud2
 from std_msgs.msg import Empty
 
 from modrob_sim import waits
+from modrob_sim.waits import wait_until
 
 RENDERER = "/gazebo_camera_renderer"
 W, H, HFOV = 160, 120, 1.0
@@ -48,15 +49,6 @@ def renderer_running():
         return True
     except (rosgraph.MasterError, OSError):
         return False
-
-
-def wait_for(cond, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end and not rospy.is_shutdown():
-        if cond():
-            return
-        time.sleep(0.05)
-    raise AssertionError("no %s within %.0f s" % (what, timeout))
 
 
 class Latest(waits.Latest):
@@ -136,9 +128,9 @@ class CameraAuto(unittest.TestCase):
 
     def test_1_nothing_runs_while_unsubscribed(self):
         # the box and the camera spawned, and 2 s of simulated time with nobody subscribed
-        wait_for(lambda: rospy.get_param("/gazebo/camera_sensors", {}), 60.0, "camera sensor registered")
+        wait_until(lambda: rospy.get_param("/gazebo/camera_sensors", {}), 60.0, "camera sensor registered")
         t0 = rospy.wait_for_message("/clock", Clock, 30.0).clock.to_sec()
-        wait_for(lambda: rospy.get_time() > t0 + 2.0, 60.0, "2 s of simulated time")
+        wait_until(lambda: rospy.get_time() > t0 + 2.0, 60.0, "2 s of simulated time")
         self.assertFalse(renderer_running(), "a renderer runs although nobody subscribes to a camera")
         # advertised all the same (by /gazebo, as gzserver does): rostopic echo/hz can subscribe
         for topic, cls in TOPICS:
@@ -229,12 +221,12 @@ class CameraAuto(unittest.TestCase):
         left = self.subs["/stereo/left/image_raw"]
         self.assertEqual(trig.count, 0, "a triggered camera published without a trigger")
         pub = rospy.Publisher("/trig/image_trigger", Empty, queue_size=10)
-        wait_for(lambda: pub.get_num_connections() > 0, 30.0, "/gazebo subscribed to /trig/image_trigger")
+        wait_until(lambda: pub.get_num_connections() > 0, 30.0, "/gazebo subscribed to /trig/image_trigger")
         for _ in range(3):
             pub.publish(Empty())
-        wait_for(lambda: trig.count >= 3, 60.0, "3 images for 3 triggers (%d came)" % trig.count)
+        wait_until(lambda: trig.count >= 3, 60.0, "3 images for 3 triggers (%d came)" % trig.count)
         seen = left.count
-        wait_for(lambda: left.count >= seen + 5, 30.0, "5 more frames of the stereo camera")
+        wait_until(lambda: left.count >= seen + 5, 30.0, "5 more frames of the stereo camera")
         self.assertEqual(trig.count, 3, "more images than triggers")
         msg = trig.msg
         self.assertEqual((msg.width, msg.height, msg.encoding, msg.step, msg.header.frame_id),
@@ -296,7 +288,7 @@ class CameraAuto(unittest.TestCase):
         self.assertTrue(self.subs, "test_2 subscribed nothing")
         for latest in self.subs.values():
             latest.sub.unregister()
-        wait_for(lambda: not renderer_running(), 30.0, "renderer stopped after the last subscriber left")
+        wait_until(lambda: not renderer_running(), 30.0, "renderer stopped after the last subscriber left")
 
 
 if __name__ == "__main__":
