@@ -12,15 +12,10 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 
+from modrob_sim.waits import wait_until
+
 
 class PolarisDrive(unittest.TestCase):
-    def wait_for(self, cond, timeout, what):
-        end = rospy.Time.now() + rospy.Duration(timeout)
-        while not rospy.is_shutdown() and not cond():
-            if rospy.Time.now() > end:
-                self.fail("timed out (%.0f s sim) waiting for %s" % (timeout, what))
-            rospy.sleep(0.05)
-
     def test_drive_straight_and_odometry(self):
         odom = {}
         # odometry relays the vehicle's pose from /gazebo/model_states: each /odom pose must be
@@ -55,7 +50,7 @@ class PolarisDrive(unittest.TestCase):
                        default=float("inf"))
         # this process may still be deserialising the model_states that odometry relayed
         try:
-            self.wait_for(lambda: gap() < 1e-9, 10.0, "the model_states that /odom relayed")
+            wait_until(lambda: gap() < 1e-9, 10.0, "the model_states that /odom relayed")
         except AssertionError:
             self.fail("/odom's pose is none of the model_states poses (%.3g m away)" % gap())
         tr = buf.lookup_transform("odom", "base_link_polaris", o.header.stamp, rospy.Duration(10.0))

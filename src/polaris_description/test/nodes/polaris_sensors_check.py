@@ -2,17 +2,16 @@
 """Checks for polaris_sensors.test (see there)."""
 import math
 import threading
-import time
 import unittest
 
 import numpy as np
 import rospy
 import rostest
-from controller_manager_msgs.srv import ListControllers
 from gazebo_msgs.msg import ModelStates
 from geometry_msgs.msg import Vector3Stamped
 from sensor_msgs.msg import Imu, NavSatFix, PointCloud2
 
+from modrob_sim.waits import controller_states, sim_sleep, wait_until
 from polaris_description import gps, parking_lot
 from polaris_description.cloud import xyz_from_cloud
 from polaris_description.obstacle import LIDAR_OFFSET
@@ -55,17 +54,14 @@ class PolarisSensors(unittest.TestCase):
     def wait_for_controllers(self, count=5, timeout=120.0):
         """Wait until the spawner has started the steering and wheel controllers: each moves the
         vehicle a little as it takes hold, which the IMU reads."""
-        rospy.wait_for_service("/controller_manager/list_controllers", timeout)
-        listing = rospy.ServiceProxy("/controller_manager/list_controllers", ListControllers)
-        end = time.monotonic() + timeout
         running = []
-        while time.monotonic() < end and not rospy.is_shutdown():
-            running = [c.name for c in listing().controller if c.state == "running"]
-            if len(running) >= count:
-                return
-            rospy.sleep(0.1)
-        self.fail("%d controllers running after %.0f s, expected %d: %s"
-                  % (len(running), timeout, count, running))
+
+        def started():
+            running[:] = [n for n, state in controller_states("/", timeout).items() if state == "running"]
+            return len(running) >= count
+        if not wait_until(started, timeout, period=0.1):
+            self.fail("%d controllers running after %.0f s, expected %d: %s"
+                      % (len(running), timeout, count, running))
 
     def test_1_imu_reads_gravity_at_100_hz(self):
         self.wait_for_controllers()
@@ -73,9 +69,7 @@ class PolarisSensors(unittest.TestCase):
         msgs = []
         sub = rospy.Subscriber("/imu", Imu, msgs.append)
         rospy.wait_for_message("/imu", Imu, timeout=120)
-        t0 = rospy.Time.now()
-        while rospy.Time.now() - t0 < rospy.Duration(2.0):
-            rospy.sleep(0.05)
+        sim_sleep(2.0)
         sub.unregister()
         # 100 Hz of simulated time: every gap a whole number of 10 ms periods, most of them one (a
         # subscriber that waits for the CPU loses messages from the publisher's queue of 10: a
