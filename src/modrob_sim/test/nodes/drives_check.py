@@ -87,10 +87,17 @@ class DrivesCheck(unittest.TestCase):
             p = m.pose.pose.position
             samples.append((m.header.stamp.to_sec(), p.x, p.y, m.twist.twist.linear.x))
         sub = rospy.Subscriber("/odom", Odometry, keep)
+        # The window starts 0.5 s after the first odometry at speed, by its stamp, and the
+        # subscription is connected before the command: at real_time_factor 0 the simulator runs
+        # seconds of simulated time while this process connects or waits for the CPU, and the
+        # planar base stops by itself 8 s after its command (a fresh-clone CI run measured 0.13 m
+        # of the 0.5: its window, started from the newest sample when the test looked, held only
+        # the drive's last 1.3 s)
+        self.assertTrue(wait_until(lambda: sub.get_num_connections() > 0, 20.0), "no /odom connection")
         self.send(0.1, 0.0)
         self.assertTrue(wait_until(lambda: len(samples) > 1 and samples[-1][3] > 0.09, 60.0),
                         "it does not move")
-        t0 = samples[-1][0] + 0.5
+        t0 = next(s[0] for s in samples if s[3] > 0.09) + 0.5
         self.assertTrue(wait_until(lambda: samples[-1][0] > t0 + 5.2, 120.0))
         sub.unregister()
         a = min(samples, key=lambda s: abs(s[0] - t0))
