@@ -18,6 +18,7 @@ import rospy
 import rostest
 from rosgraph_msgs.msg import Clock
 
+from modrob_sim.procs import proc_stat
 from modrob_sim.waits import wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -66,10 +67,10 @@ class SimGazeboRosLaunches(unittest.TestCase):
             self.assertTrue(up and gz.poll() is None, "RViz did not come up as /gzclient_gui_probe "
                             "(gzclient ended with %s)" % gz.poll())
             pids = [int(p) for p in os.listdir("/proc") if p.isdigit()]
-            rviz = [pid for pid in pids if proc_stat(pid)[1:2] == [gz.pid]]
+            rviz = [pid for pid in pids if (proc_stat(pid) or (0, 0, 0))[2] == gz.pid]
             self.assertEqual(len(rviz), 1, "gzclient %d has no one child process" % gz.pid)
             self.assertIn("rviz", proc_stat(rviz[0])[0])
-            self.assertNotEqual(proc_stat(rviz[0])[2], gz.pid, "RViz is in gzclient's process group")
+            self.assertNotEqual(proc_stat(rviz[0])[3], gz.pid, "RViz is in gzclient's process group")
             os.killpg(gz.pid, signal.SIGINT)                 # as roslaunch stops a node
             self.assertEqual(gz.wait(30), 0)
             out = read_to_end(gz.stdout, 30)
@@ -82,17 +83,6 @@ class SimGazeboRosLaunches(unittest.TestCase):
             gz.stdout.close()
             xvfb.terminate()
             xvfb.wait()
-
-
-def proc_stat(pid):
-    """[command name, parent pid, process group] of ``pid``, [] once it is gone."""
-    try:
-        with open("/proc/%d/stat" % pid) as f:
-            head, rest = f.read().rsplit(")", 1)
-    except OSError:
-        return []
-    fields = rest.split()
-    return [head.split("(", 1)[1], int(fields[1]), int(fields[2])]
 
 
 def read_to_end(pipe, timeout):

@@ -18,6 +18,7 @@ import time
 import pytest
 
 from modrob_sim.gazebo_ros.gui_process import KNOWN_CRASH, outcome
+from modrob_sim.procs import alive, proc_stat
 
 GZCLIENT = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
                         "scripts", "gzclient")
@@ -149,17 +150,8 @@ def gzclient(tmp_path):
         g.close()
 
 
-def alive(pid):
-    try:
-        with open("/proc/%d/stat" % pid) as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except OSError:
-        return False
-
-
 def pgid_of(pid):
-    with open("/proc/%d/stat" % pid) as f:
-        return int(f.read().rsplit(")", 1)[1].split()[2])
+    return proc_stat(pid)[3]
 
 
 def test_a_crash_while_stopping_is_one_plain_line_and_a_clean_exit(gzclient):

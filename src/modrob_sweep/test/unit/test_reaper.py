@@ -8,6 +8,7 @@ import sys
 import time
 import uuid
 
+from modrob_sim.procs import alive
 from modrob_sweep.reaper import TOKEN_VAR
 
 ESCAPE = r"""
@@ -24,14 +25,6 @@ p = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(300)"], sta
 open(sys.argv[1], "w").write(str(p.pid))
 time.sleep(300)
 """
-
-
-def alive(pid):
-    try:
-        with open("/proc/%d/stat" % pid) as fh:
-            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except OSError:
-        return False
 
 
 def with_token(token):

@@ -12,6 +12,8 @@ import uuid
 import pytest
 import yaml
 
+from modrob_sim.procs import alive
+
 pd = pytest.importorskip("pandas")
 
 SWEEP = [os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "scripts",
@@ -47,10 +49,9 @@ def processes_of(name):
         try:
             with open("/proc/%s/environ" % e, "rb") as fh:
                 env = fh.read().split(b"\0")
-            with open("/proc/%s/stat" % e) as fh:
-                if fh.read().rsplit(")", 1)[1].split()[0] == "Z":
-                    continue
         except OSError:
+            continue
+        if not alive(e):
             continue
         if any(v.startswith(m) for v in env for m in marks):
             out.append(int(e))

@@ -8,16 +8,10 @@ import time
 
 import pytest
 
+from modrob_sim.procs import alive
+
 pytestmark = pytest.mark.skipif(shutil.which("Xvfb") is None or shutil.which("setpriv") is None,
                                 reason="needs Xvfb and setpriv")
-
-
-def _alive(pid):
-    try:
-        with open("/proc/%d/stat" % pid) as f:
-            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
-    except OSError:
-        return False
 
 
 def test_xvfb_ends_when_its_starter_is_killed():
@@ -29,15 +23,15 @@ def test_xvfb_ends_when_its_starter_is_killed():
     starter = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
     xvfb_pid = int(starter.stdout.readline())
     try:
-        assert _alive(xvfb_pid)
+        assert alive(xvfb_pid)
         starter.send_signal(signal.SIGKILL)      # no stop(): as a crash
         starter.wait()
         deadline = time.monotonic() + 10
-        while _alive(xvfb_pid) and time.monotonic() < deadline:
+        while alive(xvfb_pid) and time.monotonic() < deadline:
             time.sleep(0.05)
-        assert not _alive(xvfb_pid), "Xvfb %d outlived the process that started it" % xvfb_pid
+        assert not alive(xvfb_pid), "Xvfb %d outlived the process that started it" % xvfb_pid
     finally:
-        if _alive(xvfb_pid):
+        if alive(xvfb_pid):
             os.kill(xvfb_pid, signal.SIGKILL)
         if starter.poll() is None:
             starter.kill()
