@@ -4,7 +4,8 @@
 node, and without roscpp started the publishers are rospy's. /clock from a ClockTicker (the World's
 native steps through its step observer, deferred until ``flush``) reaches every subscriber complete
 and in order as rospy's bytes, mixed with immediate messages, also one that comes and goes
-mid-stream; a late subscriber of the latched topic gets the last message alone; a stalled
+mid-stream; a late subscriber of the latched topic gets the last message alone, and one that comes
+while the topic flows never gets an older message after a newer one; a stalled
 subscriber blocks nothing; the ticker's wall-clock period and its one message per simulated time
 hold."""
 import os
@@ -284,6 +285,72 @@ def test_deferred_messages_arrive_complete_in_order_and_latch_the_last(master):
     # what the stalled subscriber got is in order and ends with the last message; the rest was dropped
     # on its full connection, not waited for
     assert out["stalled_in_order"] == "True True True", out
+
+
+# a latched /clock ticked as fast as it goes (deferred, flushed every 3 ticks, as the node's passes
+# do) while subscribers come one after another, each reading its first 20 messages; then, with the
+# clock stopped (a paused simulation), one more subscriber
+COMERS = textwrap.dedent(r"""
+    import sys, threading, time
+    import rospy
+    from rosgraph_msgs.msg import Clock
+    from modrob_sim.gazebo_ros import native_pub
+
+    rospy.init_node("comers", disable_signals=True)
+    assert native_pub.start(rospy.get_name()), native_pub.reason()
+    pub = native_pub.publisher("/clock_comers", Clock, queue_size=10, latch=True)
+    ticker = pub.clock_ticker(0.0)
+    stop = threading.Event()
+
+    def run():
+        t, n = 0.0, 0
+        while not stop.is_set():
+            t, n = t + 0.001, n + 1
+            ticker.tick(t)
+            if n % 3 == 0:
+                pub.flush()
+            if n % 30 == 0:
+                time.sleep(0.0005)
+        pub.flush()
+    runner = threading.Thread(target=run, daemon=True)
+    runner.start()
+
+    def first(count):
+        got, done = [], threading.Event()
+
+        def cb(m):
+            got.append(m.clock.to_sec())
+            if len(got) >= count:
+                done.set()
+        sub = rospy.Subscriber("/clock_comers", Clock, cb, queue_size=100)
+        done.wait(10)
+        sub.unregister()
+        return list(got)
+    back = []
+    for r in range(int(sys.argv[1])):
+        got = first(20)
+        assert len(got) >= 20, got
+        if any(b < a for a, b in zip(got, got[1:])):
+            back.append(["%.3f" % v for v in got[:5]])
+    print("backwards", back, flush=True)
+    stop.set()
+    runner.join()
+    got = first(1)
+    print("paused", len(got) == 1 and abs(got[0] - ticker.last) < 1e-6, flush=True)
+    native_pub.stop()
+""")
+
+
+def test_a_subscriber_that_comes_while_the_latched_clock_flows_never_sees_it_go_back(master):
+    """roscpp's own latch handed a new subscriber the newest message while older ones still waited
+    in the publication's queue: 8 of 200 subscribers saw /clock go back (and a rospy Timer that sees
+    that dies). A late subscriber of the stopped clock still gets the last message."""
+    proc = subprocess.run([sys.executable, "-c", COMERS, "150"], env=master, capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    out = dict(ln.split(" ", 1) for ln in proc.stdout.splitlines() if " " in ln)
+    assert out["backwards"] == "[]", out
+    assert out["paused"] == "True", out
 
 
 def test_the_clock_ticks_in_the_after_hook_and_flushes_after_a_pass():

@@ -21,14 +21,27 @@
 // On the wire the subscriber reads the same frames in the same order as from one publish per message
 // (TCP keeps no message boundaries); only fewer writes carry them. mrp_publish first flushes what is
 // pending, so messages leave in the order they were handed over whichever entry point took them.
+//
+// Latching is done here, not by roscpp: roscpp's latch hands the newest message to a new subscriber
+// at once, while the messages published just before it still wait in the publication's queue for
+// roscpp's poll thread, which then sends them to the new subscriber too, after the newer one. On
+// /clock that is time going back at a node's start (8 of 200 subscribers of a fast /clock saw it),
+// and a rospy Timer whose sleep sees time go back dies with ROSTimeMovedBackwardsException. Here a
+// new subscriber gets the last message from the connect callback, as roscpp's latch does it, but
+// only once no message went out for kQuiet seconds (by then the queue has left: a paused
+// simulation, a topic published now and then); a subscriber that comes while messages flow gets the
+// next one, and no copy of an older one.
 #include <ros/ros.h>
 
+#include <chrono>
 #include <cmath>
 #include <ctime>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace modrob {
@@ -99,13 +112,39 @@ namespace {
 // Deferred messages beyond this many bytes are flushed at once (a batch of steps stays far below)
 const size_t kMaxPending = 64 * 1024;
 
+// A latched topic's new subscriber gets the last message once none went out for this long (s)
+const double kQuiet = 0.2;
+
+double monotonic_now() {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// What the connect callback shares with the C calls (it may run after mrp_unadvertise: it holds
+// the Handle through a weak pointer)
 struct Handle {
   ros::Publisher pub;
   modrob::RawMessage msg;
-  std::mutex lock;                 // pending frames, and the order of the publishes
+  std::mutex lock;                 // pending frames, the order of the publishes, the latched copy
   std::vector<uint8_t> pending;    // deferred messages as TCPROS frames
   size_t last = 0;                 // offset of the last pending frame
+  bool latch = false;
+  std::vector<uint8_t> latched;    // the last message published (latched topics)
+  uint64_t published = 0;          // messages published so far
+  double published_at = -1e9;      // when the last one was (monotonic_now)
 };
+
+// Publish one message (h->lock held), remembering it for a latched topic's next subscriber
+void publish_one_locked(Handle* h, const uint8_t* data, uint32_t size) {
+  h->msg.data = data;
+  h->msg.size = size;
+  h->pub.publish(h->msg);
+  h->msg.data = nullptr;
+  if (h->latch) h->latched.assign(data, data + size);
+  h->published += 1;
+  h->published_at = monotonic_now();
+}
 
 // Publish the pending frames (h->lock held): all but the last as one roscpp message, the last alone
 void flush_locked(Handle* h) {
@@ -117,13 +156,45 @@ void flush_locked(Handle* h) {
     frames.size = static_cast<uint32_t>(h->last);
     h->pub.publish(frames);
   }
-  h->msg.data = h->pending.data() + h->last + 4;
-  h->msg.size = static_cast<uint32_t>(h->pending.size() - h->last - 4);
-  h->pub.publish(h->msg);
-  h->msg.data = nullptr;
+  publish_one_locked(h, h->pending.data() + h->last + 4,
+                     static_cast<uint32_t>(h->pending.size() - h->last - 4));
   h->pending.clear();
   h->last = 0;
 }
+
+// A subscriber came to a latched topic (roscpp's callback thread): once no message went out for
+// kQuiet seconds, it gets the last one; a message published meanwhile reaches it anyway
+void on_connect(const std::weak_ptr<Handle>& weak, const ros::SingleSubscriberPublisher& sub) {
+  uint64_t seen = 0;
+  bool first = true;
+  while (true) {
+    double wait;
+    {
+      std::shared_ptr<Handle> h = weak.lock();
+      if (!h) return;
+      std::lock_guard<std::mutex> guard(h->lock);
+      if (!h->pub || h->latched.empty()) return;
+      if (first) seen = h->published;
+      else if (h->published != seen) return;
+      first = false;
+      wait = h->published_at + kQuiet - monotonic_now();
+      if (wait <= 0.0) {
+        h->msg.data = h->latched.data();
+        h->msg.size = static_cast<uint32_t>(h->latched.size());
+        sub.publish(h->msg);
+        h->msg.data = nullptr;
+        return;
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+  }
+}
+
+// The C calls' handle: a heap std::shared_ptr<Handle> (the connect callback holds a weak one)
+Handle* handle_of(void* handle) {
+  return handle ? static_cast<std::shared_ptr<Handle>*>(handle)->get() : nullptr;
+}
+
 ros::NodeHandle* g_nh = nullptr;
 ros::AsyncSpinner* g_spinner = nullptr;
 std::string g_error;
@@ -162,15 +233,20 @@ void* mrp_advertise(const char* topic, const char* md5, const char* datatype, co
                     int queue_size, int latch) {
   if (!g_nh) { g_error = "mrp_init was not called"; return nullptr; }
   try {
-    Handle* h = new Handle();
+    auto h = std::make_shared<Handle>();
     h->msg.md5 = md5;
     h->msg.datatype = datatype;
     h->msg.definition = definition;
+    h->latch = latch != 0;
     ros::AdvertiseOptions ops(topic, queue_size > 0 ? queue_size : 1, md5, datatype, definition);
-    ops.latch = latch != 0;
+    ops.latch = false;              // latched here (see the top of this file)
+    if (h->latch) {
+      std::weak_ptr<Handle> weak = h;
+      ops.connect_cb = [weak](const ros::SingleSubscriberPublisher& sub) { on_connect(weak, sub); };
+    }
     h->pub = g_nh->advertise(ops);
-    if (!h->pub) { g_error = std::string("could not advertise ") + topic; delete h; return nullptr; }
-    return h;
+    if (!h->pub) { g_error = std::string("could not advertise ") + topic; return nullptr; }
+    return new std::shared_ptr<Handle>(h);
   } catch (const std::exception& e) {
     g_error = e.what();
     return nullptr;
@@ -179,20 +255,17 @@ void* mrp_advertise(const char* topic, const char* md5, const char* datatype, co
 
 // Publish ``size`` bytes (the serialised message, no length prefix), after any deferred ones.
 int mrp_publish(void* handle, const uint8_t* data, uint32_t size) {
-  Handle* h = static_cast<Handle*>(handle);
+  Handle* h = handle_of(handle);
   if (!h || !h->pub) return -1;
   std::lock_guard<std::mutex> guard(h->lock);
   flush_locked(h);
-  h->msg.data = data;
-  h->msg.size = size;
-  h->pub.publish(h->msg);
-  h->msg.data = nullptr;
+  publish_one_locked(h, data, size);
   return 0;
 }
 
 // As mrp_publish, but the message waits (copied) for the next mrp_flush or mrp_publish.
 int mrp_publish_deferred(void* handle, const uint8_t* data, uint32_t size) {
-  Handle* h = static_cast<Handle*>(handle);
+  Handle* h = handle_of(handle);
   if (!h || !h->pub) return -1;
   std::lock_guard<std::mutex> guard(h->lock);
   if (h->pending.size() + 4 + size > kMaxPending) flush_locked(h);
@@ -210,7 +283,7 @@ int mrp_publish_deferred(void* handle, const uint8_t* data, uint32_t size) {
 
 // Publish the deferred messages now.
 int mrp_flush(void* handle) {
-  Handle* h = static_cast<Handle*>(handle);
+  Handle* h = handle_of(handle);
   if (!h || !h->pub) return -1;
   std::lock_guard<std::mutex> guard(h->lock);
   flush_locked(h);
@@ -218,19 +291,19 @@ int mrp_flush(void* handle) {
 }
 
 int mrp_num_subscribers(void* handle) {
-  Handle* h = static_cast<Handle*>(handle);
+  Handle* h = handle_of(handle);
   return (h && h->pub) ? static_cast<int>(h->pub.getNumSubscribers()) : 0;
 }
 
 void mrp_unadvertise(void* handle) {
-  Handle* h = static_cast<Handle*>(handle);
+  Handle* h = handle_of(handle);
   if (!h) return;
   {
     std::lock_guard<std::mutex> guard(h->lock);
     if (h->pub) flush_locked(h);
+    h->pub.shutdown();
   }
-  h->pub.shutdown();
-  delete h;
+  delete static_cast<std::shared_ptr<Handle>*>(handle);
 }
 
 // ---- /clock -----------------------------------------------------------------------------------
@@ -241,7 +314,7 @@ void mrp_unadvertise(void* handle) {
 // steps call mrp_clock_tick. The messages are deferred (mrp_flush after a stretch sends them in
 // one write). The 8 bytes are rospy's for the Clock that StatePublishers.publish_clock builds.
 struct ClockTicker {
-  Handle* h;
+  void* h;
   double period;
   double last_wall;
   double last_t;
@@ -249,7 +322,7 @@ struct ClockTicker {
 
 void* mrp_clock_new(void* handle, double period) {
   if (!handle) return nullptr;
-  return new ClockTicker{static_cast<Handle*>(handle), period, -1e9, std::nan("")};
+  return new ClockTicker{handle, period, -1e9, std::nan("")};
 }
 
 void mrp_clock_free(void* ticker) { delete static_cast<ClockTicker*>(ticker); }
@@ -264,9 +337,7 @@ int mrp_clock_tick(void* ticker, double t) {
   ClockTicker* c = static_cast<ClockTicker*>(ticker);
   if (!c || t == c->last_t) return 0;
   if (c->period > 0.0) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    double now = static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+    double now = monotonic_now();
     if (now - c->last_wall < c->period) return 0;
     c->last_wall = now;
   }
