@@ -58,7 +58,7 @@ class JointPublisher(object):
         self.pub = rospy.Publisher("/joint_states", JointState, queue_size=1)
         self.positions = {}  # name -> position
         self.lock = threading.Lock()
-        self.timer = rospy.Timer(rospy.Duration(0.05), self._tick)
+        self.timer = rospy.Timer(rospy.Duration(0.05), self._tick, reset=True)
 
     def _tick(self, _):
         with self.lock:

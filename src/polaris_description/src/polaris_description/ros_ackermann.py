@@ -24,7 +24,7 @@ class AckermannNode(object):
         self.pubs = {k: rospy.Publisher("/%s/command" % G.CONTROLLERS[k], Float64, queue_size=1)
                      for k in keys}
         self.sub = rospy.Subscriber("cmd_vel", Twist, self.on_cmd, queue_size=1)
-        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.tick)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.tick, reset=True)
 
     def on_cmd(self, msg):
         with self.lock:

@@ -41,7 +41,7 @@ class LapNode(object):
         rospy.Subscriber("odom", Odometry, self.on_odom, queue_size=1)
         if use_lidar:
             rospy.Subscriber("/velodyne_points2", PointCloud2, self.on_cloud, queue_size=1, buff_size=2 ** 22)
-        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.tick)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.tick, reset=True)
 
     def on_odom(self, m):
         p, q = m.pose.pose.position, m.pose.pose.orientation

@@ -19,7 +19,7 @@ from robot_localization.measurements import (IDENTITY, Frame, PoseInput, cov6, i
                                              matrix_of_quaternion, quaternion_of_rpy, twist_measurement)
 from robot_localization.srv import SetPose, SetPoseResponse
 
-MIN_QUEUE = 10
+MIN_QUEUE = 100
 HOLD = 0.5          # s: the longest a measurement waits for the other inputs (see EkfNode._horizon)
 MESSAGE_TYPES = {"odom": Odometry, "twist": TwistWithCovarianceStamped, "imu": Imu,
                  "pose": PoseWithCovarianceStamped}
@@ -33,9 +33,12 @@ class InputHandler(object):
         self.pose = PoseInput(cfg.config, cfg.differential, cfg.relative)
         self.last_stamp = None
         self.count = 0
-        # at least MIN_QUEUE: rospy hands each message to a Python thread, and a busy filter tick
-        # holds the interpreter long enough to drop messages from a queue of 1 (a dropped stop
-        # message lets the estimate run on at the last speed)
+        # at least MIN_QUEUE: rospy keeps only the newest queue_size messages of those it reads at
+        # once, and this Python node can stall for a fraction of a second on a loaded machine (a
+        # busy filter tick, the GIL, the scheduler), where C++ robot_localization's threads keep up.
+        # Messages dropped that way leave a gap the filter fills with its last speed: a 0.5 s stall
+        # at the start of a drive cost 5 cm of 1.6 m with 10 (a dropped stop message lets the
+        # estimate run on at the last speed); with 100 (2 s at 50 Hz) nothing is lost
         self.sub = rospy.Subscriber(cfg.topic, MESSAGE_TYPES[cfg.kind], self.callback,
                                     queue_size=max(cfg.queue_size, MIN_QUEUE))
 
@@ -130,7 +133,9 @@ class EkfNode(object):
         self.set_pose_sub = rospy.Subscriber("set_pose", PoseWithCovarianceStamped, self._on_set_pose,
                                              queue_size=1)
         self.set_pose_srv = rospy.Service("set_pose", SetPose, self._on_set_pose_srv)
-        self.timer = rospy.Timer(rospy.Duration(1.0 / cfg.frequency), self._tick)
+        # reset: time going back (reset_simulation, a new bag) restarts the timer instead of ending
+        # its thread, as roscpp's timers carry on
+        self.timer = rospy.Timer(rospy.Duration(1.0 / cfg.frequency), self._tick, reset=True)
 
     # -- callbacks ------------------------------------------------------------------------------
     def warn(self, key, text, period=10.0):
@@ -210,7 +215,11 @@ class EkfNode(object):
             rospy.logerr_throttle(5.0, "%s: the filter's state is not finite: check the inputs' covariances "
                                   "and process_noise_covariance" % rospy.get_name())
             return
-        self._publish(state, cov, rospy.Time.from_sec(max(stamp, 0.0)))
+        try:
+            self._publish(state, cov, rospy.Time.from_sec(max(stamp, 0.0)))
+        except rospy.ROSException:
+            if not rospy.is_shutdown():     # shutting down: the publishers closed under the tick
+                raise
 
     def _publish(self, state, cov, stamp):
         cfg = self.cfg

@@ -29,7 +29,7 @@ class TwistMuxNode(object):
             self.subs.append(rospy.Subscriber(lk.topic, Bool, self._on_lock, lk.name, queue_size=1))
             rospy.loginfo("twist_mux: lock %s" % lk.describe())
         self.diag_pub = rospy.Publisher("/diagnostics", DiagnosticArray, queue_size=1)
-        self.diag_timer = rospy.Timer(rospy.Duration(DIAGNOSTICS_PERIOD), self._diagnostics)
+        self.diag_timer = rospy.Timer(rospy.Duration(DIAGNOSTICS_PERIOD), self._diagnostics, reset=True)
         if not self.mux.velocities:
             rospy.logerr("twist_mux: no velocity topics: set ~topics (a list of {name, topic, timeout, "
                          "priority}, e.g. rosparam load config/twist_mux_topics.yaml into this node)")

@@ -20,7 +20,7 @@ class EeViewBroadcaster(object):
         self.broadcaster = tf2_ros.TransformBroadcaster()
         self._warned = False
         self._last_stamp = None
-        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self._tick)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self._tick, reset=True)
 
     def frames(self):
         return [self.prefix + v for v in self.views]

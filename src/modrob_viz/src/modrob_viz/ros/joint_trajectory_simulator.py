@@ -67,7 +67,7 @@ class JointTrajectorySimulator(object):
             self.sub = rospy.Subscriber(topic, JointTrajectory, self.inbox.put, queue_size=5)
             rospy.loginfo("joint_trajectory_simulator: waiting for trajectories on %s",
                           rospy.resolve_name(topic))
-        self.timer = rospy.Timer(rospy.Duration(1.0 / sample_rate), self._sample)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / sample_rate), self._sample, reset=True)
 
     # -- tf sampling (timer thread): only samples stamped after playing started count
     def _sample(self, _event=None):

@@ -22,7 +22,7 @@ class TraceVisualizer(object):
         self.points = collections.deque(maxlen=max_points)
         self.sampler = EndEffectorSampler(base_frame, ee_frame)
         self.pub = latched("~marker", Marker)
-        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.step)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.step, reset=True)
         rospy.loginfo("trace_visualizer: tracing %s in %s at %.1f Hz on %s (at most %d points)",
                       ee_frame, base_frame, rate, rospy.resolve_name("~marker"), max_points)
 

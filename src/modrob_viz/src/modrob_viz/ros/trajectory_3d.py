@@ -32,8 +32,8 @@ class Trajectory3DRecorder(object):
         self.sampler = EndEffectorSampler(base_frame, ee_frame)
         self.count_pub = latched("~recorded_points", Int32)
         self.count_pub.publish(Int32(0))
-        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.sample)
-        self.flush_timer = rospy.Timer(rospy.Duration(flush_period), self.flush)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.sample, reset=True)
+        self.flush_timer = rospy.Timer(rospy.Duration(flush_period), self.flush, reset=True)
         rospy.on_shutdown(self.flush)
         rospy.loginfo("trajectory_3Dpoints_recorder: %s in %s at %.1f Hz -> %s (topic %s)",
                       ee_frame, base_frame, rate, bag_file, bag_topic)
@@ -84,7 +84,7 @@ class BagWatcher(object):
         self.stamp = None
         self.check()
         if watch:
-            self.timer = rospy.Timer(rospy.Duration(period), self.check)
+            self.timer = rospy.Timer(rospy.Duration(period), self.check, reset=True)
 
     def check(self, _event=None):
         try:

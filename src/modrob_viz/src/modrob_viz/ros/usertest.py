@@ -45,9 +45,9 @@ class EndpointUserTest(object):
                                                      ns="usertest_trajectory"))
             self.traj_dist_pub = rospy.Publisher("distance_to_trajectory", Float64, queue_size=10)
         self._show(False)
-        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.step)
+        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.step, reset=True)
         if save_period > 0 and (csv_file or plot_file):
-            self.save_timer = rospy.Timer(rospy.Duration(save_period), self.save)
+            self.save_timer = rospy.Timer(rospy.Duration(save_period), self.save, reset=True)
         rospy.on_shutdown(self.save)
         rospy.loginfo("%s: goal (%.3f, %.3f, %.3f) in %s, threshold %.3f m", rospy.get_name(),
                       self.goal[0], self.goal[1], self.goal[2], base_frame, threshold)
