@@ -337,6 +337,17 @@ COMERS = textwrap.dedent(r"""
     runner.join()
     got = first(1)
     print("paused", len(got) == 1 and abs(got[0] - ticker.last) < 1e-6, flush=True)
+    # the topic says it is latched: a second subscription of this process (rospy shares the
+    # connection) gets rospy's copy of the connection's last message at once
+    one, two = [], []
+    keep = rospy.Subscriber("/clock_comers", Clock, lambda m: one.append(m.clock.to_sec()))
+    deadline = time.time() + 10
+    while not one and time.time() < deadline:
+        time.sleep(0.01)
+    second = rospy.Subscriber("/clock_comers", Clock, lambda m: two.append(m.clock.to_sec()))
+    print("second", bool(one) and two == one[-1:], flush=True)
+    keep.unregister()
+    second.unregister()
     native_pub.stop()
 """)
 
@@ -344,13 +355,15 @@ COMERS = textwrap.dedent(r"""
 def test_a_subscriber_that_comes_while_the_latched_clock_flows_never_sees_it_go_back(master):
     """roscpp's own latch handed a new subscriber the newest message while older ones still waited
     in the publication's queue: 8 of 200 subscribers saw /clock go back (and a rospy Timer that sees
-    that dies). A late subscriber of the stopped clock still gets the last message."""
+    that dies). A late subscriber of the stopped clock still gets the last message, and a second
+    subscription of its process gets rospy's copy of it (the topic says it is latched)."""
     proc = subprocess.run([sys.executable, "-c", COMERS, "150"], env=master, capture_output=True,
                           text=True, timeout=120)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     out = dict(ln.split(" ", 1) for ln in proc.stdout.splitlines() if " " in ln)
     assert out["backwards"] == "[]", out
     assert out["paused"] == "True", out
+    assert out["second"] == "True", out
 
 
 def test_the_clock_ticks_in_the_after_hook_and_flushes_after_a_pass():

@@ -30,7 +30,10 @@
 // new subscriber gets the last message from the connect callback, as roscpp's latch does it, but
 // only once no message went out for kQuiet seconds (by then the queue has left: a paused
 // simulation, a topic published now and then); a subscriber that comes while messages flow gets the
-// next one, and no copy of an older one.
+// next one, and no copy of an older one. The topic is advertised a second time with roscpp's latch
+// on, and nothing is published through that one: the connection header then says "latching", so a
+// rospy subscriber keeps the connection's last message for a second subscription of its process
+// (rospy shares one connection per topic), as it does for a latched topic.
 #include <ros/ros.h>
 
 #include <chrono>
@@ -125,6 +128,7 @@ double monotonic_now() {
 // the Handle through a weak pointer)
 struct Handle {
   ros::Publisher pub;
+  ros::Publisher latch_flag;       // latched topics: advertised latched, never published through
   modrob::RawMessage msg;
   std::mutex lock;                 // pending frames, the order of the publishes, the latched copy
   std::vector<uint8_t> pending;    // deferred messages as TCPROS frames
@@ -241,6 +245,9 @@ void* mrp_advertise(const char* topic, const char* md5, const char* datatype, co
     ros::AdvertiseOptions ops(topic, queue_size > 0 ? queue_size : 1, md5, datatype, definition);
     ops.latch = false;              // latched here (see the top of this file)
     if (h->latch) {
+      ros::AdvertiseOptions flag = ops;
+      flag.latch = true;
+      h->latch_flag = g_nh->advertise(flag);
       std::weak_ptr<Handle> weak = h;
       ops.connect_cb = [weak](const ros::SingleSubscriberPublisher& sub) { on_connect(weak, sub); };
     }
@@ -302,6 +309,7 @@ void mrp_unadvertise(void* handle) {
     std::lock_guard<std::mutex> guard(h->lock);
     if (h->pub) flush_locked(h);
     h->pub.shutdown();
+    h->latch_flag.shutdown();
   }
   delete static_cast<std::shared_ptr<Handle>*>(handle);
 }
