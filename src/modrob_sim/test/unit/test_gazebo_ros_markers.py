@@ -1,5 +1,6 @@
 """The world MarkerArray on a real physics World (no master): props only, in the world frame,
-with their colours; re-sent only when something moved, was spawned or deleted."""
+with their colours, a world file's models of several links included; re-sent only when something
+moved, was spawned or deleted."""
 import os
 
 import pytest
@@ -56,3 +57,27 @@ def test_all_and_none(world):
     assert len(WorldMarkers(world, "none").update(force=True).markers) == 1
     with pytest.raises(ValueError):
         WorldMarkers(world, "some")
+
+
+def test_a_world_files_model_of_several_links_is_a_prop(world):
+    """A static SDF model of two links without joints between them (a lot's asphalt and a painted
+    line) and a loose one of two links: their links are held by floating joints, nothing drives
+    them and no robot_description covers them: both are drawn (the Polaris' parking lot and ramps
+    were missing from RViz)."""
+    world.add_sdf("""<sdf version='1.6'><world name='w'>
+      <model name='lot'><static>true</static>
+        <link name='asphalt'><pose>0 0 0.001 0 0 0</pose><visual name='v'><geometry><box>
+          <size>4 3 0.002</size></box></geometry></visual></link>
+        <link name='line'><pose>1 0 0.003 0 0 0</pose><visual name='v'><geometry><box>
+          <size>0.1 2 0.002</size></box></geometry></visual></link></model>
+      <model name='pair'><pose>3 0 0.5 0 0 0</pose>
+        <link name='a'><collision name='c'><geometry><sphere><radius>0.1</radius></sphere></geometry>
+          </collision><visual name='v'><geometry><sphere><radius>0.1</radius></sphere></geometry>
+          </visual></link>
+        <link name='b'><pose>0 0.5 0 0 0 0</pose><visual name='v'><geometry><sphere><radius>0.1</radius>
+          </sphere></geometry></visual></link></model>
+    </world></sdf>""")
+    markers = WorldMarkers(world).update(force=True).markers[1:]
+    assert {m.ns for m in markers} == {"ground", "box", "lot", "pair"}
+    assert sorted((m.ns, round(m.pose.position.x, 3)) for m in markers if m.ns in ("lot", "pair")) == [
+        ("lot", 0.0), ("lot", 1.0), ("pair", 3.0), ("pair", 3.0)]

@@ -3,7 +3,8 @@ gzclient would (robots with joints are shown by RViz's RobotModel from robot_des
 
 ``WorldMarkers(world, which).update(force)`` returns a MarkerArray when something changed (a
 model spawned or deleted, a prop moved) or when forced, else None. ``which``: "props" (models
-without movable joints: static objects, loose objects, the ground), "all" or "none".
+without driven joints: static objects, loose objects, a world file's models of several free or
+welded links, the ground), "all" or "none".
 """
 import collections
 import os
@@ -43,7 +44,10 @@ def _wanted(model, which):
         return True
     if which == "none":
         return False
-    return all(j.type == "fixed" for j in model.joints.values())
+    # a world file's model of several links without joints between them (a parking lot's asphalt
+    # and paint, a ramp's three boxes) holds them with "floating" joints: nothing drives them, and
+    # no robot_description covers them for RViz's RobotModel
+    return all(j.type in ("fixed", "floating") for j in model.joints.values())
 
 
 def _mesh_uri(filename):
