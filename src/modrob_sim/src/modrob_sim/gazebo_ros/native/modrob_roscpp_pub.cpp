@@ -134,9 +134,10 @@ struct Handle {
   std::vector<uint8_t> pending;    // deferred messages as TCPROS frames
   size_t last = 0;                 // offset of the last pending frame
   bool latch = false;
-  std::vector<uint8_t> latched;    // the last message published (latched topics)
-  uint64_t published = 0;          // messages published so far
-  double published_at = -1e9;      // when the last one was (monotonic_now)
+  // latched topics only: the last message published, how many so far and when the last went out
+  std::vector<uint8_t> latched;
+  uint64_t published = 0;
+  double published_at = -1e9;      // monotonic_now()
 };
 
 // Publish one message (h->lock held), remembering it for a latched topic's next subscriber
@@ -145,7 +146,8 @@ void publish_one_locked(Handle* h, const uint8_t* data, uint32_t size) {
   h->msg.size = size;
   h->pub.publish(h->msg);
   h->msg.data = nullptr;
-  if (h->latch) h->latched.assign(data, data + size);
+  if (!h->latch) return;
+  h->latched.assign(data, data + size);
   h->published += 1;
   h->published_at = monotonic_now();
 }
