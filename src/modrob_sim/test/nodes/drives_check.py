@@ -124,8 +124,13 @@ class DrivesCheck(unittest.TestCase):
         base, wheel = SPEC[ROBOT][1], SPEC[ROBOT][2]
         ok = wait_until(lambda: self.tf.can_transform("odom", wheel, rospy.Time(0)), 30.0)
         self.assertTrue(ok, "no tf odom -> %s: %s" % (wheel, self.tf.all_frames_as_string()))
-        tr = self.tf.lookup_transform("odom", base, rospy.Time(0))
+        # the transform at the odometry's own time: the newest of each can be seconds of simulated
+        # time apart at real_time_factor 0 (CI: this process's tf listener 2.3 s behind /odom)
         odom = self.odom.get()
+        stamp = odom.header.stamp
+        ok = wait_until(lambda: self.tf.can_transform("odom", base, stamp), 30.0)
+        self.assertTrue(ok, "no tf odom -> %s at the odometry's time %.3f" % (base, stamp.to_sec()))
+        tr = self.tf.lookup_transform("odom", base, stamp)
         self.assertAlmostEqual(tr.transform.translation.x, odom.pose.pose.position.x, delta=0.01)
 
     @unittest.skipUnless(ROBOT == "diff_bot", "the diff bot carries the lidar and the IMU")
