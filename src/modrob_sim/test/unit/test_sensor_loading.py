@@ -91,8 +91,8 @@ def test_sensors_cost_nothing_without_subscribers_and_run_at_their_rate():
     m = w.add_urdf("bot", F.sensor_robot(F.laser_sensor(topic="scan", samples=90, rate=20)))
     (laser,) = host.load(m)
     casts = []
-    real_cast = laser.ray.caster.cast
-    laser.ray.caster.cast = lambda *a, **k: casts.append(1) or real_cast(*a, **k)
+    real_prepare = laser.ray.caster.prepare     # every scan's cast starts here (RaySensor.prepare_scan)
+    laser.ray.caster.prepare = lambda *a, **k: casts.append(1) or real_prepare(*a, **k)
     w.step(500)                       # 0.5 s, nobody listening: no ray is cast
     assert casts == [] and pubs["/scan"].sent == []
     pubs["/scan"].has_subscribers = True

@@ -213,3 +213,47 @@ def test_triangle_mesh_is_hit_where_the_physics_has_it():
     r, _ = sensor_of(w, m, "ode").scan()
     assert abs(r[1] - (3.0 - 0.5 / math.cos(math.radians(30)))) < 1e-6
     assert np.isfinite(r).all()
+
+
+def _falling(name, geometry, xyz):
+    """A dynamic (not static) model of one shape: it falls while the World steps."""
+    return F.static_shape(name, geometry, xyz).replace("<static>true</static>", "<static>false</static>")
+
+
+@pytest.mark.parametrize("caster", CASTERS)
+def test_a_prepared_scan_sees_the_instant_it_was_prepared(caster):
+    # a box and a cylinder fall through the beams; a scan prepared now and cast in another thread
+    # after the World stepped on reads what scan() read now, not what the beams see then
+    import threading
+    w, m = laser_world(F.laser_sensor(samples=181, rmax=10.0, v_samples=9, v_min=-0.4, v_max=0.4))
+    w.add_sdf(_falling("falling_box", F.box((0.5, 0.5, 0.5)), (3.0, 0.0, 1.2)))
+    w.add_sdf(_falling("falling_cyl", F.cylinder(0.3, 0.8), (0.0, 2.5, 1.4)))
+    s = sensor_of(w, m, caster)
+    now = s.scan()
+    later = s.prepare_scan()
+    w.step(150)
+    out = {}
+    t = threading.Thread(target=lambda: out.setdefault("scan", later()))
+    t.start()
+    w.step(50)                         # the World steps while the rays are cast
+    t.join()
+    assert np.array_equal(out["scan"][0], now[0]) and np.array_equal(out["scan"][1], now[1])
+    assert np.isfinite(now[0]).sum() > 20
+    after = s.scan()[0]
+    assert not np.array_equal(after, now[0])            # the shapes did move meanwhile
+
+
+def test_a_scan_with_a_mesh_in_reach_is_cast_when_prepared():
+    # ODE's triangle-mesh collider keeps caches shared between threads: such a cast runs at once
+    if not raycast.NATIVE_AVAILABLE:
+        pytest.skip("native caster unavailable")
+    cube = os.path.join(os.path.dirname(_FIX), "physics", "cube.obj")
+    mesh = "<mesh><uri>file://%s</uri><scale>10 10 10</scale></mesh>" % cube
+    w, m = laser_world(F.laser_sensor(samples=31, rmax=10.0), [(F.box((0.5, 0.5, 0.5)), (2.0, 1.0, 0.25))])
+    s = sensor_of(w, m, "ode")
+    d = s._dirs
+    assert s.caster.prepare((0, 0, 0.25), np.eye(3), d, 0.1, 10.0).deferred
+    w.add_sdf(F.static_shape("meshcube", mesh, (3.0, 0.0, 0.75)))
+    assert not s.caster.prepare((0, 0, 0.25), np.eye(3), d, 0.1, 10.0).deferred
+    # out of reach, the mesh does not hold the cast back
+    assert s.caster.prepare((0, 0, 0.25), np.eye(3), d, 0.1, 1.0).deferred

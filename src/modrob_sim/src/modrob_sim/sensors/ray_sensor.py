@@ -93,6 +93,7 @@ class RaySensor(MountedSensor):
         self.seed = seed
         self.rng = noise_rng(world, seed)
         self._retro = {}
+        self._table = (None, None)
 
     def reseed(self):
         if self.seed is not None:
@@ -105,30 +106,57 @@ class RaySensor(MountedSensor):
         return self.caster.cast(pos, R, self._dirs, self.spec.range_min, self.spec.range_max,
                                 want_hits=True)
 
+    @property
+    def ray_count(self):
+        return self._dirs.shape[0]
+
     def scan(self):
+        """(ranges, intensities) at this instant, as Gazebo reports them."""
+        return self.prepare_scan()()
+
+    def prepare_scan(self):
+        """scan() in two halves: this instant's pose, geometry and noise now; the function returned
+        casts the rays and gives (ranges, intensities), called once, later and from another thread
+        if need be (a sensor plugin's publishing build), while the World steps on."""
         s = self.spec
-        r, hits = self.raw_ranges()
-        out = r.copy()
-        hi = out >= s.range_max
-        lo = out <= s.range_min
-        mid = ~(hi | lo)
-        if s.noise_stddev > 0 or s.noise_mean != 0:
-            out[mid] += self.rng.normal(s.noise_mean, s.noise_stddev, int(mid.sum())) if s.noise_stddev > 0 \
-                else s.noise_mean
-            np.clip(out, s.range_min, s.range_max, out=out)
-        out[hi] = math.inf
-        out[lo] = -math.inf
-        return out, self.intensities(hits)
+        pos, rot = self.pose()
+        cast = self.caster.prepare(pos, quat_to_matrix(rot), self._dirs, s.range_min, s.range_max,
+                                   want_hits=True)
+        # one draw per ray, whatever it hits: the noise stream does not depend on the scene
+        noise = self.rng.normal(s.noise_mean, s.noise_stddev, self._dirs.shape[0]) if s.noise_stddev > 0 \
+            else None
+        table = self._retro_table(cast.labels)
+
+        def finish():
+            r, hits = cast.run()
+            out = r.copy()
+            hi = out >= s.range_max
+            lo = out <= s.range_min
+            if noise is not None or s.noise_mean != 0:
+                mid = ~(hi | lo)
+                out[mid] += noise[mid] if noise is not None else s.noise_mean
+                np.clip(out, s.range_min, s.range_max, out=out)
+            out[hi] = math.inf
+            out[lo] = -math.inf
+            return out, table[np.where(hits >= 0, hits, len(table) - 1)]
+        return finish
 
     def intensities(self, hits):
         """Gazebo's ray intensities: the <laserRetro> of the link that was hit (0 if none)."""
         labels = getattr(self.caster, "labels", None)
-        if labels is None:
-            labels = [(m, ln) for _, m, ln in self.caster._cache.entries]
-        table = np.zeros(len(labels) + 1)
-        for k, (m, ln) in enumerate(labels):
-            table[k] = self._retro_of(m, ln)
-        return table[np.where(hits >= 0, hits, len(labels))]
+        table = self._retro_table(labels)
+        return table[np.where(hits >= 0, hits, len(table) - 1)]
+
+    def _retro_table(self, labels):
+        """The <laserRetro> of each hit index's link, then 0 for no hit (kept while the caster's
+        labels are the same list)."""
+        kept, table = self._table
+        if kept is not labels:
+            table = np.zeros(len(labels) + 1)
+            for k, (m, ln) in enumerate(labels):
+                table[k] = self._retro_of(m, ln)
+            self._table = (labels, table)
+        return table
 
     def _retro_of(self, model_name, link_name):
         key = (model_name, link_name)

@@ -1,6 +1,7 @@
 """Batched ray casting against the geometry the physics collides with.
 
-Two casters with one interface, ``cast(origin, rotation, local_dirs, rmin, rmax) -> ranges``:
+Two casters with one interface, ``cast(origin, rotation, local_dirs, rmin, rmax) -> ranges`` and
+``prepare(...)`` -> a cast whose ``run()`` returns them, later and in another thread if need be:
 
 * :class:`OdeRayCaster` (default): ODE's own ray collider on the World's geoms, driven from C
   (``native/modrob_raycast.c``): the same boxes, spheres, cylinders, capsules, planes and triangle
@@ -13,6 +14,7 @@ Ranges are distances from the sensor origin to the first hit along each ray in [
 The geoms of the links in ``exclude`` (the sensor's own link) are not seen.
 """
 import ctypes
+import threading
 
 import numpy as np
 import ode
@@ -82,20 +84,89 @@ class OdeRayCaster(object):
     def cast(self, origin, rotation, local_dirs, rmin, rmax, want_hits=False):
         """Ranges along R * local_dirs (a read-only array given again from cast to cast keeps its
         rays' angles: a sensor's fixed directions)."""
+        return self._prepare(origin, rotation, local_dirs, rmin, rmax, want_hits, later=False).run()
+
+    def prepare(self, origin, rotation, local_dirs, rmin, rmax, want_hits=False):
+        """cast() in two halves: the geometry of this instant now, the rays when the returned
+        PreparedCast's ``run()`` is called, which may be later and in another thread (the World
+        steps meanwhile). With a triangle mesh (or another shape ODE collides through caches shared
+        between threads) in reach, the rays are cast now, here."""
+        return self._prepare(origin, rotation, local_dirs, rmin, rmax, want_hits, later=True)
+
+    def _prepare(self, origin, rotation, local_dirs, rmin, rmax, want_hits, later):
         self._refresh()
         dirs = np.ascontiguousarray(local_dirs, dtype=np.float64)
         n = dirs.shape[0]
         bins, els = self._ray_angles(local_dirs, dirs)
-        out = np.empty(n, dtype=np.float64)
-        hits = np.empty(n, dtype=np.int32) if want_hits else None
         o = np.ascontiguousarray(origin, dtype=np.float64)
         r = np.ascontiguousarray(rotation, dtype=np.float64).reshape(9)
-        rc = native.LIB.rc_cast(self._ptrs, len(self._geoms), o.ctypes.data, r.ctypes.data,
-                                dirs.ctypes.data, n, float(rmin), float(rmax), out.ctypes.data,
-                                hits.ctypes.data if want_hits else None, bins.ctypes.data, els.ctypes.data)
-        if rc < 0:
+        handle = native.LIB.rc_prepare(self._ptrs, len(self._geoms), o.ctypes.data, r.ctypes.data,
+                                       dirs.ctypes.data, n, float(rmin), float(rmax), bins.ctypes.data,
+                                       els.ctypes.data, 1 if later else 0)
+        if not handle:
             raise MemoryError("ray caster: out of memory for %d geoms" % len(self._geoms))
-        return (out, hits) if want_hits else out
+        # the C side points into the rays' arrays until it casts them; into the World's geoms only
+        # when it casts now (a deferred cast has copies of its own)
+        cast = PreparedCast(handle, n, want_hits, keep=(dirs, bins, els), labels=self.labels)
+        if not later or native.LIB.rc_needs_now(handle):
+            cast.run()
+        return cast
+
+
+class PreparedCast(object):
+    """One cast's geometry at the instant it was prepared; ``run()`` casts its rays (once; again
+    returns the same arrays) and may be called from any thread. ``labels``: the (model, link) of
+    each hit index."""
+
+    def __init__(self, handle, n, want_hits, keep, labels):
+        self._handle = handle
+        self._n = n
+        self._want_hits = want_hits
+        self._keep = keep          # what the C side points into, alive until the rays are cast
+        self._free = native.LIB.rc_release     # kept: __del__ may run while the interpreter ends
+        self.labels = labels
+        self._result = None
+        self._lock = threading.Lock()
+
+    @property
+    def deferred(self):
+        """True while the rays wait for ``run()`` (False: cast when prepared)."""
+        return self._result is None
+
+    def run(self):
+        with self._lock:
+            if self._result is None:
+                out = np.empty(self._n, dtype=np.float64)
+                hits = np.empty(self._n, dtype=np.int32) if self._want_hits else None
+                hit_ptr = hits.ctypes.data if hits is not None else None
+                rc = native.LIB.rc_run(self._handle, out.ctypes.data, hit_ptr)
+                self._release()
+                if rc < 0:
+                    raise MemoryError("ray caster: out of memory for %d rays" % self._n)
+                self._result = (out, hits) if self._want_hits else out
+            return self._result
+
+    def _release(self):
+        if self._handle:
+            self._free(self._handle)
+            self._handle = None
+            self._keep = None
+
+    def __del__(self):
+        self._release()
+
+
+class _Done(object):
+    """A PreparedCast whose rays were cast when it was made (the numpy caster's)."""
+
+    deferred = False
+
+    def __init__(self, result, labels):
+        self._result = result
+        self.labels = labels
+
+    def run(self):
+        return self._result
 
 
 # ---- numpy baseline ---------------------------------------------------------------------------
@@ -162,6 +233,15 @@ class NumpyRayCaster(object):
     def __init__(self, world, exclude=()):
         self._cache = _GeomCache(world)
         self._exclude = set(exclude)
+
+    @property
+    def labels(self):
+        return [(m, ln) for _, m, ln in self._cache.entries]
+
+    def prepare(self, origin, rotation, local_dirs, rmin, rmax, want_hits=False):
+        """cast() now (OdeRayCaster.prepare's interface)."""
+        result = self.cast(origin, rotation, local_dirs, rmin, rmax, want_hits)
+        return _Done(result, self.labels)
 
     def cast(self, origin, rotation, local_dirs, rmin, rmax, want_hits=False):
         self._cache.current()

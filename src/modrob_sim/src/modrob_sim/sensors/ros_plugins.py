@@ -5,8 +5,10 @@ The plugins follow the node's plugin contract (docs/plugins.md: ModelPlugin / Se
 in the simulation loop thread, a seed per plugin). Each decimates to its own rate in simulated
 time and measures only when its topic has subscribers (a sensor nobody listens to costs its
 bookkeeping only); big messages (LaserScan, PointCloud2) are built and serialised on the node's
-publishing thread (publish_later) from arrays copied in the hook.
+publishing thread (publish_later) from what the hook took at its instant: the ray sensors' rays
+are cast there too, on the scene the hook prepared (RaySensor.prepare_scan).
 """
+import functools
 import math
 import threading
 
@@ -140,18 +142,17 @@ class LaserPlugin(_Publishing, SensorPlugin):
     def sense(self, t):
         if not self.look(t):
             return
-        ranges, intensities = self.ray.scan()
-        r32, i32 = ranges.astype("float32"), intensities.astype("float32")
-        self.pub.publish_later(lambda: self._message(t, r32, i32))
+        self.pub.publish_later(functools.partial(self._message, t, self.ray.prepare_scan()))
 
-    def _message(self, t, ranges, intensities):
+    def _message(self, t, scan):
+        ranges, intensities = scan()        # the rays, in the publishing thread (RaySensor.prepare_scan)
         msg = LaserScan()
         msg.header.stamp = stamp(t)
         msg.header.frame_id = self.frame
         for k, v in self.fields.items():
             setattr(msg, k, v)
-        msg.ranges = ranges.tolist()
-        msg.intensities = intensities.tolist()
+        msg.ranges = ranges.astype("float32").tolist()
+        msg.intensities = intensities.astype("float32").tolist()
         return msg
 
 
@@ -186,12 +187,13 @@ class VelodynePlugin(_Publishing, SensorPlugin):
     def sense(self, t):
         if not self.look(t):
             return
-        ranges, intensities = self.ray.scan()      # fresh arrays: safe to use after the hook
-        noise = self.ray.rng.normal(0.0, self.cfg.gaussian_noise, ranges.shape) if self.cfg.gaussian_noise \
-            else None
-        self.pub.publish_later(lambda: self._message(t, ranges, intensities, noise))
+        scan = self.ray.prepare_scan()
+        sigma = self.cfg.gaussian_noise
+        noise = self.ray.rng.normal(0.0, sigma, self.ray.ray_count) if sigma else None
+        self.pub.publish_later(functools.partial(self._message, t, scan, noise))
 
-    def _message(self, t, ranges, intensities, noise):
+    def _message(self, t, scan, noise):
+        ranges, intensities = scan()        # the rays, in the publishing thread (RaySensor.prepare_scan)
         data, width, height, row_step, dense = velodyne.pack_cloud(
             self.ray.spec, self.cfg, ranges, intensities, noise=noise)
         msg = PointCloud2()

@@ -22,10 +22,23 @@ REASON = None
 STALE = False
 
 
-def _declare(lib):
+def _declare(lib, held):
+    """``lib``'s calls release the GIL (the rays: rc_cast, rc_run); ``held``'s keep it (the same
+    library through ctypes.PyDLL: calls of microseconds in the simulation's thread)."""
     vp, i, d = ctypes.c_void_p, ctypes.c_int, ctypes.c_double
     lib.rc_cast.restype = i
     lib.rc_cast.argtypes = [vp, i, vp, vp, vp, i, d, d, vp, vp, vp, vp]
+    lib.rc_run.restype = i
+    lib.rc_run.argtypes = [vp, vp, vp]
+    lib.rc_prepare = held.rc_prepare
+    lib.rc_prepare.restype = vp
+    lib.rc_prepare.argtypes = [vp, i, vp, vp, vp, i, d, d, vp, vp, i]
+    lib.rc_needs_now = held.rc_needs_now
+    lib.rc_needs_now.restype = i
+    lib.rc_needs_now.argtypes = [vp]
+    lib.rc_release = held.rc_release
+    lib.rc_release.restype = None
+    lib.rc_release.argtypes = [vp]
     lib.rc_ray_angles.restype = None
     lib.rc_ray_angles.argtypes = [vp, i, vp, vp]
     lib.rc_geom_aabb.restype = None
@@ -46,7 +59,7 @@ def load():
         if stale:
             REASON, STALE = stale, True
             return None
-        LIB = _declare(lib)
+        LIB = _declare(lib, ctypes.PyDLL(path))
     except (FileNotFoundError, OSError, AttributeError) as e:
         REASON = str(e)
         LOG.warning("native ray caster unavailable (%s): ray sensors use the numpy caster", e)

@@ -11,6 +11,10 @@
  * exit) before ODE's exact ray collider runs, so a world of many objects costs little more than
  * its visible ones. The angles are those of the sensor's frame: a sensor's rays keep theirs from
  * scan to scan, so rc_ray_angles() computes them once (the caller keeps them for rc_cast()).
+ *
+ * rc_cast() is rc_prepare() (the culling at this instant) then rc_run() (the rays): a ray sensor
+ * prepares in the simulation's thread and may run the rays later in another one, on copies of the
+ * geoms (see RcCast), as Gazebo's sensors update in their own thread.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -67,33 +71,84 @@ void rc_ray_angles(const double *dirs, int n, int *bins, double *els)
     }
 }
 
-/* ray_bin, ray_el: rc_ray_angles() of dirs */
-int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, const double *dirs,
-            int n, double rmin, double rmax, double *out, int *hit, const int *ray_bin, const double *ray_el)
+/* One cast prepared at one instant: the geoms in reach with their bounds and the per-scan
+ * angular index, and (rc_prepare's `copy`) bodiless copies of the primitive geoms at their poses of
+ * that instant, so that rc_run() may run later in another thread while the physics moves the
+ * originals. ODE's triangle-mesh, convex and heightfield colliders share caches between threads
+ * (Debian's libode lacks ODE_EXT_mt_collisions) and are not copied: a cast with one of them in
+ * reach reports `needs_now` and must run at once, in the simulation's thread, on the originals. */
+typedef struct {
+    int n, m, np_, na, needs_now, copied;
+    double origin[3], rot[9], rmin, rmax;
+    const double *dirs;
+    const int *ray_bin;
+    const double *ray_el;
+    RcGeom *gs;
+    double *el_lo, *el_hi, *pl;
+    int *planes, *always, *bin_start, *bin_list;
+} RcCast;
+
+void rc_release(RcCast *c)
 {
-    if (n <= 0) return 0;
-    if (!(rmax > rmin)) {
-        for (int i = 0; i < n; ++i) { out[i] = INFINITY; if (hit) hit[i] = -1; }
-        return 0;
+    if (!c) return;
+    if (c->copied)
+        for (int k = 0; k < c->m; ++k) if (c->gs[k].g) dGeomDestroy(c->gs[k].g);
+    free(c->gs); free(c->el_lo); free(c->el_hi); free(c->pl); free(c->planes); free(c->always);
+    free(c->bin_start); free(c->bin_list);
+    free(c);
+}
+
+/* a bodiless copy of a primitive geom at its current world pose, or 0 for a class not copied */
+static dGeomID rc_copy(dGeomID g)
+{
+    dGeomID c = 0;
+    dVector3 v;
+    switch (dGeomGetClass(g)) {
+    case dBoxClass: dGeomBoxGetLengths(g, v); c = dCreateBox(0, v[0], v[1], v[2]); break;
+    case dSphereClass: c = dCreateSphere(0, dGeomSphereGetRadius(g)); break;
+    case dCapsuleClass: { dReal r, l; dGeomCapsuleGetParams(g, &r, &l); c = dCreateCapsule(0, r, l); break; }
+    case dCylinderClass: { dReal r, l; dGeomCylinderGetParams(g, &r, &l); c = dCreateCylinder(0, r, l); break; }
+    default: return 0;
     }
+    const dReal *p = dGeomGetPosition(g);
+    dGeomSetPosition(c, p[0], p[1], p[2]);
+    dGeomSetRotation(c, dGeomGetRotation(g));
+    return c;
+}
+
+/* rc_cast's first half at this instant. dirs, ray_bin and ray_el (rc_ray_angles() of dirs) are
+ * kept by pointer: they must live until rc_run. copy: take copies of the primitives (see RcCast).
+ * NULL when out of memory. */
+RcCast *rc_prepare(dGeomID *geoms, int ng, const double *origin, const double *rot, const double *dirs,
+                   int n, double rmin, double rmax, const int *ray_bin, const double *ray_el, int copy)
+{
+    RcCast *c = (RcCast *)calloc(1, sizeof(RcCast));
+    if (!c) return NULL;
+    c->n = n; c->rmin = rmin; c->rmax = rmax;
+    c->dirs = dirs; c->ray_bin = ray_bin; c->ray_el = ray_el;
+    memcpy(c->origin, origin, sizeof(c->origin));
+    memcpy(c->rot, rot, sizeof(c->rot));
+    if (n <= 0 || !(rmax > rmin)) return c;
     int cap = ng > 0 ? ng : 1;
-    RcGeom *gs = (RcGeom *)malloc(sizeof(RcGeom) * cap);
-    RcCand *cand = (RcCand *)malloc(sizeof(RcCand) * cap);
-    double *el_lo = (double *)malloc(sizeof(double) * cap), *el_hi = (double *)malloc(sizeof(double) * cap);
-    int *planes = (int *)malloc(sizeof(int) * cap);
-    double *pl = (double *)malloc(sizeof(double) * 4 * cap);
-    int *bin_start = (int *)calloc(RC_NAZ + 1, sizeof(int));
-    int *bin_list = NULL;
-    int *always = (int *)malloc(sizeof(int) * cap);
-    if (!gs || !cand || !el_lo || !el_hi || !planes || !pl || !bin_start || !always) {
-        free(gs); free(cand); free(el_lo); free(el_hi); free(planes); free(pl); free(bin_start); free(always);
-        return -1;
+    c->gs = (RcGeom *)malloc(sizeof(RcGeom) * cap);
+    c->el_lo = (double *)malloc(sizeof(double) * cap);
+    c->el_hi = (double *)malloc(sizeof(double) * cap);
+    c->planes = (int *)malloc(sizeof(int) * cap);
+    c->pl = (double *)malloc(sizeof(double) * 4 * cap);
+    c->bin_start = (int *)calloc(RC_NAZ + 1, sizeof(int));
+    c->always = (int *)malloc(sizeof(int) * cap);
+    int *az0 = (int *)malloc(sizeof(int) * cap), *az1 = (int *)malloc(sizeof(int) * cap);
+    if (!c->gs || !c->el_lo || !c->el_hi || !c->planes || !c->pl || !c->bin_start || !c->always || !az0 || !az1) {
+        free(az0); free(az1); rc_release(c);
+        return NULL;
     }
+    RcGeom *gs = c->gs;
+    double *el_lo = c->el_lo, *el_hi = c->el_hi, *pl = c->pl;
+    int *planes = c->planes, *always = c->always, *bin_start = c->bin_start;
     /* 1. geoms in reach; planes apart (analytic, exact: ODE's plane is n.x = d); for the rest the
      *    azimuth/elevation interval their bounding sphere covers as seen from the origin, in the
      *    sensor's frame (rot's transpose takes the world's to it) */
     int m = 0, np_ = 0, na = 0;
-    int *az0 = (int *)malloc(sizeof(int) * cap), *az1 = (int *)malloc(sizeof(int) * cap);
     for (int j = 0; j < ng; ++j) {
         dGeomID g = geoms[j];
         if (!g) continue;
@@ -116,14 +171,14 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
             if (!isfinite(r->lo[k]) || !isfinite(r->hi[k]) || r->hi[k] - r->lo[k] > 1e12) r->infinite = 1;
         }
         if (r->infinite) { always[na++] = m; az0[m] = 1; az1[m] = 0;   /* empty bin range */ ++m; continue; }
-        double cw[3], c[3], c2 = 0, rad2 = 0;
+        double cw[3], cs[3], c2 = 0, rad2 = 0;
         for (int k = 0; k < 3; ++k) {
             cw[k] = 0.5 * (r->lo[k] + r->hi[k]) - origin[k];
             double h = 0.5 * (r->hi[k] - r->lo[k]);
             c2 += cw[k] * cw[k];
             rad2 += h * h;
         }
-        for (int k = 0; k < 3; ++k) c[k] = rot[k] * cw[0] + rot[3 + k] * cw[1] + rot[6 + k] * cw[2];
+        for (int k = 0; k < 3; ++k) cs[k] = rot[k] * cw[0] + rot[3 + k] * cw[1] + rot[6 + k] * cw[2];
         double dist = sqrt(c2), rad = sqrt(rad2) * 1.0001 + 1e-9;
         if (dist - rad > rmax) continue;                    /* out of reach */
         if (dist + rad < rmin) continue;                    /* wholly nearer than where rays start */
@@ -131,33 +186,67 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
             always[na++] = m; az0[m] = 1; az1[m] = 0;   /* empty bin range */ ++m; continue;
         }
         double half = asin(rad / dist);
-        double el = asin(c[2] / dist);
+        double el = asin(cs[2] / dist);
         el_lo[m] = el - half;
         el_hi[m] = el + half;
-        double horiz = sqrt(c[0] * c[0] + c[1] * c[1]);
+        double horiz = sqrt(cs[0] * cs[0] + cs[1] * cs[1]);
         /* the azimuth half-width grows towards the poles; near them take every bin */
         if (horiz <= rad * 1.01) { az0[m] = 0; az1[m] = RC_NAZ - 1; ++m; continue; }
         double azh = asin(fmin(1.0, rad / horiz));
-        double az = atan2(c[1], c[0]);
+        double az = atan2(cs[1], cs[0]);
         double b0 = (az - azh + M_PI) / (2 * M_PI) * RC_NAZ, b1 = (az + azh + M_PI) / (2 * M_PI) * RC_NAZ;
         int i0 = (int)floor(b0), i1 = (int)floor(b1);
         if (i1 - i0 >= RC_NAZ - 1) { i0 = 0; i1 = RC_NAZ - 1; }
         az0[m] = i0; az1[m] = i1;
         ++m;
     }
+    c->m = m; c->np_ = np_; c->na = na;
     /* 2. bins -> geoms (counting sort) */
     for (int k = 0; k < m; ++k) {
         for (int b = az0[k]; b <= az1[k]; ++b) bin_start[((b % RC_NAZ) + RC_NAZ) % RC_NAZ + 1]++;
     }
     for (int b = 0; b < RC_NAZ; ++b) bin_start[b + 1] += bin_start[b];
-    bin_list = (int *)malloc(sizeof(int) * (bin_start[RC_NAZ] > 0 ? bin_start[RC_NAZ] : 1));
+    c->bin_list = (int *)malloc(sizeof(int) * (bin_start[RC_NAZ] > 0 ? bin_start[RC_NAZ] : 1));
     int *fill = (int *)malloc(sizeof(int) * RC_NAZ);
+    if (!c->bin_list || !fill) { free(fill); free(az0); free(az1); rc_release(c); return NULL; }
     for (int b = 0; b < RC_NAZ; ++b) fill[b] = bin_start[b];
     for (int k = 0; k < m; ++k) {
-        for (int b = az0[k]; b <= az1[k]; ++b) { int bb = ((b % RC_NAZ) + RC_NAZ) % RC_NAZ; bin_list[fill[bb]++] = k; }
+        for (int b = az0[k]; b <= az1[k]; ++b) { int bb = ((b % RC_NAZ) + RC_NAZ) % RC_NAZ; c->bin_list[fill[bb]++] = k; }
     }
-    free(fill);
+    free(fill); free(az0); free(az1);
+    /* 3. the copies (all or none: a cast that needs the originals now uses them for every geom) */
+    for (int k = 0; k < m && !c->needs_now; ++k) {
+        int cls = dGeomGetClass(gs[k].g);
+        if (cls != dBoxClass && cls != dSphereClass && cls != dCapsuleClass && cls != dCylinderClass)
+            c->needs_now = 1;
+    }
+    if (copy && !c->needs_now) {
+        for (int k = 0; k < m; ++k) gs[k].g = rc_copy(gs[k].g);
+        c->copied = 1;
+    }
+    return c;
+}
 
+/* 1: the cast must run now (in the simulation's thread); 0: it may run later, anywhere */
+int rc_needs_now(const RcCast *c) { return c ? (c->needs_now || !c->copied) : 1; }
+
+/* rc_cast's second half: the rays of a prepared cast. Returns the number of hits. */
+int rc_run(const RcCast *c, double *out, int *hit)
+{
+    int n = c->n;
+    double rmin = c->rmin, rmax = c->rmax;
+    if (n <= 0) return 0;
+    if (!(rmax > rmin)) {
+        for (int i = 0; i < n; ++i) { out[i] = INFINITY; if (hit) hit[i] = -1; }
+        return 0;
+    }
+    const double *origin = c->origin, *rot = c->rot, *dirs = c->dirs, *pl = c->pl, *el_lo = c->el_lo,
+                 *el_hi = c->el_hi;
+    const int *planes = c->planes, *always = c->always, *bin_start = c->bin_start, *bin_list = c->bin_list;
+    const RcGeom *gs = c->gs;
+    int np_ = c->np_, na = c->na;
+    RcCand *cand = (RcCand *)malloc(sizeof(RcCand) * (c->m > 0 ? c->m : 1));
+    if (!cand) return -1;
     dGeomID ray = dCreateRay(0, rmax - rmin);
     dGeomRaySetFirstContact(ray, 0);
     dGeomRaySetBackfaceCull(ray, 0);
@@ -183,8 +272,8 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
             if (t >= 0 && t <= len && t < best) { best = t; besti = planes[q]; }
         }
         /* candidates: this ray's azimuth bin, elevation interval, AABB slab; nearest first */
-        int nc = 0, bin = ray_bin[i];
-        double el = ray_el[i];
+        int nc = 0, bin = c->ray_bin[i];
+        double el = c->ray_el[i];
         double lim = best < len ? best : len;
 #define RC_INV() do { if (!have_inv) { inv[0] = 1.0 / d[0]; inv[1] = 1.0 / d[1]; inv[2] = 1.0 / d[2]; \
                                        have_inv = 1; } } while (0)
@@ -205,13 +294,13 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
             if (nc > 1) qsort(cand, nc, sizeof(RcCand), rc_cand_cmp);
             dGeomRaySet(ray, s[0], s[1], s[2], d[0], d[1], d[2]);
             dGeomRaySetLength(ray, len);
-            for (int c = 0; c < nc; ++c) {
-                if (cand[c].t > best) break;     /* every later box starts behind the best hit */
+            for (int q = 0; q < nc; ++q) {
+                if (cand[q].t > best) break;     /* every later box starts behind the best hit */
                 dContactGeom cg;
-                int got = dCollide(ray, gs[cand[c].k].g, 1, &cg, sizeof(dContactGeom));
+                int got = dCollide(ray, gs[cand[q].k].g, 1, &cg, sizeof(dContactGeom));
                 if (got > 0 && cg.depth >= 0 && cg.depth < best) {
                     best = cg.depth;
-                    besti = gs[cand[c].k].index;
+                    besti = gs[cand[q].k].index;
                 }
             }
         }
@@ -221,9 +310,19 @@ int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, con
     }
 #undef RC_INV
     dGeomDestroy(ray);
-    free(gs); free(cand); free(el_lo); free(el_hi); free(planes); free(pl); free(bin_start);
-    free(bin_list); free(always); free(az0); free(az1);
+    free(cand);
     return nhit;
+}
+
+/* rc_prepare + rc_run + rc_release at once, on the original geoms */
+int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, const double *dirs,
+            int n, double rmin, double rmax, double *out, int *hit, const int *ray_bin, const double *ray_el)
+{
+    RcCast *c = rc_prepare(geoms, ng, origin, rot, dirs, n, rmin, rmax, ray_bin, ray_el, 0);
+    if (!c) return -1;
+    int r = rc_run(c, out, hit);
+    rc_release(c);
+    return r;
 }
 
 /* the world AABB of a geom (for tests and the numpy baseline's culling) */
