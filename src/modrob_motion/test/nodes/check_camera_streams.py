@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """rostest: the seed's image streams on a robot spawned from a file (no robot_description)."""
+import os
 import time
 import unittest
 
 import cv2
 import numpy as np
+import rospkg
 import rospy
 import rostest
 import tf2_ros
@@ -19,12 +21,12 @@ POSES = ([0.6, 0.7, -0.9, 0.0, 0.6, 0.0], [-1.2, 0.4, 0.5, 0.3, -0.7, 0.5], [2.4
 W, H = 640, 360
 
 
-OUT = "/tmp/modrob_viz/test_camera_streams"
+# with the outputs of the other tests: $ROS_HOME (~/.ros by default), a run's own under run_tests.py
+OUT = os.path.join(rospkg.get_ros_home(), "test_output", "camera_streams")
 
 
 def save(msg, name):
     """Keep every checked image for a human to look at."""
-    import os
     os.makedirs(OUT, exist_ok=True)
     cv2.imwrite(os.path.join(OUT, name + ".png"), pixels(msg)[:, :, ::-1].astype(np.uint8))
 

@@ -3,14 +3,15 @@
 spawned controllers' command/state topics, robot_state_publisher and the commander, with the
 edges their registrations and live connections give (and none that do not exist); `rosrun
 rqt_graph rqt_graph -o x.png -o x.svg` writes real images; the window shows the graph under Xvfb
-(screenshot in $ROS_HOME). The simulator's topics are published by /gazebo_roscpp, its roscpp side,
-when it publishes through roscpp (its default, docs/simulator.md), by /gazebo otherwise."""
+(screenshot in $ROS_HOME/test_output). The simulator's topics are published by /gazebo_roscpp, its
+roscpp side, when it publishes through roscpp (its default, docs/simulator.md), by /gazebo otherwise."""
 import os
 import subprocess
 import tempfile
 import time
 import unittest
 
+import rospkg
 import rospy
 import rostest
 
@@ -124,7 +125,8 @@ class GraphOfPtrz(unittest.TestCase):
             self.assertNotIn("cluster_", window.dot_text)
             window.checks["group_namespaces"].setChecked(True)
             app.processEvents()
-            out = os.path.join(os.environ.get("ROS_HOME", tempfile.gettempdir()), "rqt_graph_window.png")
+            out = os.path.join(rospkg.get_ros_home(), "test_output", "rqt_graph_window.png")
+            os.makedirs(os.path.dirname(out), exist_ok=True)
             self.assertTrue(window.grab().save(out))
             rospy.loginfo("screenshot: %s", out)
             window.close()

@@ -3,12 +3,13 @@
 PTRZ controllers' pid servers; dragging pan's p slider to 400 changes the controller's gain (read
 back through dynamic_reconfigure's client, in the controller's state topic, and as a faster step
 response); a change made elsewhere shows in the window; a bad value typed is refused with a
-message. Saves a screenshot to ~screenshot (default $ROS_HOME/rqt_reconfigure_gui.png)."""
+message. Saves a screenshot to ~screenshot_dir (default $ROS_HOME/test_output)."""
 import os
 import sys
 import time
 import unittest
 
+import rospkg
 import rospy
 import rostest
 from dynamic_reconfigure.client import Client
@@ -51,7 +52,7 @@ class ReconfigureGui(unittest.TestCase):
             time.sleep(0.01)
 
     def screenshot(self, name):
-        path = rospy.get_param("~screenshot_dir", os.environ.get("ROS_HOME", "/tmp"))
+        path = rospy.get_param("~screenshot_dir", os.path.join(rospkg.get_ros_home(), "test_output"))
         os.makedirs(path, exist_ok=True)
         out = os.path.join(path, name)
         self.app.processEvents()
