@@ -26,6 +26,7 @@ class JoyNodeDevice(unittest.TestCase):
         rospy.Subscriber("/rosout", Log, lambda m: logs.append(m.msg), queue_size=100)
         rospy.Subscriber("/joy", Joy, lambda m: joys.append(m), queue_size=100)
         tmp = tempfile.mkdtemp()
+        self.addCleanup(shutil.rmtree, tmp, ignore_errors=True)
         dev = os.path.join(tmp, "js0")
         proc = subprocess.Popen(["rosrun", "joy", "joy_node", "_dev:=" + dev, "_deadzone:=0.0",
                                  "_autorepeat_rate:=20"])
@@ -52,7 +53,6 @@ class JoyNodeDevice(unittest.TestCase):
         finally:
             proc.terminate()
             proc.wait(timeout=20)
-            shutil.rmtree(tmp)
 
 
 if __name__ == "__main__":

@@ -54,6 +54,7 @@ class PlotMatchesBag(unittest.TestCase):
         rospy.init_node("plot_step_check")
         cmd = rospy.Publisher(CTRL + "/command", Float64, queue_size=1, latch=True)
         tmp = tempfile.mkdtemp(prefix="plot_step_")
+        self.addCleanup(shutil.rmtree, tmp, ignore_errors=True)
         bag_path, csv_path, png_path = (os.path.join(tmp, n) for n in ("state.bag", "plot.csv", "plot.png"))
         with Xvfb(1280, 1024):
             bag = subprocess.Popen(["rosbag", "record", "-O", bag_path, "__name:=plot_bag", STATE],

@@ -10,6 +10,7 @@ import urllib.request
 
 import cv2
 import numpy as np
+import rospkg
 import rospy
 import rostest
 
@@ -76,8 +77,11 @@ class WebVideoServer(unittest.TestCase):
     def test_5_headless_chromium_shows_the_stream(self):
         browser = shutil.which("chromium") or shutil.which("chromium-browser")
         self.assertIsNotNone(browser, "Debian's chromium is not installed (scripts/debian-packages.txt)")
-        tmp = tempfile.mkdtemp(prefix="wvs_")
-        shot = os.path.join(tmp, "viewer.png")
+        tmp = tempfile.mkdtemp(prefix="wvs_")            # the browser profiles
+        self.addCleanup(shutil.rmtree, tmp, ignore_errors=True)
+        # the screenshot stays, for a person to look at, with the other tests' outputs
+        shot = os.path.join(rospkg.get_ros_home(), "test_output", "web_video_server_viewer.png")
+        os.makedirs(os.path.dirname(shot), exist_ok=True)
         cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
                "--user-data-dir=" + os.path.join(tmp, "profile"), "--window-size=480,400",
                "--virtual-time-budget=8000", "--screenshot=" + shot,
