@@ -19,6 +19,7 @@ import hashlib
 import os
 import re
 import shlex
+import shutil
 import signal
 import socket
 import subprocess
@@ -543,6 +544,9 @@ def main():
     ap.add_argument("--list", action="store_true", help="print the sessions and exit")
     ap.add_argument("--junit", help="write JUnit XML here")
     ap.add_argument("--keep", action="store_true", help="keep the blocks' scripts and logs (printed)")
+    ap.add_argument("--workdir", metavar="DIR",
+                    help="make the folder of the blocks' scripts and logs in DIR (default: $TMPDIR); it is "
+                         "removed after a run that passed, kept (and printed) after one that failed")
     ap.add_argument("--jobs", type=int, default=JOBS, metavar="N",
                     help="sessions run side by side (default %d; each has its own master and Xvfb)" % JOBS)
     args = ap.parse_args()
@@ -579,7 +583,9 @@ def main():
             write_junit(args.junit, cases or [("docs", "markers", 0.0, None)])
         return 1 if n_problems else 0
 
-    workdir = tempfile.mkdtemp(prefix="modrob-docs-test-")
+    if args.workdir:
+        os.makedirs(args.workdir, exist_ok=True)
+    workdir = tempfile.mkdtemp(prefix="modrob-docs-test-", dir=args.workdir)
     failed = 0
     done = []
 
@@ -606,14 +612,15 @@ def main():
         print("\n".join(lines), flush=True)
 
     started = time.monotonic()
-    if run_groups(groups, workdir, args.jobs, report):
-        return 130
-    if args.junit:
+    interrupted = run_groups(groups, workdir, args.jobs, report)
+    if args.junit and not interrupted:
         write_junit(args.junit, cases)
     if args.keep or failed:
         print("[docs] scripts and logs: %s" % workdir)
     else:
-        subprocess.call(["rm", "-rf", workdir])
+        shutil.rmtree(workdir, ignore_errors=True)
+    if interrupted:
+        return 130
     print("[docs] %d blocks run, %d failed, %d marked not run; %d marker problems; %.0f s, %d side by side"
           % (sum(len(g) for g in groups), failed, len(skipped), n_problems, time.monotonic() - started,
              max(1, args.jobs)))
