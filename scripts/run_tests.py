@@ -8,6 +8,11 @@ cannot collide, and the docs test (``scripts/docs_test.py``: the code blocks of 
 docs/*.md). Those jobs run two at a time, the longest kinds first; each writes its own log and
 JUnit XML under out/test-results/<run>/, and a failing job's log ends the output.
 
+Each job runs with TMPDIR set to a fresh empty directory of its own (a short path under the system's
+temporary directory): a test removes what it creates there. Whatever a job leaves in it, other than
+ALLOWED_LEFTOVERS, fails that job with the names listed; the directories are removed when the job
+ends, and the run's directory when the run ends, whether tests failed or the run was interrupted.
+
     run_tests.py                   both tiers
     run_tests.py --tier 1          unit tests only
     run_tests.py -k sim            only packages / .test files whose path contains 'sim'
@@ -16,18 +21,80 @@ JUnit XML under out/test-results/<run>/, and a failing job's log ends the output
 """
 import argparse
 import concurrent.futures
+import fnmatch
 import glob
 import os
 import re
+import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 import xml.etree.ElementTree as ET
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # One results folder per run (several runs may go on at once on a shared machine).
 RESULTS = os.path.join(ROOT, "out", "test-results", time.strftime("%Y%m%d-%H%M%S-") + str(os.getpid()))
+
+
+# What third-party code leaves in a job's TMPDIR that the test cannot remove, and why (names as
+# fnmatch patterns). Anything else left there fails the job.
+ALLOWED_LEFTOVERS = {
+    # modrob_sweep's tests: Ray keeps each session's logs and sockets in $TMPDIR/ray after
+    # ray.shutdown(), and its processes may still be writing them when the test ends.
+    "ray": "Ray's session directories",
+    # Qt (RViz, rqt, the camera renderer) makes $TMPDIR/runtime-<user> when XDG_RUNTIME_DIR is not
+    # set, as on a CI machine without a login session; one per user, reused.
+    "runtime-*": "Qt's runtime directory",
+}
+
+
+class TempDirs:
+    """The run's temporary directory: one fresh TMPDIR per job inside it. Kept short, as unix
+    socket paths (Ray's, an X server's) are limited to 107 bytes: in /tmp when the system's
+    temporary directory has a longer path than LONGEST_BASE."""
+    LONGEST_BASE = 40
+
+    def __init__(self):
+        base = tempfile.gettempdir()
+        if len(base) > self.LONGEST_BASE and os.path.isdir("/tmp"):
+            print("[tests] TMPDIR %s is too long for the sockets tests make in it: using /tmp" % base)
+            base = "/tmp"
+        self.root = tempfile.mkdtemp(prefix="modrob-test-", dir=base)
+        self.count = 0
+
+    def new(self):
+        """A fresh empty TMPDIR for one job, and a scratch directory beside it for what the runner
+        itself puts there (pytest's --basetemp)."""
+        self.count += 1
+        tmpdir = os.path.join(self.root, str(self.count))
+        os.mkdir(tmpdir)
+        os.mkdir(tmpdir + "-runner")
+        return tmpdir, tmpdir + "-runner"
+
+    @staticmethod
+    def finish(tmpdir):
+        """Remove a job's directories; the sorted names the job left in its TMPDIR that are not
+        ALLOWED_LEFTOVERS."""
+        try:
+            left = sorted(name for name in os.listdir(tmpdir)
+                          if not any(fnmatch.fnmatch(name, allowed) for allowed in ALLOWED_LEFTOVERS))
+        except FileNotFoundError:
+            left = []
+        for path in (tmpdir, tmpdir + "-runner"):
+            shutil.rmtree(path, ignore_errors=True)
+        return left
+
+    def close(self):
+        """Remove the run's directory; the names still in it (a job's directory whose job never
+        ended, or one a process left running recreated after its job ended)."""
+        try:
+            left = sorted(os.listdir(self.root))
+        except FileNotFoundError:
+            left = []
+        shutil.rmtree(self.root, ignore_errors=True)
+        return left
 
 
 def free_port():
@@ -73,18 +140,22 @@ def unit_jobs(pattern):
              .replace("src" + os.sep, ""), run_unit, d) for d in dirs]
 
 
-def run_unit(path, timeout):
+def run_unit(path, timeout, tmpdir, scratch):
     """pytest over one test directory: (passed, failed, skipped, xfailed, rc, logfile, seconds)."""
     name = os.path.relpath(path, ROOT).replace(os.sep, "_")
     xml = os.path.join(RESULTS, "unit", name + ".xml")
     logfile = os.path.join(RESULTS, "unit", name + ".log")
     os.makedirs(os.path.dirname(xml), exist_ok=True)
+    # tmp_path goes to the runner's scratch directory: without --basetemp pytest keeps the last
+    # three sessions' directories in $TMPDIR/pytest-of-<user>.
     cmd = [sys.executable, "-m", "pytest", "-q", "-rfE", "--import-mode=importlib", "-p", "no:cacheprovider",
-           "--junitxml", xml, "-o", "junit_family=xunit2", path]
+           "--basetemp", os.path.join(scratch, "pytest"), "--junitxml", xml, "-o", "junit_family=xunit2",
+           path]
     start = time.time()
     with open(logfile, "w") as log:
         try:
-            rc = subprocess.call(cmd, cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, timeout=timeout)
+            rc = subprocess.call(cmd, cwd=ROOT, env=dict(os.environ, TMPDIR=tmpdir), stdout=log,
+                                 stderr=subprocess.STDOUT, timeout=timeout)
         except subprocess.TimeoutExpired:
             rc = "timeout after %d s" % timeout
     passed, failed, skipped, xfailed = junit_counts(xml)
@@ -113,14 +184,14 @@ def known_failure(path):
     return " ".join(m.group(1).split()) if m else None
 
 
-def run_rostest(path, timeout):
+def run_rostest(path, timeout, tmpdir, _scratch):
     """One .test file through rostest on its own master."""
     pkg = os.path.basename(os.path.dirname(os.path.dirname(path)))
     name = os.path.splitext(os.path.basename(path))[0]
     outdir = os.path.join(RESULTS, "rostest", pkg, name)     # its own: files may run at once
     os.makedirs(outdir, exist_ok=True)
     env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % free_port(),
-               ROS_HOME=os.path.join(RESULTS, "ros_home"))
+               ROS_HOME=os.path.join(RESULTS, "ros_home"), TMPDIR=tmpdir)
     logfile = os.path.join(RESULTS, "rostest", pkg, name + ".log")
     start = time.time()
     # rostest starts its master on a free port of its own (port 0); ROS_MASTER_URI is set to
@@ -160,7 +231,7 @@ def docs_jobs(pattern):
     return [("docs", run_docs, None)] if pattern in "scripts/docs_test.py" else []
 
 
-def run_docs(_path, timeout):
+def run_docs(_path, timeout, tmpdir, _scratch):
     """The docs test (scripts/docs_test.py): every shell and Python block of README.md and docs/*.md
     is run or marked as not run."""
     xml = os.path.join(RESULTS, "docs.xml")
@@ -168,8 +239,11 @@ def run_docs(_path, timeout):
     start = time.time()
     with open(logfile, "w") as log:
         try:
-            cmd = [sys.executable, os.path.join(ROOT, "scripts", "docs_test.py"), "--junit", xml]
-            rc = subprocess.call(cmd, cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, timeout=timeout)
+            # the blocks' scripts and logs beside the docs test's own (kept only when it fails)
+            cmd = [sys.executable, os.path.join(ROOT, "scripts", "docs_test.py"), "--junit", xml,
+                   "--workdir", RESULTS]
+            rc = subprocess.call(cmd, cwd=ROOT, env=dict(os.environ, TMPDIR=tmpdir), stdout=log,
+                                 stderr=subprocess.STDOUT, timeout=timeout)
         except subprocess.TimeoutExpired:
             rc = "timeout after %d s" % timeout
     passed, failed, _, _ = junit_counts(xml)
@@ -185,24 +259,50 @@ def failure_lines(logfile):
     return "".join(lines[-60:])
 
 
-def run_jobs(jobs, workers, timeout):
+def run_in_tmpdir(temp, fn, path, timeout):
+    """One job with a fresh TMPDIR of its own; what it left there (not ALLOWED_LEFTOVERS) is one
+    more failure, named at the end of its log."""
+    tmpdir, scratch = temp.new()
+    try:
+        p, f, s, x, rc, logfile, seconds = fn(path, timeout, tmpdir, scratch)
+    finally:
+        left = temp.finish(tmpdir)
+    if left:
+        with open(logfile, "a") as log:
+            log.write("\n[tests] this job left in its TMPDIR: %s\n" % ", ".join(left))
+    return p, f + bool(left), s, x, rc, logfile, seconds, left
+
+
+def run_jobs(jobs, workers, timeout, temp):
     """Run (label, function, path) jobs ``workers`` at a time, a line each as they end; totals."""
     total = [0, 0, 0, 0]
     failures = []
     with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
-        running = {pool.submit(fn, path, timeout): label for label, fn, path in jobs}
-        for i, done in enumerate(concurrent.futures.as_completed(running), 1):
-            label = running[done]
-            p, f, s, x, rc, logfile, seconds = done.result()
-            for k, v in enumerate((p, f, s, x)):
-                total[k] += v
-            status = "ok" if f == 0 else "FAILED (rc=%s, log: %s)" % (rc, os.path.relpath(logfile, ROOT))
-            if f == 0 and x and isinstance(rc, str):
-                status = "ok (%s; log: %s)" % (rc, os.path.relpath(logfile, ROOT))
-            print("[tests] [%d/%d] %s: %d passed, %d failed%s in %.0f s  %s"
-                  % (i, len(jobs), label, p, f, ", %d xfailed" % x if x else "", seconds, status), flush=True)
-            if f:
-                failures.append(logfile)
+        running = {pool.submit(run_in_tmpdir, temp, fn, path, timeout): label for label, fn, path in jobs}
+        try:
+            for i, done in enumerate(concurrent.futures.as_completed(running), 1):
+                label = running[done]
+                p, f, s, x, rc, logfile, seconds, left = done.result()
+                for k, v in enumerate((p, f, s, x)):
+                    total[k] += v
+                status = "ok" if f == 0 else "FAILED (rc=%s, log: %s)" % (rc, os.path.relpath(logfile, ROOT))
+                if f == 0 and x and isinstance(rc, str):
+                    status = "ok (%s; log: %s)" % (rc, os.path.relpath(logfile, ROOT))
+                if left:
+                    status += ("\n[tests]   left in TMPDIR: %s -- the test must remove what it creates "
+                               "(tempfile.TemporaryDirectory, pytest's tmp_path; a .test's output files "
+                               "under ROS_HOME)" % ", ".join(left))
+                print("[tests] [%d/%d] %s: %d passed, %d failed%s in %.0f s  %s"
+                      % (i, len(jobs), label, p, f, ", %d xfailed" % x if x else "", seconds, status),
+                      flush=True)
+                if f:
+                    failures.append(logfile)
+        except KeyboardInterrupt:
+            # the jobs not started yet are dropped; the running ones end with the Ctrl-C the terminal
+            # sent them too, and leaving the pool waits for them and their clean-up
+            for future in running:
+                future.cancel()
+            raise
     for logfile in failures:
         print("---- last lines of %s" % os.path.relpath(logfile, ROOT))
         print(failure_lines(logfile))
@@ -232,7 +332,19 @@ def main():
     print("[tests] %d unit test packages, %d rostest files%s; %d at a time"
           % (kinds[0], kinds[1], ", the docs test" if any(j[1] is run_docs for j in jobs) else "",
              max(1, args.jobs)), flush=True)
-    passed, failed, skipped, xfailed = run_jobs(jobs, max(1, args.jobs), args.timeout)
+    temp = TempDirs()
+    try:
+        passed, failed, skipped, xfailed = run_jobs(jobs, max(1, args.jobs), args.timeout, temp)
+    except KeyboardInterrupt:
+        print("[tests] interrupted", flush=True)
+        return 130
+    finally:
+        stray = temp.close()
+        if stray:
+            print("[tests] still in %s at the end (removed): %s -- a job that never ended, or a process "
+                  "a test left running" % (temp.root, ", ".join(stray)), flush=True)
+    if stray:
+        failed += 1
     line = "%d passed, %d failed" % (passed, failed)
     if xfailed:
         line += ", %d xfailed (known limits that fail as expected)" % xfailed
