@@ -51,8 +51,8 @@ ALLOWED_LEFTOVERS = {
 
 
 class TempDirs:
-    """The run's temporary directory: one fresh TMPDIR per job inside it. Kept short, as unix
-    socket paths (Ray's, an X server's) are limited to 107 bytes: in /tmp when the system's
+    """The run's temporary directory: one fresh TMPDIR per job inside it. Kept short, as the paths
+    of unix sockets made in TMPDIR (Ray's) are limited to 107 bytes: in /tmp when the system's
     temporary directory has a longer path than LONGEST_BASE."""
     LONGEST_BASE = 40
 

@@ -1,7 +1,9 @@
 """The test runner's clean-up check (scripts/run_tests.py): every job runs with a TMPDIR of its own,
 what a job leaves there fails it by name, and the directories go away whatever the job did."""
+import glob
 import importlib.util
 import os
+import re
 import textwrap
 
 import pytest
@@ -107,3 +109,26 @@ def test_a_real_pytest_job_sees_its_tmpdir_and_its_tmp_path_is_not_a_leftover(te
     p, f, s, x, rc, log, _, left = run_tests.run_in_tmpdir(temp, run_tests.run_unit, str(tests), 120)
     assert (p, f, left) == (2, 1, ["leaked.txt"]), open(log).read()
     assert os.listdir(temp.root) == []
+
+
+# Fixed paths of the X server's, not temporary files: they are the same whatever TMPDIR says.
+X_PATHS = re.compile(r"/tmp/\.X(11-unix|%d-lock|\d)")
+HARD_CODED_TMP = re.compile(r"""["'=]/tmp(/|["'])""")
+
+
+def test_no_test_writes_to_a_hard_coded_tmp():
+    """The runner's check sees only TMPDIR: a test that names /tmp itself escapes it (use tmp_path,
+    tempfile, or $ROS_HOME/test_output for what a person should see)."""
+    root = run_tests.ROOT
+    files = [f for pattern in ("src/*/test/**/*", "scripts/*.py", "scripts/test/*.py")
+             for f in glob.glob(os.path.join(root, pattern), recursive=True)
+             if os.path.isfile(f) and f.endswith((".py", ".test", ".launch", ".sh", ".yaml", ".xml"))]
+    assert len(files) > 100
+    found = []
+    for path in files:
+        with open(path, errors="replace") as fh:
+            for n, line in enumerate(fh, 1):
+                if HARD_CODED_TMP.search(X_PATHS.sub("", line)):
+                    found.append("%s:%d: %s" % (os.path.relpath(path, root), n, line.strip()))
+    found = [f for f in found if not f.startswith(("scripts/run_tests.py", "scripts/test/test_run_tests.py"))]
+    assert found == [], "\n".join(found)
