@@ -27,6 +27,7 @@ import threading
 import time
 
 import numpy as np
+import rospkg
 import rospy
 import tf2_ros
 from python_qt_binding.QtCore import QTimer
@@ -113,9 +114,14 @@ class _Camera(object):
             self.recorder.close()
 
 
+# Saved frames and videos, like ROS's own files under ROS_HOME: not /tmp, where a second user of
+# the machine could not write them and a reboot may clear them.
+DEFAULT_OUTPUT_DIR = os.path.join(rospkg.get_ros_home(), "modrob_viz", "cameras")
+
+
 class CameraRendererNode(object):
     def __init__(self, scene, cameras, rate, fixed_frame="world", sensors_param="",
-                 output_dir="/tmp/modrob_viz/cameras", record=(), video_fps=None, seed=0,
+                 output_dir=DEFAULT_OUTPUT_DIR, record=(), video_fps=None, seed=0,
                  background=(178, 178, 178), scene_max_lag=1.0):
         """``scene_max_lag`` (s): a scene frame whose tf is that much older than the newest is
         left out of the batch time (its publisher stopped; see scene_sync.common_stamp)."""
