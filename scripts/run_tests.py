@@ -36,6 +36,8 @@ import xml.etree.ElementTree as ET
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # One results folder per run (several runs may go on at once on a shared machine).
 RESULTS = os.path.join(ROOT, "out", "test-results", time.strftime("%Y%m%d-%H%M%S-") + str(os.getpid()))
+# ROS_HOME of every job (ROS logs, rostest outputs under test_output/): with the run's results, not ~/.ros
+ROS_HOME = os.path.join(RESULTS, "ros_home")
 
 
 # What third-party code leaves in a job's TMPDIR that the test cannot remove, and why (names as
@@ -154,8 +156,8 @@ def run_unit(path, timeout, tmpdir, scratch):
     start = time.time()
     with open(logfile, "w") as log:
         try:
-            rc = subprocess.call(cmd, cwd=ROOT, env=dict(os.environ, TMPDIR=tmpdir), stdout=log,
-                                 stderr=subprocess.STDOUT, timeout=timeout)
+            rc = subprocess.call(cmd, cwd=ROOT, env=dict(os.environ, TMPDIR=tmpdir, ROS_HOME=ROS_HOME),
+                                 stdout=log, stderr=subprocess.STDOUT, timeout=timeout)
         except subprocess.TimeoutExpired:
             rc = "timeout after %d s" % timeout
     passed, failed, skipped, xfailed = junit_counts(xml)
@@ -191,7 +193,7 @@ def run_rostest(path, timeout, tmpdir, _scratch):
     outdir = os.path.join(RESULTS, "rostest", pkg, name)     # its own: files may run at once
     os.makedirs(outdir, exist_ok=True)
     env = dict(os.environ, ROS_MASTER_URI="http://localhost:%d" % free_port(),
-               ROS_HOME=os.path.join(RESULTS, "ros_home"), TMPDIR=tmpdir)
+               ROS_HOME=ROS_HOME, TMPDIR=tmpdir)
     logfile = os.path.join(RESULTS, "rostest", pkg, name + ".log")
     start = time.time()
     # rostest starts its master on a free port of its own (port 0); ROS_MASTER_URI is set to

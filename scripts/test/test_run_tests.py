@@ -19,6 +19,7 @@ def temp(tmp_path, monkeypatch):
     monkeypatch.setattr(run_tests.tempfile, "tempdir", None)     # gettempdir() reads TMPDIR again
     monkeypatch.setenv("TMPDIR", str(tmp_path))                    # the run's directory goes in here
     monkeypatch.setattr(run_tests, "RESULTS", str(tmp_path / "results"))
+    monkeypatch.setattr(run_tests, "ROS_HOME", str(tmp_path / "results" / "ros_home"))
     t = run_tests.TempDirs()
     yield t
     t.close()
