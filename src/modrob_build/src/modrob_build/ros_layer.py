@@ -11,6 +11,7 @@ Both nodes set ~status: "ok: <robots>" or "refused: <reason>".
 """
 import os
 
+import rospkg
 import rospy
 import yaml
 from std_msgs.msg import String
@@ -102,7 +103,8 @@ def run_description_publisher():
 def run_build_and_spawn():
     """urdf_and_gazebo.launch: build into ~out_dir, publish the descriptions, then (if ~simulate)
     start the generated modrob_spawn.launch (spawn, controllers, robot_state_publisher)."""
-    out_dir = os.path.expanduser(rospy.get_param("~out_dir", "~/.ros/modrob_build"))
+    out_dir = os.path.expanduser(rospy.get_param("~out_dir",
+                                                 os.path.join(rospkg.get_ros_home(), "modrob_build")))
     try:
         result = build_from_params(out_dir=out_dir)
         paths = write_outputs(result, out_dir)
