@@ -19,7 +19,6 @@ import platform
 import re
 import subprocess
 import sys
-import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -85,7 +84,8 @@ def object_urdf():
 
 def scene_files(prefix="modrob_bench_"):
     """The scene's three URDFs (arm, table, can) written to a new temporary folder: {name: path}."""
-    tmp = tempfile.mkdtemp(prefix=prefix)
+    from procs import scratch_dir
+    tmp = scratch_dir(prefix)
     files = {}
     for name, text in (("arm", arm_urdf()), ("table", table_urdf()), ("can", object_urdf())):
         files[name] = os.path.join(tmp, name + ".urdf")

@@ -1,11 +1,21 @@
 """Process helpers the benchmark scripts share: a free port for a ROS master, the CPU time of a
 process and of its threads, the processes below one, starting/stopping a command in a session of
-its own (roslaunch and its nodes end together), and ending a child started in the bench's own
-session."""
+its own (roslaunch and its nodes end together), ending a child started in the bench's own
+session, and a scratch directory removed when the benchmark ends."""
+import atexit
 import os
+import shutil
 import signal
 import socket
 import subprocess
+import tempfile
+
+
+def scratch_dir(prefix):
+    """A new temporary directory (under TMPDIR), removed with its contents when this process ends."""
+    path = tempfile.mkdtemp(prefix=prefix)
+    atexit.register(shutil.rmtree, path, True)
+    return path
 
 
 def free_port():

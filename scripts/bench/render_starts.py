@@ -12,10 +12,9 @@ counts as good once every camera has published an image, as a crash if the rende
 import argparse
 import os
 import sys
-import tempfile
 import time
 
-from procs import free_port, start, stop
+from procs import free_port, scratch_dir, start, stop
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DEFAULT_SIZES = "640x360,640x360,640x360,640x360,640x360,320x128,320x128,320x128"
@@ -134,7 +133,7 @@ def main():
     env["ROS_MASTER_URI"] = "http://127.0.0.1:%d" % free_port()
     env.pop("DISPLAY", None)        # the renderer starts its own Xvfb, as in the tests
     os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
-    logdir = tempfile.mkdtemp(prefix="render_starts_")
+    logdir = scratch_dir("render_starts_")
     master = start(["roscore", "-p", env["ROS_MASTER_URI"].rsplit(":", 1)[1]], env,
                    os.path.join(logdir, "roscore.log"))
     tfs = []

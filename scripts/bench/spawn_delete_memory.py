@@ -26,7 +26,7 @@ import subprocess
 import sys
 import time
 
-from procs import free_port, stop, terminate
+from procs import free_port, scratch_dir, stop, terminate
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -63,7 +63,8 @@ def robot_xml(root):
 def start_master():
     """A roscore on a free port for the whole benchmark (this process's rospy stays bound to the
     master it first talked to, so every node run uses the same one)."""
-    env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % free_port(), ROS_HOME="/tmp/memroshome")
+    env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:%d" % free_port(),
+               ROS_HOME=scratch_dir("spawn_delete_memory_roshome_"))
     core = subprocess.Popen(["roscore", "-p", env["ROS_MASTER_URI"].rsplit(":", 1)[1]], env=env,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
@@ -194,7 +195,9 @@ def main():
                          "N: + tracemalloc with N frames) and print its reports")
     ap.add_argument("--no-write", action="store_true")
     args = ap.parse_args()
-    log = open("/tmp/spawn_delete_memory_node.log", "w")
+    log_path = os.path.join(ROOT, "out", "bench", "spawn_delete_memory_node.log")     # the node's output
+    os.makedirs(os.path.dirname(log_path), exist_ok=True)
+    log = open(log_path, "w")
     curves = []
     if args.compare_log:
         with open(args.compare_log) as f:

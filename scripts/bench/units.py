@@ -16,14 +16,14 @@ import os
 import shutil
 import subprocess
 import sys
-import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, HERE)
 import physics_core as scene  # noqa: E402  (the scene, the PD gains, our engine and PyBullet's runs)
-from procs import cpu_seconds, descendants, free_port, stop, terminate, thread_cpu_seconds  # noqa: E402
+from procs import (cpu_seconds, descendants, free_port, scratch_dir, stop, terminate,  # noqa: E402
+                   thread_cpu_seconds)
 
 N = scene.N_JOINTS
 JOINTS = ["joint%d" % (i + 1) for i in range(N)]
@@ -373,7 +373,7 @@ def unit_bulbs(scenario, args):
     the robots and the scenario's nodes at real_time_factor 0, and the pace probe, are not the
     scenario's)."""
     import threading
-    out = tempfile.mkdtemp(prefix="modrob_bench_bas_")
+    out = scratch_dir("modrob_bench_bas_")
     t0 = time.perf_counter()
     demo = os.path.join(ROOT, "src/modrob_motion/scripts/bulbs_and_slides_demo")
     # the scenario's pace: without the camera streams that make demo adds (their own processes)
@@ -514,7 +514,7 @@ print(got[0])
 
 
 def unit_startup(_args):
-    peer = os.path.join(tempfile.mkdtemp(prefix="modrob_bench_launch_"), "peer.launch")
+    peer = os.path.join(scratch_dir("modrob_bench_launch_"), "peer.launch")
     with open(peer, "w") as f:
         f.write(PEER_LAUNCH)
     ours = first_clock(["roslaunch", "modrob_sim", "empty_world.launch", "gui:=false"])
@@ -759,7 +759,7 @@ def unit_demo_pace(scenario, args):
         text = f.read()
     cmd = [a for a in cmd if not a.endswith("?")] + \
         [a[:-1] for a in cmd if a.endswith("?") and 'name="%s"' % a.split(":=")[0] in text]
-    tmp = tempfile.mkdtemp(prefix="bench_%s_" % scenario)
+    tmp = scratch_dir("bench_%s_" % scenario)
     result_file = os.path.join(tmp, "result.yaml")
     if span:
         cmd.append("%s:=%s" % (span[2], result_file))
