@@ -34,6 +34,7 @@
 // on, and nothing is published through that one: the connection header then says "latching", so a
 // rospy subscriber keeps the connection's last message for a second subscription of its process
 // (rospy shares one connection per topic), as it does for a latched topic.
+#include <algorithm>
 #include <ros/ros.h>
 
 #include <chrono>
@@ -117,6 +118,8 @@ const size_t kMaxPending = 64 * 1024;
 
 // A latched topic's new subscriber gets the last message once none went out for this long (s)
 const double kQuiet = 0.2;
+// ... and the connect callback looks again this often (s) whether one went out meanwhile
+const double kPoll = 0.005;
 
 double monotonic_now() {
   struct timespec ts;
@@ -192,7 +195,9 @@ void on_connect(const std::weak_ptr<Handle>& weak, const ros::SingleSubscriberPu
         return;
       }
     }
-    std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+    // in short sleeps: while messages flow (every subscriber of /clock) the callback ends at the
+    // next one, within kPoll, and does not hold up the callbacks of other topics behind it
+    std::this_thread::sleep_for(std::chrono::duration<double>(std::min(wait, kPoll)));
   }
 }
 
