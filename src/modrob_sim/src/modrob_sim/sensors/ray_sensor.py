@@ -123,8 +123,7 @@ class RaySensor(MountedSensor):
         cast = self.caster.prepare(pos, quat_to_matrix(rot), self._dirs, s.range_min, s.range_max,
                                    want_hits=True)
         # one draw per ray, whatever it hits: the noise stream does not depend on the scene
-        noise = self.rng.normal(s.noise_mean, s.noise_stddev, self._dirs.shape[0]) if s.noise_stddev > 0 \
-            else None
+        noise = self.rng.normal(s.noise_mean, s.noise_stddev, self.ray_count) if s.noise_stddev > 0 else None
         table = self._retro_table(cast.labels)
 
         def finish():
@@ -143,8 +142,7 @@ class RaySensor(MountedSensor):
 
     def intensities(self, hits):
         """Gazebo's ray intensities: the <laserRetro> of the link that was hit (0 if none)."""
-        labels = getattr(self.caster, "labels", None)
-        table = self._retro_table(labels)
+        table = self._retro_table(self.caster.labels)
         return table[np.where(hits >= 0, hits, len(table) - 1)]
 
     def _retro_table(self, labels):

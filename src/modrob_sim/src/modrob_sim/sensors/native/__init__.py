@@ -23,11 +23,9 @@ STALE = False
 
 
 def _declare(lib, held):
-    """``lib``'s calls release the GIL (the rays: rc_cast, rc_run); ``held``'s keep it (the same
-    library through ctypes.PyDLL: calls of microseconds in the simulation's thread)."""
+    """``lib``'s calls release the GIL (the rays: rc_run); ``held``'s keep it (the same library
+    through ctypes.PyDLL: calls of microseconds in the simulation's thread)."""
     vp, i, d = ctypes.c_void_p, ctypes.c_int, ctypes.c_double
-    lib.rc_cast.restype = i
-    lib.rc_cast.argtypes = [vp, i, vp, vp, vp, i, d, d, vp, vp, vp, vp]
     lib.rc_run.restype = i
     lib.rc_run.argtypes = [vp, vp, vp]
     lib.rc_prepare = held.rc_prepare

@@ -2,7 +2,7 @@
  * capsules, cylinders, planes and the native triangle meshes), for the simulated ray, gpu_ray
  * and Velodyne sensors. Loaded with ctypes (see __init__.py); plain C on Debian's libode-dev.
  *
- * rc_cast() casts n rays from one origin: direction i is R * local_dirs[i] (R row-major, the
+ * A cast is n rays from one origin: direction i is R * local_dirs[i] (R row-major, the
  * sensor's world rotation). A ray starts at origin + rmin * d and is rmax - rmin long, as
  * Gazebo's ray sensor does; out[i] is the distance from the origin to the closest hit, or
  * INFINITY when nothing is hit. Geoms are culled per call (bounding sphere beyond rmax, or
@@ -10,11 +10,11 @@
  * bounding sphere covers, then a slab test against the geom's AABB, nearest-first with early
  * exit) before ODE's exact ray collider runs, so a world of many objects costs little more than
  * its visible ones. The angles are those of the sensor's frame: a sensor's rays keep theirs from
- * scan to scan, so rc_ray_angles() computes them once (the caller keeps them for rc_cast()).
+ * scan to scan, so rc_ray_angles() computes them once (the caller keeps them for rc_prepare()).
  *
- * rc_cast() is rc_prepare() (the culling at this instant) then rc_run() (the rays): a ray sensor
- * prepares in the simulation's thread and may run the rays later in another one, on copies of the
- * geoms (see RcCast), as Gazebo's sensors update in their own thread.
+ * A cast is rc_prepare() (the culling at this instant), rc_run() (the rays) and rc_release(): a
+ * ray sensor prepares in the simulation's thread and may run the rays later in another one, on
+ * copies of the geoms (see RcCast), as Gazebo's sensors update in their own thread.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -56,7 +56,7 @@ static int rc_cand_cmp(const void *a, const void *b)
 #define RC_NAZ 512                /* azimuth bins of the per-scan angular index */
 
 /* The azimuth bin and the elevation (rad) of n directions (need not be unit) in the frame they are
- * given in: rc_cast's ray_bin and ray_el for its local_dirs */
+ * given in: rc_prepare's ray_bin and ray_el for its dirs */
 void rc_ray_angles(const double *dirs, int n, int *bins, double *els)
 {
     for (int i = 0; i < n; ++i) {
@@ -116,7 +116,7 @@ static dGeomID rc_copy(dGeomID g)
     return c;
 }
 
-/* rc_cast's first half at this instant. dirs, ray_bin and ray_el (rc_ray_angles() of dirs) are
+/* A cast's first half at this instant. dirs, ray_bin and ray_el (rc_ray_angles() of dirs) are
  * kept by pointer: they must live until rc_run. copy: take copies of the primitives (see RcCast).
  * NULL when out of memory. */
 RcCast *rc_prepare(dGeomID *geoms, int ng, const double *origin, const double *rot, const double *dirs,
@@ -230,7 +230,7 @@ RcCast *rc_prepare(dGeomID *geoms, int ng, const double *origin, const double *r
 /* 1: the cast must run now (in the simulation's thread); 0: it may run later, anywhere */
 int rc_needs_now(const RcCast *c) { return c ? (c->needs_now || !c->copied) : 1; }
 
-/* rc_cast's second half: the rays of a prepared cast. Returns the number of hits. */
+/* A cast's second half: the rays of a prepared cast. Returns the number of hits. */
 int rc_run(const RcCast *c, double *out, int *hit)
 {
     int n = c->n;
@@ -312,17 +312,6 @@ int rc_run(const RcCast *c, double *out, int *hit)
     dGeomDestroy(ray);
     free(cand);
     return nhit;
-}
-
-/* rc_prepare + rc_run + rc_release at once, on the original geoms */
-int rc_cast(dGeomID *geoms, int ng, const double *origin, const double *rot, const double *dirs,
-            int n, double rmin, double rmax, double *out, int *hit, const int *ray_bin, const double *ray_el)
-{
-    RcCast *c = rc_prepare(geoms, ng, origin, rot, dirs, n, rmin, rmax, ray_bin, ray_el, 0);
-    if (!c) return -1;
-    int r = rc_run(c, out, hit);
-    rc_release(c);
-    return r;
 }
 
 /* the world AABB of a geom (for tests and the numpy baseline's culling) */
