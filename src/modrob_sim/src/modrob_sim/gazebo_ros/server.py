@@ -193,10 +193,11 @@ class GazeboRosNode(object):
 
     # ---- the World's step hooks (loop thread) ----------------------------------------------------
     def _step(self, n):
-        """One pass of the simulation loop: ``n`` steps of the World (natively between the hooks'
-        due times), then what follows the wall clock (a throttled /clock, the scene) and rospy's
-        time with the node's timers."""
-        self.world.step(n)
+        """One pass of the simulation loop: up to ``n`` steps of the World, natively up to the
+        first stop for a hook (World.advance: the passes fall on the hooks' stops), then the
+        states and markers due, what follows the wall clock (a throttled /clock, the scene) and
+        rospy's time with the node's timers. Returns the steps made."""
+        n = self.world.advance(n)
         if self._own_sim_time:
             self._set_time(self.world.time)
         self.outputs.after_pass()

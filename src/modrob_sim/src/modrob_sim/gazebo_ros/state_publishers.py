@@ -128,6 +128,12 @@ class StatePublishers(object):
             if wall - self._last_clock_wall >= self._clock_period:
                 self._last_clock_wall = wall
                 self.publish_clock()
+        self._on_grid(now_t)
+        self._scene.after_step(now_t)
+
+    def _on_grid(self, now_t):
+        """The states and markers whose grid time has come by ``now_t`` go out (with the guard's
+        events); called wherever the World stops for Python (see after_due)."""
         half = 0.5 * self.world.time_step
         if now_t + half >= self._next_state_t:
             self._next_state_t = _next_on_grid(now_t + half, self._state_period)
@@ -136,30 +142,32 @@ class StatePublishers(object):
         if self._marker_period > 0.0 and now_t + half >= self._next_marker_t:
             self._next_marker_t = _next_on_grid(now_t + half, self._marker_period)
             self.publish_markers()
-        self._scene.after_step(now_t)
 
     # ---- due times and the loop's passes (the World steps natively in between) --------------------
     def after_due(self):
         """The simulated time by which after_step must run (the World's due time for it): the
-        states within their period, markers on their grid; None (every step) when /clock goes out
-        at every step and only rospy can send it."""
+        states and markers within their periods; None (every step) when /clock goes out at every
+        step and only rospy can send it."""
         if self._ticker is None and self._clock_period <= 0.0:
             return None
         # the states go out at the first step at or after their grid time at which the World stops
-        # anyway (a sensor's sample, a controller's update), and make the World stop only at the
-        # period's last step when nothing else did: a sensor at the states' rate on another phase
-        # (an IMU counts its period from its first step) would otherwise double the stops
+        # anyway (a sensor's sample, a controller's update, the end of the loop's pass), and make
+        # the World stop only at the period's last step when nothing else did: a sensor or a
+        # controller at the states' rate on another phase (an IMU counts its period from its first
+        # step) would otherwise double the stops
+        # the markers likewise
+        dt = self.world.time_step
         due = self._next_state_t
         if self._state_period > 0.0:
-            due += max(0.0, self._state_period - self.world.time_step)
-        if self._marker_period > 0.0 and self._next_marker_t < due:
-            due = self._next_marker_t
-        return due - 0.5 * self.world.time_step
+            due += max(0.0, self._state_period - dt)
+        if self._marker_period > 0.0:
+            due = min(due, self._next_marker_t + max(0.0, self._marker_period - dt))
+        return due - 0.5 * dt
 
     def after_pass(self):
         """After a pass of the simulation loop (world.step): the /clock messages of its native
-        steps leave together (roscpp), or a throttled /clock through rospy; the scene's wall-clock
-        schedule."""
+        steps leave together (roscpp), or a throttled /clock through rospy; the states and markers
+        whose grid time came; the scene's wall-clock schedule."""
         if self._ticker is not None:
             self._clock_pub.flush()
         elif self._clock_period > 0.0:
@@ -167,6 +175,7 @@ class StatePublishers(object):
             if wall - self._last_clock_wall >= self._clock_period:
                 self._last_clock_wall = wall
                 self.publish_clock()
+        self._on_grid(self.world.time)
         self._scene.after_step(self.world.time)
 
     def after_reset(self):

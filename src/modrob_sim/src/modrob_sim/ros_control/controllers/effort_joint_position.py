@@ -75,7 +75,9 @@ class _PidController(Controller):
         a.command = self.take_command()
         if self._start is None:
             self._start = self.hw.iteration
-        if (self.hw.iteration - self._start) % STATE_DECIMATION == 0:
+        # every 10th update has a state message, as ros_controllers'; with nobody listening it is
+        # not collected (which would make the World stop after the update's step for nothing)
+        if (self.hw.iteration - self._start) % STATE_DECIMATION == 0 and self.state_wanted():
             self.collect_due = True
             self._dt = dt
 

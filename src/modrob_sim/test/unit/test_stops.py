@@ -1,0 +1,180 @@
+"""Where the World stops for Python as the /gazebo node steps it (docs/simulator.md, "How it
+works"): the loop's passes end at the hooks' stops (World.advance), the states ride on whatever
+stop comes first in their period, and a PID controller's state nobody listens to makes no stop. A
+100 Hz joint_state_controller on another phase than the 10 ms grid of the loop's passes and of
+the states used to stop the World up to four times in every 10 ms; now once."""
+import os
+
+import pytest
+import rospy
+
+from modrob_sim import physics
+from modrob_sim.errors import InputError
+from modrob_sim.gazebo_ros import state_publishers
+from modrob_sim.gazebo_ros.node_params import Params
+from modrob_sim.gazebo_ros.testing import ControlRig
+from modrob_sim.physics import native as native_mod
+from modrob_sim.ros_control.manager import STRICT
+
+FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures")
+needs_c = pytest.mark.skipif(native_mod.LIB is None, reason="the C loop is not built")
+
+
+class FakePublisher(object):
+    """Records the simulated time of each message (a ModelStates has no stamp)."""
+    world = None
+
+    def __init__(self, topic, msg_class, queue_size=1, latch=False, **kw):
+        self.topic, self.times, self.connections = topic, [], 1
+
+    def get_num_connections(self):
+        return self.connections
+
+    def publish(self, msg):
+        self.times.append(round(FakePublisher.world.time, 6))
+
+    def unregister(self):
+        pass
+
+
+def _count_stops(world):
+    """Counts the native stretches (each one ends with a stop for Python)."""
+    backend = world._backend
+    run = backend.run
+    stops = []
+
+    def counting(*args):
+        r = run(*args)
+        if r is not None:
+            stops.append(round(r.time, 6))
+        return r
+    backend.run = counting
+    return stops
+
+
+class NodeRig(ControlRig):
+    """The 3-joint arm under a 100 Hz joint_state_controller and three effort position PIDs, with
+    the node's StatePublishers (100 Hz states, 10 Hz markers) on the same hooks as the node's."""
+
+    def __init__(self, monkeypatch, pid_state_wanted=False):
+        monkeypatch.setattr(rospy, "Publisher", FakePublisher)
+        monkeypatch.setattr(state_publishers, "publisher", FakePublisher)
+        with open(os.path.join(FIX, "control", "arm_3dof.urdf")) as f:
+            xml = f.read().replace("PositionJointInterface", "EffortJointInterface")
+        super(NodeRig, self).__init__(xml)
+        FakePublisher.world = self.world
+        self.out = state_publishers.StatePublishers(self.world, Params())
+        self.world.step(3)              # the controllers start at 3 ms: their phase is not the grid's
+        self.ctl = {"jsc": self.joint_state_controller(publish_rate=100)}
+        for j in ("yaw", "shoulder", "elbow"):
+            self.ctl[j] = self.mgr.load(j, {"type": "effort_controllers/JointPositionController", "joint": j,
+                                            "pid": {"p": 100.0, "i": 0.0, "d": 5.0}})
+            self.ctl[j].state_wanted = lambda: pid_state_wanted
+            self.adapter(j)
+        assert self.mgr.switch(list(self.ctl), [], STRICT)[0]
+        out = self.out
+        self.start(True, batch_after_due=out.after_due, after=lambda t, dt: out.after_step())
+
+    def run_passes(self, seconds, batch=10):
+        """The simulation loop's passes (SimulationLoop.run_once at real_time_factor 0: the node's
+        _step), for ``seconds`` of simulated time; returns the passes' lengths."""
+        lengths = []
+        end = self.world.time + seconds - 1e-9
+        while self.world.time < end:
+            lengths.append(self.world.advance(batch))
+            self.out.after_pass()
+        return lengths
+
+
+@needs_c
+def test_the_world_stops_once_per_controller_update(monkeypatch):
+    rig = NodeRig(monkeypatch)
+    rig.run_passes(0.1)             # the controllers' first updates, the grid's first states
+    stops = _count_stops(rig.world)
+    states = rig.out._model_states_pub.times
+    del states[:]
+    lengths = rig.run_passes(0.5)
+    # the joint_state_controller's updates at .xx3 are the stops, and the guard's snapshots every 50
+    # steps (physics.md, "Blow-up guard"); the passes end there too
+    updates = [t for t in stops if round(t * 1000) % 10 == 3]
+    assert len(updates) == 50, stops[:12]
+    assert sorted(set(stops) - set(updates)) == [round(0.15 + 0.05 * i, 6) for i in range(10)]
+    assert len(stops) == 60
+    assert lengths.count(10) == 40 and sorted(set(lengths)) == [3, 7, 10], lengths[:12]
+    # one state message per 10 ms period of simulated time, from the period's first stop (a guard's
+    # snapshot at .x00 and .x50, else the update at .xx3)
+    grid = [round(0.11 + 0.01 * i, 6) for i in range(50)]
+    assert states == [min(t for t in stops if t >= g) for g in grid], states[:12]
+    assert len(rig.log) >= 50            # the joint_state_controller's 100 Hz samples
+
+
+@needs_c
+def test_a_pid_state_with_a_listener_is_collected_after_its_update(monkeypatch):
+    rig = NodeRig(monkeypatch, pid_state_wanted=True)
+    rig.run_passes(0.1)
+    stops = _count_stops(rig.world)
+    collected = []
+    collect = rig.ctl["elbow"].collect
+
+    def counting():
+        collect()
+        collected.append((rig.world.time, rig.ctl["elbow"].pending["stamp"]))
+    rig.ctl["elbow"].collect = counting
+    rig.run_passes(0.5)
+    # every 10th update of the PID (each 10 ms) also stops after its step, to read what it did
+    assert len(collected) == 50
+    assert all(abs(t - stamp - 0.001) < 1e-9 for t, stamp in collected)
+    assert len(stops) == 110        # and the guard's 10
+
+
+@needs_c
+def test_a_pid_state_nobody_listens_to_is_not_collected(monkeypatch):
+    rig = NodeRig(monkeypatch)
+    collected = []
+    rig.ctl["elbow"].collect = lambda: collected.append(rig.world.time)
+    rig.run_passes(0.3)
+    assert collected == [] and rig.ctl["elbow"].pending is None
+
+
+def _falling_boxes(native):
+    world = physics.World(time_step=0.001, native=native)
+    with open(os.path.join(FIX, "physics", "box.urdf")) as f:
+        xml = f.read()
+    for i in range(3):
+        world.add_urdf("box%d" % i, xml, pose=((0.3 * i, 0.0, 0.2 + 0.1 * i), (0.0, 0.0, 0.0, 1.0)))
+    return world
+
+
+@needs_c
+def test_advance_ends_at_the_first_stop_for_python_and_makes_the_steps_of_step():
+    a, b = _falling_boxes(None), _falling_boxes(None)
+    seen = []
+    for w, log in ((a, seen), (b, [])):
+        state = {"next": 0.0045}
+
+        def after(t, dt, state=state, log=log):
+            if t + 1e-9 >= state["next"]:
+                state["next"] += 0.007
+                log.append(round(t, 6))
+        w.add_step_hook(after=after, after_due=lambda state=state: state["next"])
+    lengths = []
+    while a.iterations < 200:
+        lengths.append(a.advance(10))
+    b.step(200)
+    # the hook's times (5, 12, 19 .. ms) end the passes; in between the passes run their 10 steps
+    assert lengths[:4] == [5, 7, 7, 7], lengths
+    assert a.time == pytest.approx(b.time) and a.iterations == b.iterations == 200
+    for m in a.models:
+        assert a.models[m].pose == b.models[m].pose
+    assert seen[:3] == [0.005, 0.012, 0.019]
+
+
+def test_advance_in_python_goes_on_to_n():
+    """A hook without a due time keeps every step in Python: a pass makes its n steps (one pass per
+    step would only add the loop's own work)."""
+    w = _falling_boxes(False)
+    calls = []
+    w.add_step_hook(after=lambda t, dt: calls.append(t))
+    assert w.advance(10) == 10 and len(calls) == 10
+    with pytest.raises(InputError):
+        w.advance(0)
