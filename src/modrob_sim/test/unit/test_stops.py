@@ -1,8 +1,9 @@
 """Where the World stops for Python as the /gazebo node steps it (docs/simulator.md, "How it
 works"): the loop's passes end at the hooks' stops (World.advance), the states ride on whatever
-stop comes first in their period, and a PID controller's state nobody listens to makes no stop. A
-100 Hz joint_state_controller on another phase than the 10 ms grid of the loop's passes and of
-the states used to stop the World up to four times in every 10 ms; now once."""
+stop comes first in their period, a PID controller's state nobody listens to makes no stop, and
+the guard's snapshots are taken in C. A 100 Hz joint_state_controller on another phase than the
+10 ms grid of the loop's passes and of the states used to stop the World up to four times in every
+10 ms, and the guard's snapshots twice in every 100 ms; now once in every 10 ms."""
 import os
 
 import pytest
@@ -94,17 +95,12 @@ def test_the_world_stops_once_per_controller_update(monkeypatch):
     states = rig.out._model_states_pub.times
     del states[:]
     lengths = rig.run_passes(0.5)
-    # the joint_state_controller's updates at .xx3 are the stops, and the guard's snapshots every 50
-    # steps (physics.md, "Blow-up guard"); the passes end there too
-    updates = [t for t in stops if round(t * 1000) % 10 == 3]
-    assert len(updates) == 50, stops[:12]
-    assert sorted(set(stops) - set(updates)) == [round(0.15 + 0.05 * i, 6) for i in range(10)]
-    assert len(stops) == 60
-    assert lengths.count(10) == 40 and sorted(set(lengths)) == [3, 7, 10], lengths[:12]
-    # one state message per 10 ms period of simulated time, from the period's first stop (a guard's
-    # snapshot at .x00 and .x50, else the update at .xx3)
-    grid = [round(0.11 + 0.01 * i, 6) for i in range(50)]
-    assert states == [min(t for t in stops if t >= g) for g in grid], states[:12]
+    # the joint_state_controller's updates at .xx3 are the only stops (the guard takes its snapshots
+    # in C); the passes end there too
+    assert len(stops) == 50 and all(round(t * 1000) % 10 == 3 for t in stops), stops[:12]
+    assert lengths == [10] * 50, lengths[:12]
+    # one state message per 10 ms period of simulated time, from the period's first stop
+    assert states == stops
     assert len(rig.log) >= 50            # the joint_state_controller's 100 Hz samples
 
 
@@ -124,7 +120,7 @@ def test_a_pid_state_with_a_listener_is_collected_after_its_update(monkeypatch):
     # every 10th update of the PID (each 10 ms) also stops after its step, to read what it did
     assert len(collected) == 50
     assert all(abs(t - stamp - 0.001) < 1e-9 for t, stamp in collected)
-    assert len(stops) == 110        # and the guard's 10
+    assert len(stops) == 100
 
 
 @needs_c
@@ -159,7 +155,7 @@ def test_advance_ends_at_the_first_stop_for_python_and_makes_the_steps_of_step()
         w.add_step_hook(after=after, after_due=lambda state=state: state["next"])
     lengths = []
     while a.iterations < 200:
-        lengths.append(a.advance(10))
+        lengths.append(a.advance(min(10, 200 - a.iterations)))
     b.step(200)
     # the hook's times (5, 12, 19 .. ms) end the passes; in between the passes run their 10 steps
     assert lengths[:4] == [5, 7, 7, 7], lengths
@@ -178,3 +174,47 @@ def test_advance_in_python_goes_on_to_n():
     assert w.advance(10) == 10 and len(calls) == 10
     with pytest.raises(InputError):
         w.advance(0)
+
+
+SPINNER = """<robot name="spinner"><link name="world"/>
+  <link name="rod"><inertial><origin xyz="0 0 -0.25"/><mass value="1.0"/>
+    <inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.0001"/></inertial>
+    <collision><origin xyz="0 0 -0.25"/><geometry><box size="0.02 0.02 0.5"/></geometry></collision></link>
+  <joint name="spin" type="continuous"><parent link="world"/><child link="rod"/>
+    <origin xyz="0 0 1.5"/><axis xyz="0 1 0"/><limit effort="0" velocity="100"/></joint>
+</robot>"""
+
+
+def _spun_then_blown(native):
+    """A rod driven around its pivot for turns (its joint counts them), then by an absurd effort:
+    the guard restores it to its last snapshot. ``native``: the C loop steps the World (and takes
+    the snapshots), else the pure-Python backend (the World's guard takes them)."""
+    from modrob_sim.physics import actuators
+    w = physics.World(time_step=0.001, native=native)
+    w.set_physics_params(snapshot_interval=100)
+    m = w.add_urdf("spinner", SPINNER)
+    a = w.add_actuator(m.joints["spin"], actuators.EFFORT)
+    a.command = 20.0
+    w.step(699)
+    stretches = w.native_steps + w.hooked_steps
+    a.command = 1e12
+    w.step(30)
+    a.command = 0.0
+    w.step(100)
+    return w, m, stretches
+
+
+@needs_c
+def test_the_guard_restores_the_c_loops_snapshot_as_its_own():
+    fast, m, stretches = _spun_then_blown(None)
+    slow, ms, _ = _spun_then_blown(False)
+    assert fast.native and not slow.native
+    assert stretches == 699             # no step made in Python for the guard's 6 snapshots
+    events = fast.pop_events()
+    assert [(e.model, e.time) for e in events] == [(e.model, e.time) for e in slow.pop_events()]
+    assert events and "runaway" in events[0].reason
+    # restored to the snapshot at step 600 (with the turns counted then, two fewer than at the
+    # blow-up), then the same steps
+    assert m.joints["spin"].position == ms.joints["spin"].position
+    assert abs(m.joints["spin"].position) > 2 * 3.141592653589793
+    assert fast.state_digest() == slow.state_digest()

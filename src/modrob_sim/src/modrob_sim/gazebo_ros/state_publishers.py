@@ -53,10 +53,9 @@ def set_clock(msg, t):
 
 def _next_on_grid(t, period):
     """The first multiple of ``period`` after ``t`` (0 with no period: every step). The states and
-    markers count their periods on this grid of simulated time (10, 20, .. ms at 100 Hz), as the
-    guard's snapshots do (every 50 steps of 1 ms), so that a batch of native steps ends at one step
-    for all of them instead of at one for each; the callers compare with half a step to spare,
-    which absorbs the drift of the simulated time's float sum."""
+    markers count their periods on this grid of simulated time (10, 20, .. ms at 100 Hz); the
+    callers compare with half a step to spare, which absorbs the drift of the simulated time's
+    float sum."""
     return (math.floor(t / period) + 1) * period if period > 0 else 0.0
 
 

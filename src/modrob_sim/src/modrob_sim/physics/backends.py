@@ -23,6 +23,11 @@ only the physics-side interface of Model, Link and Joint (model.py):
     run(n, t, iterations, before_due, after_due, wake, observer) -> Stretch or None
                                     up to n steps natively (the pure backend: None, never)
     find_blowups() -> [(model, group, reason)]   the guard's scan after a step
+    snapshot_iteration -> int       the iteration of the guard's last snapshot taken natively (-1:
+                                    none since the last rebuild or drop_snapshot(); the pure: -1)
+    snapshot_readers() -> (body, joint)   functions giving a body's (p, q, v, w) and a joint's
+                                    (turns, last_raw) in that snapshot, for Model.capture_state
+    drop_snapshot()                 forget it (the world was reset)
     contacts() -> [(info1, info2, pos, normal, depth, wrenches)]   the last step's contact points;
                                     wrenches = (f1, t1, f2, t2): ODE's feedback of the contact joint
     overlaps(model) -> {(m1, l1, m2, l2): depth}   spawn-overlap check
@@ -145,7 +150,12 @@ class _Stretch(ctypes.Structure):
          ("softs", ctypes.POINTER(_Soft))] + \
         [(n, ctypes.c_int) for n in ("param_vel", "param_fmax", "param_lo_stop", "param_hi_stop")] + \
         [("mimic_gain", ctypes.c_double), ("mimic_force", ctypes.c_double),
-         ("macts", ctypes.c_void_p), ("nmacts", ctypes.c_int)]
+         ("macts", ctypes.c_void_p), ("nmacts", ctypes.c_int),
+         ("snap", ctypes.c_void_p), ("snap_turns", ctypes.c_void_p), ("snap_iter", ctypes.c_longlong)]
+
+
+#: doubles per body in the C loop's guard snapshot (MR_SNAP_BODY)
+SNAP_BODY = 13
 
 
 class Stretch(object):
@@ -259,6 +269,12 @@ class PureBackend(object):
     def run(n, t, iterations, before_due, after_due, wake=None, observer=None):
         """No native stretches on the pure-Python path: every step is World._step_once."""
         return None
+
+    #: every guard snapshot of the pure-Python path is the World's own
+    snapshot_iteration = -1
+
+    def drop_snapshot(self):
+        pass
 
     def close(self):
         pass
@@ -658,6 +674,8 @@ class NativeBackend(object):
         self._mimics = (_Mimic * 1)()
         self._softs = (_Soft * 1)()
         self.stretch_ok = True              # every mimic and soft-limit joint is one the C loop drives
+        self._snap = self._snap_turns = None
+        self._stretch.snap_iter = -1
 
     def set_seed(self, seed):
         self.nat.mr_set_seed(self.ctx, seed)
@@ -835,6 +853,15 @@ class NativeBackend(object):
         self._body_owner = owners
         self._body_array = (ctypes.c_void_p * max(1, len(owners)))(
             *[odelib.raw_pointer(g.body) for _, g in owners])
+        # the guard's snapshots of the C loop, for these bodies and turn records (the World takes
+        # what it needs of the last one before a rebuild: World._adopt_native_snapshot)
+        self._snap = (ctypes.c_double * (SNAP_BODY * max(1, len(owners))))()
+        self._snap_turns = (ctypes.c_double * (2 * max(1, len(unwrap))))()
+        self._snap_index = {id(g.body): k for k, (_, g) in enumerate(owners)}
+        self._snap_turn_index = {id(j): k for k, j in enumerate(unwrap)}
+        b = self._stretch
+        b.snap, b.snap_turns = ctypes.addressof(self._snap), ctypes.addressof(self._snap_turns)
+        b.snap_iter = -1
         damped = world.damped
         n = len(damped)
         self._damp_arrays = (n, (ctypes.c_void_p * max(1, n))(*[odelib.raw_pointer(j.ode_joint)
@@ -944,6 +971,27 @@ class NativeBackend(object):
             self.ctx, dt, g[0], g[1], g[2], world.layer, world.max_contacts, world.world_step,
             self._body_array, len(self._body_owner), world.vmax2, world.wmax2, self._first_bad_ref)
         return self.ncontacts
+
+    @property
+    def snapshot_iteration(self):
+        return self._stretch.snap_iter
+
+    def drop_snapshot(self):
+        self._stretch.snap_iter = -1
+
+    def snapshot_readers(self):
+        snap, turns = self._snap, self._snap_turns
+        index, turn_index = self._snap_index, self._snap_turn_index
+
+        def body(b):
+            o = SNAP_BODY * index[id(b)]
+            return (tuple(snap[o:o + 3]), tuple(snap[o + 3:o + 7]), tuple(snap[o + 7:o + 10]),
+                    tuple(snap[o + 10:o + 13]))
+
+        def joint(j):
+            k = turn_index.get(id(j))
+            return None if k is None else (int(turns[2 * k + 1]), turns[2 * k])
+        return body, joint
 
     def find_blowups(self):
         """The guard's scan after a step: the velocity scan already ran in C within step()."""

@@ -986,11 +986,19 @@ class Model(object):
         self._world.model_teleported(self)
 
     # ---- state snapshots (spawn state, guard) ------------------------------------------------
-    def capture_state(self):
-        """An opaque snapshot of every body and joint turn count (restore_state takes it)."""
-        bodies = [(b.getPosition(), b.getQuaternion(), b.getLinearVel(), b.getAngularVel())
-                  for b in self._bodies]
+    def capture_state(self, body=None, joint=None):
+        """An opaque snapshot of every body and joint turn count (restore_state takes it).
+        ``body(b)`` / ``joint(j)`` (optional): a body's (position, quaternion, linear and angular
+        velocity) and a joint's (turns, last raw angle, or None: its own) as the native loop's guard
+        snapshot holds them, instead of their values now."""
+        if body is None:
+            bodies = [(b.getPosition(), b.getQuaternion(), b.getLinearVel(), b.getAngularVel())
+                      for b in self._bodies]
+        else:
+            bodies = [body(b) for b in self._bodies]
         joints = [(j._turns, j._last_raw) for j in self._joint_order]
+        if joint is not None:
+            joints = [joint(j) or own for j, own in zip(self._joint_order, joints)]
         statics = [(ln, ln._static_pose) for g in self._groups if g.body is None for ln in g.links]
         return (bodies, joints, statics, self._world_pose)
 

@@ -76,7 +76,7 @@ class _ModelEntry(object):
     """What the World keeps about one of its models (the model itself knows nothing of it):
     collision filtering, the guard's snapshots and the native loop's ids."""
     __slots__ = ("model", "slot", "adjacent", "ncontacts", "uid", "cindex", "spawn_state",
-                 "snapshot_state")
+                 "snapshot_state", "snapshot_iter")
 
     def __init__(self, model):
         self.model = model
@@ -87,6 +87,7 @@ class _ModelEntry(object):
         self.cindex = None             # native loop: compact index (contact counters)
         self.spawn_state = None
         self.snapshot_state = None
+        self.snapshot_iter = -1        # the iteration count at which snapshot_state was taken
 
 
 class _GeomInfo(object):
@@ -616,7 +617,7 @@ class World(object):
         # ODE renormalises quaternions on every set (not idempotent to the last bit): restore the
         # captured state once so that the live state is exactly what reset() will produce
         model.restore_state(entry.spawn_state, zero_velocity=False)
-        entry.snapshot_state = entry.spawn_state
+        self._set_snapshot(entry, entry.spawn_state)
         self._check_spawn_overlap(model)
         LOG.info("spawned model '%s': %d links, %d joints, %d bodies%s", model.name, len(model.links),
                  len(model.joints), len(model.bodies), " (static)" if model.is_static else "")
@@ -705,6 +706,7 @@ class World(object):
         # models, links or bodies came or went: caches kept outside the World (the node's
         # serialised states) compare this number
         self.layout_version += 1
+        self._adopt_native_snapshot()       # before the backend's arrays change
         ms = list(self.models.values())
         self._p.dynamic_models = [m for m in ms if m.bodies and m.name not in self._frozen]
         joints = [j for m in ms for j in m.joints_in_order if j.ode_joint is not None]
@@ -1042,13 +1044,35 @@ class World(object):
         """The blow-up guard after a step: models whose bodies run away (or explode in contacts)
         go back to their last sane state; every snapshot_interval steps the others are saved."""
         flagged = self._backend.find_blowups()
+        if flagged:
+            self._adopt_native_snapshot()
         for m, g, reason in flagged:
             self._restore_after_blowup(m, g.root.name, reason)
         if self.iterations % int(self._p.params["snapshot_interval"]) == 0:
             bad = set(id(f[0]) for f in flagged)
             for m in self._p.dynamic_models:
                 if id(m) not in bad:
-                    self._p.entries[m].snapshot_state = m.capture_state()
+                    self._set_snapshot(self._p.entries[m], m.capture_state())
+
+    def _set_snapshot(self, entry, state):
+        entry.snapshot_state = state
+        entry.snapshot_iter = self.iterations
+
+    def _adopt_native_snapshot(self):
+        """The C loop takes the guard's snapshots at the steps on its interval at which nothing
+        was flagged, without stopping for Python (mr_run_steps); its last one becomes the snapshot
+        of each model it is newer for, before a restoration reads one and before the backend's
+        arrays change."""
+        k = self._backend.snapshot_iteration
+        if k < 0:
+            return
+        body, joint = self._backend.snapshot_readers()
+        entries = self._p.entries
+        for m in self._p.dynamic_models:
+            e = entries.get(m)
+            if e is not None and e.snapshot_iter < k:
+                e.snapshot_state = m.capture_state(body, joint)
+                e.snapshot_iter = k
 
     def _restore_after_blowup(self, model, link, reason):
         ev = GuardEvent(model.name, link, reason, self.time)
@@ -1138,7 +1162,7 @@ class World(object):
         entry = self._p.entries.get(model)
         if entry is not None:
             entry.ncontacts = 0
-            entry.snapshot_state = model.capture_state()
+            self._set_snapshot(entry, model.capture_state())
         self._rebuild_caches()
         LOG.warning("model '%s' released from the blow-up guard's freeze", name)
         return True
@@ -1169,7 +1193,7 @@ class World(object):
             self.unfreeze(model.name)
         entry = self._p.entries.get(model)
         if entry is not None:
-            entry.snapshot_state = model.capture_state()
+            self._set_snapshot(entry, model.capture_state())
         if model.is_static or model.world_attached:
             self._wake_all()  # sleeping bodies resting on a moved static part must notice
 
@@ -1190,10 +1214,11 @@ class World(object):
         self._p.contact_group.empty()
         for name in list(self._frozen):
             self.unfreeze(name)
+        self._backend.drop_snapshot()       # of the time before: reset() may have sent time back
         for m in self.models.values():
             e = self._p.entries[m]
             m.restore_state(e.spawn_state, zero_velocity=False)
-            e.snapshot_state = e.spawn_state
+            self._set_snapshot(e, e.spawn_state)
             e.ncontacts = 0
         self._effort_joints = []
         self._last_effort_joints = []

@@ -1420,7 +1420,36 @@ typedef struct {
     double mimic_gain, mimic_force;                           /* MIMIC_GAIN, MIMIC_COUPLING_FORCE */
     MrModelActuator **macts;                                  /* the model actuators, before the joints' */
     int nmacts;
+    /* the guard's snapshot of a step on its interval at which nothing was flagged, taken here
+     * instead of ending the stretch (NULL: end it, the World's guard takes it in Python): per body
+     * of `bodies` MR_SNAP_BODY doubles (position, quaternion w x y z, linear and angular
+     * velocity), per turn record of `turns` 2 (last_raw, turns) */
+    double *snap;
+    double *snap_turns;
+    long long snap_iter;  /* out: the iteration count after the step of the last snapshot taken */
 } MrStretch;
+
+#define MR_SNAP_BODY 13
+
+static void mr_stretch_snapshot(MrStretch *b)
+{
+    int i;
+    for (i = 0; i < b->nbodies; ++i) {
+        dBodyID body = b->bodies[i];
+        double *o = b->snap + (size_t)i * MR_SNAP_BODY;
+        const dReal *p = dBodyGetPosition(body), *q = dBodyGetQuaternion(body);
+        const dReal *v = dBodyGetLinearVel(body), *w = dBodyGetAngularVel(body);
+        o[0] = p[0]; o[1] = p[1]; o[2] = p[2];
+        o[3] = q[0]; o[4] = q[1]; o[5] = q[2]; o[6] = q[3];
+        o[7] = v[0]; o[8] = v[1]; o[9] = v[2];
+        o[10] = w[0]; o[11] = w[1]; o[12] = w[2];
+    }
+    for (i = 0; i < b->nturns; ++i) {
+        b->snap_turns[2 * i] = b->turns[i]->last_raw;
+        b->snap_turns[2 * i + 1] = (double)b->turns[i]->turns;
+    }
+    b->snap_iter = b->iterations;
+}
 
 /* World._apply_forces after the damping: Joint.drive_mimic of every mimic joint, then
  * Joint.update_soft_limits of every joint with limits beyond +-pi */
@@ -1501,11 +1530,18 @@ int mr_run_steps(MrCtx *c, MrStretch *b, int n)
         b->time = tn;
         mr_track_turns(b->turns, b->nturns);
         if (b->observer) ((mr_observer_fn)b->observer)(b->observer_user, tn);
-        if (b->first_bad >= 0 || b->ncontacts > b->guard_max_contacts ||
-            (b->snapshot_interval > 0 && b->iterations % b->snapshot_interval == 0)) {
+        if (b->first_bad >= 0 || b->ncontacts > b->guard_max_contacts) {
             b->guard = 1;
             b->after = after;
             return k + 1;
+        }
+        if (b->snapshot_interval > 0 && b->iterations % b->snapshot_interval == 0) {
+            if (!b->snap) {
+                b->guard = 1;
+                b->after = after;
+                return k + 1;
+            }
+            mr_stretch_snapshot(b);
         }
         if (after) {
             b->after = 1;
