@@ -11,7 +11,12 @@ JUnit XML under out/test-results/<run>/, and a failing job's log ends the output
 Each job runs with TMPDIR set to a fresh empty directory of its own (a short path under the system's
 temporary directory): a test removes what it creates there. Whatever a job leaves in it, other than
 ALLOWED_LEFTOVERS, fails that job with the names listed; the directories are removed when the job
-ends, and the run's directory when the run ends, whether tests failed or the run was interrupted.
+ends, and the run's directory when the run ends, whether tests failed or the run was stopped:
+Ctrl-C (SIGINT) and SIGTERM (what CI and `timeout` send to cancel a job) interrupt the running jobs
+(each runs in a process group of its own, so its whole tree gets the SIGINT a terminal would send),
+kill what is left of them after JobProcesses.GRACE_S, remove the directories and exit with 128 + the
+signal's number. A run that could not clean up (SIGKILL) leaves its directory with its pid in it:
+the next run removes it once that process is gone.
 
     run_tests.py                   both tiers
     run_tests.py --tier 1          unit tests only
@@ -26,10 +31,13 @@ import glob
 import os
 import re
 import shutil
+import signal
 import socket
+import stat
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import xml.etree.ElementTree as ET
 
@@ -57,14 +65,49 @@ class TempDirs:
     of unix sockets made in TMPDIR (Ray's) are limited to 107 bytes: in /tmp when the system's
     temporary directory has a longer path than LONGEST_BASE."""
     LONGEST_BASE = 40
+    PREFIX = "modrob-test-"
+    OWNER = "pid"          # in the run's directory: the runner's pid, for the stale-directory check
 
     def __init__(self):
         base = tempfile.gettempdir()
         if len(base) > self.LONGEST_BASE and os.path.isdir("/tmp"):
             print("[tests] TMPDIR %s is too long for the sockets tests make in it: using /tmp" % base)
             base = "/tmp"
-        self.root = tempfile.mkdtemp(prefix="modrob-test-", dir=base)
+        stale = self.remove_stale(base)
+        if stale:
+            print("[tests] removed %d temporary director%s of earlier runs that ended without cleaning up "
+                  "(killed; their process is gone): %s" % (len(stale), "y" if len(stale) == 1 else "ies",
+                                                           ", ".join(stale)), flush=True)
+        self.root = tempfile.mkdtemp(prefix=self.PREFIX, dir=base)
+        with open(os.path.join(self.root, self.OWNER + ".new"), "w") as fh:
+            fh.write("%d\n" % os.getpid())
+        os.rename(os.path.join(self.root, self.OWNER + ".new"), os.path.join(self.root, self.OWNER))
         self.count = 0
+
+    @classmethod
+    def remove_stale(cls, base):
+        """Remove the run directories in ``base`` whose runner is gone (killed with SIGKILL, which
+        cannot be handled); the paths removed. Only directories of this user named PREFIX* with an
+        OWNER file naming a pid that no process has: a live runner's, another user's, one without an
+        OWNER file (a run starting, or not ours) or anything else is never touched."""
+        removed = []
+        for name in sorted(os.listdir(base)):
+            path = os.path.join(base, name)
+            if not name.startswith(cls.PREFIX):
+                continue
+            try:
+                st = os.lstat(path)
+                if not stat.S_ISDIR(st.st_mode) or st.st_uid != os.getuid():
+                    continue
+                with open(os.path.join(path, cls.OWNER)) as fh:
+                    pid = int(fh.read().strip())
+            except (OSError, ValueError):
+                continue
+            if pid <= 0 or process_exists(pid):
+                continue
+            shutil.rmtree(path, ignore_errors=True)
+            removed.append(path)
+        return removed
 
     def new(self):
         """A fresh empty TMPDIR for one job, and a scratch directory beside it for what the runner
@@ -92,11 +135,84 @@ class TempDirs:
         """Remove the run's directory; the names still in it (a job's directory whose job never
         ended, or one a process left running recreated after its job ended)."""
         try:
-            left = sorted(os.listdir(self.root))
+            left = sorted(name for name in os.listdir(self.root) if name != self.OWNER)
         except FileNotFoundError:
             left = []
         shutil.rmtree(self.root, ignore_errors=True)
         return left
+
+
+def process_exists(pid):
+    """Whether a process ``pid`` exists (a zombie counts: it is not reaped yet)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:      # another user's
+        return True
+    return True
+
+
+class Stopped(Exception):
+    """The run was told to stop (SIGINT or SIGTERM): raised in the main thread by the handler."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+class JobProcesses:
+    """The commands the jobs run, each in a process group of its own with stdin from /dev/null (a
+    background group must not read the terminal). A terminal's Ctrl-C reaches only the runner's
+    group and SIGTERM only the runner, so the runner stops the jobs itself: SIGINT to each job's
+    group (pytest then runs its teardowns, rostest's roslaunch stops its nodes), SIGKILL to the group
+    after GRACE_S (roslaunch gives a node 15 s for SIGINT, then SIGTERM)."""
+    GRACE_S = 20.0
+
+    def __init__(self):
+        self.lock = threading.RLock()     # the second-signal handler may run while the main thread holds it
+        self.running = set()
+        self.stopping = False
+
+    def call(self, cmd, timeout, **kw):
+        """Run ``cmd`` to its end: its exit status, or a reason when it timed out or the run was
+        stopped before it started. A timed-out command is stopped as a stopped run's are."""
+        with self.lock:
+            if self.stopping:
+                return "not started: the run was stopped"
+            proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, process_group=0, **kw)
+            self.running.add(proc)
+        try:
+            try:
+                return proc.wait(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                self.signal(proc, signal.SIGINT)
+                try:
+                    proc.wait(timeout=self.GRACE_S)
+                except subprocess.TimeoutExpired:
+                    self.signal(proc, signal.SIGKILL)
+                    proc.wait()
+                return "timeout after %d s" % timeout
+        finally:
+            with self.lock:
+                self.running.discard(proc)
+
+    @staticmethod
+    def signal(proc, signum):
+        try:
+            os.killpg(proc.pid, signum)
+        except ProcessLookupError:     # the group is gone already
+            pass
+
+    def stop_all(self, signum):
+        """Send ``signum`` to every running job's group; no job starts after this."""
+        with self.lock:
+            self.stopping = True
+            for proc in self.running:
+                self.signal(proc, signum)
+
+
+PROCS = JobProcesses()
 
 
 def free_port():
@@ -155,11 +271,8 @@ def run_unit(path, timeout, tmpdir, scratch):
            path]
     start = time.time()
     with open(logfile, "w") as log:
-        try:
-            rc = subprocess.call(cmd, cwd=ROOT, env=dict(os.environ, TMPDIR=tmpdir, ROS_HOME=ROS_HOME),
-                                 stdout=log, stderr=subprocess.STDOUT, timeout=timeout)
-        except subprocess.TimeoutExpired:
-            rc = "timeout after %d s" % timeout
+        rc = PROCS.call(cmd, timeout, cwd=ROOT, env=dict(os.environ, TMPDIR=tmpdir, ROS_HOME=ROS_HOME),
+                        stdout=log, stderr=subprocess.STDOUT)
     passed, failed, skipped, xfailed = junit_counts(xml)
     if rc not in (0, 5) and failed == 0:
         failed = 1  # pytest itself failed (collection or usage error, timeout): count it
@@ -200,11 +313,7 @@ def run_rostest(path, timeout, tmpdir, _scratch):
     # an unused port as well so that nothing can fall back to a master of the user's.
     cmd = ["rostest", "--results-base-dir", outdir, path]
     with open(logfile, "w") as log:
-        try:
-            rc = subprocess.call(cmd, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT,
-                                 timeout=timeout)
-        except subprocess.TimeoutExpired:
-            rc = "timeout after %d s" % timeout
+        rc = PROCS.call(cmd, timeout, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT)
     results = glob.glob(os.path.join(outdir, "**", "*.xml"), recursive=True)
     # rosunit-*.xml hold the test cases of each test node; rostest-*.xml is a summary with
     # one entry per node (it fails a node that crashed before writing its own results).
@@ -240,14 +349,11 @@ def run_docs(_path, timeout, tmpdir, _scratch):
     logfile = os.path.join(RESULTS, "docs.log")
     start = time.time()
     with open(logfile, "w") as log:
-        try:
-            # the blocks' scripts and logs beside the docs test's own (kept only when it fails)
-            cmd = [sys.executable, os.path.join(ROOT, "scripts", "docs_test.py"), "--junit", xml,
-                   "--workdir", RESULTS]
-            rc = subprocess.call(cmd, cwd=ROOT, env=dict(os.environ, TMPDIR=tmpdir), stdout=log,
-                                 stderr=subprocess.STDOUT, timeout=timeout)
-        except subprocess.TimeoutExpired:
-            rc = "timeout after %d s" % timeout
+        # the blocks' scripts and logs beside the docs test's own (kept only when it fails)
+        cmd = [sys.executable, os.path.join(ROOT, "scripts", "docs_test.py"), "--junit", xml,
+               "--workdir", RESULTS]
+        rc = PROCS.call(cmd, timeout, cwd=ROOT, env=dict(os.environ, TMPDIR=tmpdir), stdout=log,
+                        stderr=subprocess.STDOUT)
     passed, failed, _, _ = junit_counts(xml)
     if rc != 0 and failed == 0:
         failed = 1
@@ -299,16 +405,29 @@ def run_jobs(jobs, workers, timeout, temp):
                       flush=True)
                 if f:
                     failures.append(logfile)
-        except KeyboardInterrupt:
-            # the jobs not started yet are dropped; the running ones end with the Ctrl-C the terminal
-            # sent them too, and leaving the pool waits for them and their clean-up
+        except Stopped:
+            # the jobs not started yet are dropped; the running ones are interrupted, killed if they
+            # do not end within the grace time (at once on a second signal), and leaving the pool
+            # waits for them and their clean-up
             for future in running:
                 future.cancel()
+            for signum in STOP_SIGNALS:
+                signal.signal(signum, lambda *_: PROCS.stop_all(signal.SIGKILL))
+            PROCS.stop_all(signal.SIGINT)
+            if concurrent.futures.wait(running, timeout=PROCS.GRACE_S).not_done:
+                PROCS.stop_all(signal.SIGKILL)
             raise
     for logfile in failures:
         print("---- last lines of %s" % os.path.relpath(logfile, ROOT))
         print(failure_lines(logfile))
     return total
+
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+def stop_run(signum, _frame):
+    raise Stopped(signum)
 
 
 def main():
@@ -335,16 +454,26 @@ def main():
           % (kinds[0], kinds[1], ", the docs test" if any(j[1] is run_docs for j in jobs) else "",
              max(1, args.jobs)), flush=True)
     temp = TempDirs()
+    stopped = []
+    for signum in STOP_SIGNALS:
+        signal.signal(signum, stop_run)
     try:
         passed, failed, skipped, xfailed = run_jobs(jobs, max(1, args.jobs), args.timeout, temp)
-    except KeyboardInterrupt:
-        print("[tests] interrupted", flush=True)
-        return 130
+    except Stopped as exc:
+        stopped.append(exc.signum)
     finally:
+        # a signal from here on only marks the run as stopped: the clean-up goes on
+        for signum in STOP_SIGNALS:
+            signal.signal(signum, lambda signum, _frame: stopped.append(signum))
         stray = temp.close()
         if stray:
             print("[tests] still in %s at the end (removed): %s -- a job that never ended, or a process "
                   "a test left running" % (temp.root, ", ".join(stray)), flush=True)
+    if stopped:
+        print("[tests] %s by %s: the running jobs were stopped and %s removed"
+              % ("interrupted" if stopped[0] == signal.SIGINT else "terminated",
+                 signal.Signals(stopped[0]).name, temp.root), flush=True)
+        return 128 + stopped[0]
     if stray:
         failed += 1
     line = "%d passed, %d failed" % (passed, failed)

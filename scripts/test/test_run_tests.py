@@ -1,10 +1,17 @@
 """The test runner's clean-up check (scripts/run_tests.py): every job runs with a TMPDIR of its own,
-what a job leaves there fails it by name, and the directories go away whatever the job did."""
+what a job leaves there fails it by name, and the directories go away whatever the job did, when
+the run is stopped by SIGTERM, and (at the next run's start) when the run was killed."""
 import glob
 import importlib.util
 import os
 import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
 import textwrap
+import time
 
 import pytest
 
@@ -61,7 +68,7 @@ def test_a_long_system_tmpdir_is_not_used(tmp_path, monkeypatch):
 def test_a_job_that_leaves_nothing_passes_and_its_directory_goes(temp):
     p, f, s, x, rc, log, _, left = run_tests.run_in_tmpdir(temp, job_writing(), None, 10)
     assert (p, f, left) == (1, 0, [])
-    assert os.listdir(temp.root) == []
+    assert os.listdir(temp.root) == [run_tests.TempDirs.OWNER]     # the job's directories are gone
 
 
 def test_leftovers_fail_the_job_by_name_and_are_removed(temp):
@@ -69,13 +76,13 @@ def test_leftovers_fail_the_job_by_name_and_are_removed(temp):
     assert (p, f, left) == (1, 1, ["a_dir", "b.csv"])
     with open(log) as fh:
         assert "left in its TMPDIR: a_dir, b.csv" in fh.read()
-    assert os.listdir(temp.root) == []
+    assert os.listdir(temp.root) == [run_tests.TempDirs.OWNER]     # the job's directories are gone
 
 
 def test_allowed_leftovers_do_not_fail_but_are_removed(temp):
     p, f, s, x, rc, log, _, left = run_tests.run_in_tmpdir(temp, job_writing("ray", "runtime-ci"), None, 10)
     assert (f, left) == (0, [])
-    assert os.listdir(temp.root) == []
+    assert os.listdir(temp.root) == [run_tests.TempDirs.OWNER]     # the job's directories are gone
 
 
 def test_a_job_that_raises_still_has_its_directory_removed(temp):
@@ -84,7 +91,7 @@ def test_a_job_that_raises_still_has_its_directory_removed(temp):
         raise RuntimeError("boom")
     with pytest.raises(RuntimeError):
         run_tests.run_in_tmpdir(temp, job, None, 10)
-    assert os.listdir(temp.root) == []
+    assert os.listdir(temp.root) == [run_tests.TempDirs.OWNER]     # the job's directories are gone
 
 
 def test_close_names_what_was_still_there_and_removes_the_run_directory(temp):
@@ -109,7 +116,151 @@ def test_a_real_pytest_job_sees_its_tmpdir_and_its_tmp_path_is_not_a_leftover(te
         """))
     p, f, s, x, rc, log, _, left = run_tests.run_in_tmpdir(temp, run_tests.run_unit, str(tests), 120)
     assert (p, f, left) == (2, 1, ["leaked.txt"]), open(log).read()
-    assert os.listdir(temp.root) == []
+    assert os.listdir(temp.root) == [run_tests.TempDirs.OWNER]     # the job's directories are gone
+
+
+@pytest.fixture
+def short_base():
+    """A directory of the test's own for the runner to use as the system's temporary directory:
+    within TempDirs.LONGEST_BASE (a longer one would make it fall back to /tmp)."""
+    base = tempfile.mkdtemp(prefix="t", dir=tempfile.gettempdir())
+    try:
+        assert len(base) <= run_tests.TempDirs.LONGEST_BASE, "TMPDIR %s is too long for this test" % base
+        yield base
+    finally:
+        shutil.rmtree(base, ignore_errors=True)
+
+
+def dead_pid():
+    proc = subprocess.Popen([sys.executable, "-c", ""])
+    proc.wait()
+    return proc.pid
+
+
+def test_a_run_removes_the_directories_of_killed_runs_and_nothing_else(short_base, monkeypatch, capsys):
+    monkeypatch.setattr(run_tests.tempfile, "tempdir", None)     # gettempdir() reads TMPDIR again
+    monkeypatch.setenv("TMPDIR", short_base)
+
+    def run_dir(name, pid):
+        """A run's directory with a job's TMPDIR in it, owned by ``pid`` (None: no owner file)."""
+        path = os.path.join(short_base, name)
+        os.makedirs(os.path.join(path, "3"))
+        open(os.path.join(path, "3", "left.txt"), "w").close()
+        if pid is not None:
+            with open(os.path.join(path, run_tests.TempDirs.OWNER), "w") as fh:
+                fh.write("%s\n" % pid)
+        return path
+    gone = dead_pid()
+    killed = run_dir("modrob-test-killed01", gone)
+    kept = [run_dir("modrob-test-running1", os.getpid()),     # a live run's
+            run_dir("modrob-test-starting", None),            # no owner yet, or not a run's
+            run_dir("modrob-test-garbled1", "12ab"),
+            run_dir("other-dir-of-a-dead", gone),             # not named as the runner names its own
+            run_dir("elsewhere", gone)]
+    link = os.path.join(short_base, "modrob-test-symlink1")  # a link to a dead run's directory
+    os.symlink(kept[-1], link)
+    kept.append(link)
+    if os.getuid() == 0:                                      # another user's (only root can make one)
+        kept.append(run_dir("modrob-test-otheruser", gone))
+        for root, dirs, files in os.walk(kept[-1]):
+            for name in [root] + [os.path.join(root, n) for n in dirs + files]:
+                os.chown(name, 65534, 65534)
+    temp = run_tests.TempDirs()
+    try:
+        out = capsys.readouterr().out
+        assert not os.path.exists(killed)
+        assert [p for p in kept if not os.path.lexists(p)] == []
+        assert os.path.exists(os.path.join(kept[-1], run_tests.TempDirs.OWNER))
+        assert len(out.splitlines()) == 1 and "removed 1 temporary directory" in out
+        assert killed in out and str(kept) not in out
+        with open(os.path.join(temp.root, run_tests.TempDirs.OWNER)) as fh:
+            assert int(fh.read()) == os.getpid()
+        second = run_tests.TempDirs()          # the first run is alive: its directory stays
+        second.close()
+        assert os.path.isdir(temp.root) and capsys.readouterr().out == ""
+    finally:
+        temp.close()
+    assert not os.path.exists(temp.root)
+
+
+WAITING_JOB = textwrap.dedent("""\
+    import os, signal, subprocess, sys, tempfile
+
+    def test_runs_until_the_runner_stops_it():
+        open(os.path.join(tempfile.gettempdir(), "made-by-the-job"), "w").close()
+        child = subprocess.Popen([sys.executable, "-c", "import signal; signal.pause()"])
+        path = os.environ["JOB_PIDS"]
+        with open(path + ".new", "w") as fh:
+            fh.write("%d %d" % (os.getpid(), child.pid))
+        os.rename(path + ".new", path)
+        signal.pause()
+    """)
+
+
+def running(pid):
+    """Whether process ``pid`` exists and is not a zombie (dead, waiting for its parent)."""
+    try:
+        with open("/proc/%d/stat" % pid) as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except FileNotFoundError:
+        return False
+
+
+def test_sigterm_stops_the_jobs_removes_the_directories_and_exits_143(tmp_path, short_base):
+    """The runner (a copy, in a workspace whose one unit test runs until it is stopped) is sent
+    SIGTERM as CI or `timeout` would: the job and its child end, nothing is left, exit 128 + 15."""
+    ws = tmp_path / "ws"
+    (ws / "scripts").mkdir(parents=True)
+    shutil.copy(os.path.join(HERE, "..", "run_tests.py"), str(ws / "scripts"))
+    unit = ws / "src" / "fakepkg" / "test" / "unit"
+    unit.mkdir(parents=True)
+    (unit / "test_wait.py").write_text(WAITING_JOB)
+    pids = tmp_path / "pids"
+    runner = [sys.executable, str(ws / "scripts" / "run_tests.py"), "--tier", "1", "-k", "fakepkg"]
+    proc = subprocess.Popen(runner, env=dict(os.environ, TMPDIR=short_base, JOB_PIDS=str(pids)),
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        deadline = time.monotonic() + 60
+        while not pids.exists():                 # until the job runs
+            assert proc.poll() is None, "the runner ended before its job started:\n" + proc.stdout.read()
+            assert time.monotonic() < deadline, "the job did not start within 60 s"
+            time.sleep(0.05)
+        run_dirs = glob.glob(os.path.join(short_base, "modrob-test-*"))
+        assert len(run_dirs) == 1 and os.listdir(os.path.join(run_dirs[0], "1")) == ["made-by-the-job"]
+        proc.send_signal(signal.SIGTERM)
+        out, _ = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    job, child = (int(v) for v in pids.read_text().split())
+    try:
+        assert proc.returncode == 128 + signal.SIGTERM, out
+        assert ("[tests] terminated by SIGTERM: the running jobs were stopped and %s removed" % run_dirs[0]
+                in out)
+        assert os.listdir(short_base) == []
+        assert not running(job)                      # the runner waited for it
+        deadline = time.monotonic() + 10             # the child got the SIGINT as well: it ends on its own
+        while running(child) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert not running(child), "the job's child %d is still running" % child
+    finally:                                         # when it failed: stop what the runner left
+        for pid in (job, child):
+            if running(pid):
+                os.kill(pid, signal.SIGKILL)
+
+
+IGNORES_SIGINT = "import signal; signal.signal(signal.SIGINT, signal.SIG_IGN); signal.pause()"
+
+
+@pytest.mark.parametrize("code, how", [("import signal; signal.pause()", "ends on SIGINT"),
+                                       (IGNORES_SIGINT, "ignores SIGINT: killed after the grace time")])
+def test_a_job_past_its_timeout_is_stopped(code, how):
+    procs = run_tests.JobProcesses()
+    procs.GRACE_S = 0.5
+    start = time.monotonic()
+    assert procs.call([sys.executable, "-c", code], 1) == "timeout after 1 s", how
+    assert time.monotonic() - start < 10 and procs.running == set()
 
 
 # Fixed paths of the X server's, not temporary files: they are the same whatever TMPDIR says.
