@@ -51,12 +51,16 @@ test-ros:
 	@$(ENV) && python3 $(ROOT)/scripts/run_tests.py --tier 2 $(TESTARGS)
 
 # The short form of the fuzz suite runs in `make test`; this is the full one (seeded, so a failure
-# reproduces): the physics core in pytest, then the /gazebo node under rostest.
+# reproduces): the physics core in pytest, then the /gazebo node under rostest (run_tests.py cleans
+# up after that part). The pytest part's TMPDIR and --basetemp are a directory removed when the
+# target ends, also on Ctrl-C and SIGTERM: pytest would keep its last three in /tmp/pytest-of-<user>.
 fuzz:
 	@$(ROOT)/scripts/setup.sh
 	@$(ENV) && export MODROB_FUZZ_SCALE=$${MODROB_FUZZ_SCALE:-20} && \
-	  (cd $(ROOT) && python3 -m pytest -q --import-mode=importlib -p no:cacheprovider \
-	    src/modrob_sim/test/unit/test_fuzz_physics.py) && \
+	  tmp=$$(mktemp -d -t modrob-fuzz-XXXXXXXX) && trap 'rm -rf "$$tmp"' EXIT && \
+	  trap 'exit 130' INT && trap 'exit 143' TERM && \
+	  (cd $(ROOT) && TMPDIR=$$tmp python3 -m pytest -q --import-mode=importlib -p no:cacheprovider \
+	    --basetemp $$tmp/pytest src/modrob_sim/test/unit/test_fuzz_physics.py) && \
 	  python3 $(ROOT)/scripts/run_tests.py --tier 2 -k sim_fuzz
 
 demo:
