@@ -332,11 +332,12 @@ def main_search(args):
     """--search ray: Ray Tune over each joint's gains (modrob_sweep.tune_search); YAML, plots, table."""
     from modrob_sim.tuning.autotune import measure
     from modrob_sweep import tune_search
-    from modrob_sweep.runner import connect
+    from modrob_sweep.runner import connect, shutdown
 
     def log(msg):
         print("  " + msg)
         sys.stdout.flush()
+    token = "tune_pid-%d" % os.getpid()     # marks the Ray processes of this search (runner.shutdown)
     try:
         urdf, gains, ns, key = load_robot(args)
         at = parse_at(args.at)
@@ -351,7 +352,7 @@ def main_search(args):
         if args.samples < 2:
             raise ModrobError("--samples must be at least 2 (the current gains and one more), got %d"
                               % args.samples)
-        cpus = connect(args.address, args.workers, 1.0, "tune_pid")
+        cpus = connect(args.address, args.workers, 1.0, token)
         print("tune_pid: %s, Ray Tune over %s at %s, %d gain sets per joint, %g CPUs"
               % (key, ", ".join(joints), args.at or "zeros", args.samples, cpus))
         sys.stdout.flush()
@@ -370,9 +371,7 @@ def main_search(args):
         print("tune_pid: %s" % exc, file=sys.stderr)
         return 2
     finally:
-        import ray
-        if ray.is_initialized():
-            ray.shutdown()
+        shutdown(token)     # and its temporary directory
     os.makedirs(args.out, exist_ok=True)
     tuned = {j: dict(gains.get(j) or {}) for j in (arm_joints(gains) if args.all else [args.joint])}
     for j, (current, res) in found.items():

@@ -11,11 +11,17 @@ Ctrl-C (or SIGTERM) cancels every running task (``ray.cancel(force=True)``): the
 each trial's reaper sees its parent die and stops the trial's processes; the driver then waits
 until no process carrying the sweep's token is left on this machine, writes the trials that
 finished, and stops the Ray it started.
+
+A Ray started here keeps its session (logs, sockets) in a directory of its own (``ray-*`` in
+RAY_TMPDIR or the system's temporary directory), which shutdown() removes: when the sweep ends, on
+an error and after Ctrl-C or SIGTERM. A cluster's Ray keeps its sessions where its nodes were started.
 """
 import os
+import shutil
 import signal
 import socket
 import sys
+import tempfile
 import time
 import uuid
 
@@ -29,6 +35,15 @@ SWEEP_VAR = "MODROB_SWEEP_ID"
 # (docs/sweeps.md).
 RAY_CHILD_KILL = "RAY_kill_child_processes_on_worker_exit"
 CANCEL_GRACE_S = 30.0
+# A Unix socket's path has at most 107 bytes; Ray makes its sockets at <temp dir>/<session>/sockets/
+# (the session named by date, time and a pid of up to 7 digits; plasma_store the longest name).
+SOCKET_PATH_MAX = 107
+RAY_SOCKET_TAIL = len("/session_2026-01-01_00-00-00_000000_1234567/sockets/plasma_store")
+RAY_TEMP_PREFIX = "ray-"
+SHORT_TEMP = "/tmp"          # where Ray's directory goes when the temporary directory's path is too long
+NO_CRASH_HANDLER = "RAY_DISABLE_FAILURE_SIGNAL_HANDLER"
+# (path, RAY_TMPDIR before) of the Ray this process started, until shutdown()
+_ray_temp_dirs = []
 
 
 class Progress(object):
@@ -85,6 +100,11 @@ def _remote_trial():
 def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=True):
     """ray.init on this machine (a private instance with ``workers`` x ``cpus_per_trial`` CPUs) or
     on the cluster at ``address``. Returns the number of CPUs the trials can use."""
+    # Ray's C++ crash handler (read at `import ray`, installed by ray.init) ends this process on a
+    # SIGTERM during ray.init, before the sweep's own handler is back: Ray's processes and temporary
+    # directory would be left behind. Off; the Ray processes started here inherit that (no C++ stack
+    # trace in their logs on a crash).
+    os.environ.setdefault(NO_CRASH_HANDLER, "1")
     try:
         import ray
     except ImportError as exc:
@@ -103,6 +123,7 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
                              % (address, exc))
     else:
         n = workers or os.cpu_count() or 1
+        kw["_temp_dir"] = new_ray_temp_dir()
         for attempt in (1, 2):
             try:
                 ray.init(address="local", num_cpus=max(1, int(round(n * cpus_per_trial))), **kw)
@@ -114,35 +135,63 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
                     print("sweep: Ray did not start on this machine (%s); trying once more" % reason,
                           file=sys.stderr, flush=True)
                     continue
+                _remove_ray_temp_dirs()
                 raise SweepError("Ray did not start on this machine, twice: %s. On an overloaded machine its "
                                  "start-up times out: run the sweep again (or with fewer --workers)" % reason)
     return ray.cluster_resources().get("CPU", 0)
 
 
+def new_ray_temp_dir():
+    """A fresh directory for the session of a Ray started here (ray.init's _temp_dir, `ray start
+    --temp-dir`), in RAY_TMPDIR or the system's temporary directory, /tmp when that path is too long for
+    Ray's socket paths. RAY_TMPDIR is set to it until shutdown() removes it."""
+    base = os.path.abspath(os.environ.get("RAY_TMPDIR") or tempfile.gettempdir())
+    longest = SOCKET_PATH_MAX - RAY_SOCKET_TAIL - len("/%sxxxxxxxx" % RAY_TEMP_PREFIX)
+    if len(base) > longest:
+        print("sweep: the temporary directory %s is too long for Ray's socket paths in it (%d bytes at "
+              "most): Ray's session goes to %s" % (base, longest, SHORT_TEMP), file=sys.stderr, flush=True)
+        base = SHORT_TEMP
+    path = tempfile.mkdtemp(prefix=RAY_TEMP_PREFIX, dir=base)
+    _ray_temp_dirs.append((path, os.environ.get("RAY_TMPDIR")))
+    # Ray's other temporary files (Ray Tune's lock files) go there too, in this process and in the
+    # Ray processes, which inherit the environment
+    os.environ["RAY_TMPDIR"] = path
+    return path
+
+
+def _remove_ray_temp_dirs():
+    while _ray_temp_dirs:
+        path, before = _ray_temp_dirs.pop()
+        shutil.rmtree(path, ignore_errors=True)
+        if before is None:
+            os.environ.pop("RAY_TMPDIR", None)
+        else:
+            os.environ["RAY_TMPDIR"] = before
+
+
+def shutdown(token=None):
+    """Stop this process's Ray (nothing when none runs); with ``token`` (connect's), wait until the local
+    Ray's processes are gone (killed after a while), so that nothing writes its temporary directory any
+    more; then remove that directory."""
+    ray = sys.modules.get("ray")         # not imported: no Ray ran in this process
+    try:
+        # a Ray whose start was cut short (a signal in ray.init) is not shut down by ray.shutdown: what
+        # it started is stopped at once rather than waited for
+        started = ray is not None and ray.is_initialized()
+        if ray is not None:
+            ray.shutdown()
+        if token:
+            _wait_local_trials(token, kill=True, timeout=20.0 if started else 0.0)
+    finally:
+        _remove_ray_temp_dirs()
+
+
 def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_row=None):
     """Run every trial of ``sweep``; returns (rows, interrupted). Rows are what run_trial returned,
     or rows made here for trials that could not be run twice or were cancelled."""
-    import ray
     token = "%s-%s" % (sweep.name, uuid.uuid4().hex[:10])
-    total_cpus = connect(address, workers, sweep.cpus, token)
-    if total_cpus < sweep.cpus:
-        ray.shutdown()
-        raise SweepError("one trial of %s needs %g CPUs but the Ray cluster has %g: lower `cpus` in the "
-                         "sweep "
-                         "file or add nodes" % (sweep.name, sweep.cpus, total_cpus))
-    side_by_side = int(total_cpus // sweep.cpus)
-    task = sweep.as_task()
-    trial_task = _remote_trial().options(num_cpus=sweep.cpus)
-    os.makedirs(out_root, exist_ok=True)
-    progress = Progress(len(sweep.trials), progress_stream, side_by_side)
-    print("[sweep] %s: %d trials, %g CPU each, up to %d side by side on %s; results in %s"
-          % (sweep.name, len(sweep.trials), sweep.cpus, side_by_side,
-             "the Ray cluster at %s" % address if address else "this machine (%s)" % socket.gethostname(),
-             out_root), file=progress.stream, flush=True)
+    stream = progress_stream or sys.stdout
     pending = {}
-    for t in sweep.trials:
-        ref = trial_task.remote(task, t.as_dict(), out_root, token, 1)
-        pending[ref] = (t, 1)
     rows = []
     interrupted = False
     old_term = signal.signal(signal.SIGTERM, _raise_interrupt)
@@ -150,6 +199,25 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
     # script inherits that): the trials must never be left to run on
     old_int = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
+        total_cpus = connect(address, workers, sweep.cpus, token)
+        import ray
+        # ray.init puts a SIGTERM handler of its own in place (sys.exit: the trials would not be cancelled)
+        signal.signal(signal.SIGTERM, _raise_interrupt)
+        if total_cpus < sweep.cpus:
+            raise SweepError("one trial of %s needs %g CPUs but the Ray cluster has %g: lower `cpus` in the "
+                             "sweep file or add nodes" % (sweep.name, sweep.cpus, total_cpus))
+        side_by_side = int(total_cpus // sweep.cpus)
+        task = sweep.as_task()
+        trial_task = _remote_trial().options(num_cpus=sweep.cpus)
+        os.makedirs(out_root, exist_ok=True)
+        progress = Progress(len(sweep.trials), stream, side_by_side)
+        print("[sweep] %s: %d trials, %g CPU each, up to %d side by side on %s; results in %s"
+              % (sweep.name, len(sweep.trials), sweep.cpus, side_by_side,
+                 "the Ray cluster at %s" % address if address else "this machine (%s)" % socket.gethostname(),
+                 out_root), file=stream, flush=True)
+        for t in sweep.trials:
+            ref = trial_task.remote(task, t.as_dict(), out_root, token, 1)
+            pending[ref] = (t, 1)
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1, timeout=5.0)
             for ref in ready:
@@ -168,16 +236,15 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
     except KeyboardInterrupt:
         interrupted = True
         signal.signal(signal.SIGINT, signal.SIG_IGN)    # a second Ctrl-C must not cut the clean-up short
-        print("\n[sweep] interrupted: stopping %d running trial(s)" % len(pending), file=progress.stream,
-              flush=True)
-        _cancel(list(pending), progress.stream)
+        print("\n[sweep] interrupted: stopping %d running trial(s)" % len(pending), file=stream, flush=True)
+        if pending:
+            _cancel(list(pending), stream)
     finally:
         signal.signal(signal.SIGTERM, old_term)
         signal.signal(signal.SIGINT, signal.SIG_IGN)    # a second Ctrl-C must not cut the clean-up short
         try:
             _wait_local_trials(token)
-            ray.shutdown()
-            _wait_local_trials(token, kill=True)
+            shutdown(token)
         finally:
             signal.signal(signal.SIGINT, old_int)
     return rows, interrupted

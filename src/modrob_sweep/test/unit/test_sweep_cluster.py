@@ -52,6 +52,8 @@ def two_nodes(tmp_path):
              ["ip", "netns", "exec", ns, "ip", "addr", "add", node_ip + "/24", "dev", veth_b],
              ["ip", "netns", "exec", ns, "ip", "link", "set", veth_b, "up"],
              ["ip", "netns", "exec", ns, "ip", "link", "set", "lo", "up"]]
+    from modrob_sweep import runner
+    temp_dir = runner.new_ray_temp_dir()    # both nodes' sessions, as in one cluster on one machine
     # RAY_raylet_start_wait_time_s: a node's raylet has 10 s to register by default, too few for the
     # second node on a loaded 2-core machine
     env = dict(os.environ, RAY_AUTH_MODE="token", RAY_kill_child_processes_on_worker_exit="0",
@@ -63,15 +65,15 @@ def two_nodes(tmp_path):
             assert r.returncode == 0, "%s: %s" % (" ".join(cmd), r.stderr)
         head_log = open(tmp_path / "head.log", "w")
         head = ["ray", "start", "--head", "--node-ip-address", head_ip, "--port", str(port),
-                "--num-cpus", "1", "--include-dashboard=false", "--block"]
+                "--num-cpus", "1", "--include-dashboard=false", "--temp-dir", temp_dir, "--block"]
         procs.append(subprocess.Popen(head, env=env, stdout=head_log, stderr=subprocess.STDOUT,
                                       start_new_session=True))
         wait_for_line(tmp_path / "head.log", "Ray runtime started", procs[0])
         node_log = open(tmp_path / "node.log", "w")
         procs.append(subprocess.Popen(
             ["ip", "netns", "exec", ns, "unshare", "--uts", "sh", "-c",
-             "hostname %s && exec ray start --address=%s:%d --node-ip-address=%s --num-cpus=1 --block"
-             % (NODE_B, head_ip, port, node_ip)],
+             "hostname %s && exec ray start --address=%s:%d --node-ip-address=%s --num-cpus=1 --temp-dir=%s "
+             "--block" % (NODE_B, head_ip, port, node_ip, temp_dir)],
             env=env, stdout=node_log, stderr=subprocess.STDOUT, start_new_session=True))
         wait_for_line(tmp_path / "node.log", "Ray runtime started", procs[1])
         yield "%s:%d" % (head_ip, port), env
@@ -80,6 +82,7 @@ def two_nodes(tmp_path):
             stop_group(p)
         sh("ip", "netns", "del", ns)
         sh("ip", "link", "del", veth_a)
+        runner.shutdown()                   # removes temp_dir
 
 
 def wait_for_line(path, text, proc, timeout=120.0):

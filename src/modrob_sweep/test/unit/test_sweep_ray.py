@@ -145,14 +145,20 @@ class _Ray(object):
 
     def __init__(self, failures):
         self.failures, self.inits, self.shutdowns = failures, 0, 0
+        self.temp_dirs = []
 
     def init(self, **kw):
         self.inits += 1
+        assert os.path.isdir(kw["_temp_dir"]) and os.environ["RAY_TMPDIR"] == kw["_temp_dir"]
+        self.temp_dirs.append(kw["_temp_dir"])
         if self.inits <= self.failures:
             raise Exception("The current node timed out during startup. This could happen because ...")
 
     def shutdown(self):
         self.shutdowns += 1
+
+    def is_initialized(self):
+        return self.inits > self.failures and self.shutdowns < self.inits
 
     def cluster_resources(self):
         return {"CPU": 2.0}
@@ -163,6 +169,7 @@ def test_a_local_ray_that_times_out_at_start_is_tried_once_more(monkeypatch, cap
     from modrob_sweep import SweepError, runner
     fake = _Ray(failures)
     monkeypatch.setitem(sys.modules, "ray", fake)
+    ray_tmpdir = os.environ.get("RAY_TMPDIR")
     if failures == 1:
         assert runner.connect(workers=2) == 2.0
         assert "trying once more" in capsys.readouterr().err
@@ -170,3 +177,32 @@ def test_a_local_ray_that_times_out_at_start_is_tried_once_more(monkeypatch, cap
         with pytest.raises(SweepError, match="twice: The current node timed out"):
             runner.connect(workers=2)
     assert (fake.inits, fake.shutdowns) == (2, failures)
+    # both attempts had the same temporary directory; shutdown() (or the failure) removes it
+    assert len(set(fake.temp_dirs)) == 1
+    runner.shutdown()
+    assert not os.path.exists(fake.temp_dirs[0]) and os.environ.get("RAY_TMPDIR") == ray_tmpdir
+
+
+def test_ray_temp_dir_is_short_enough_for_its_sockets(monkeypatch, capsys):
+    """Ray's socket paths in it stay within the 107 bytes of a Unix socket; a longer base gives SHORT_TEMP."""
+    from modrob_sweep import runner
+    monkeypatch.delenv("RAY_TMPDIR", raising=False)
+    path = runner.new_ray_temp_dir()
+    try:
+        assert len(path) + runner.RAY_SOCKET_TAIL <= runner.SOCKET_PATH_MAX, path
+    finally:
+        runner.shutdown()
+    assert not os.path.exists(path)
+    long_base = os.path.join(os.path.dirname(path), "x" * 40)
+    os.mkdir(long_base)
+    try:
+        monkeypatch.setenv("RAY_TMPDIR", long_base)
+        path = runner.new_ray_temp_dir()
+        try:
+            assert os.path.dirname(path) == runner.SHORT_TEMP
+            assert "too long for Ray's socket paths" in capsys.readouterr().err
+        finally:
+            runner.shutdown()
+    finally:
+        os.rmdir(long_base)
+    assert not os.path.exists(path) and os.environ["RAY_TMPDIR"] == long_base
