@@ -51,9 +51,6 @@ ROS_HOME = os.path.join(RESULTS, "ros_home")
 # What third-party code leaves in a job's TMPDIR that the test cannot remove, and why (names as
 # fnmatch patterns). Anything else left there fails the job.
 ALLOWED_LEFTOVERS = {
-    # modrob_sweep's tests: Ray keeps each session's logs and sockets in $TMPDIR/ray after
-    # ray.shutdown(), and its processes may still be writing them when the test ends.
-    "ray": "Ray's session directories",
     # Qt (RViz, rqt, the camera renderer) makes $TMPDIR/runtime-<user> when XDG_RUNTIME_DIR is not
     # set, as on a CI machine without a login session; one per user, reused.
     "runtime-*": "Qt's runtime directory",

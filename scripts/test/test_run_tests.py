@@ -80,7 +80,7 @@ def test_leftovers_fail_the_job_by_name_and_are_removed(temp):
 
 
 def test_allowed_leftovers_do_not_fail_but_are_removed(temp):
-    p, f, s, x, rc, log, _, left = run_tests.run_in_tmpdir(temp, job_writing("ray", "runtime-ci"), None, 10)
+    p, f, s, x, rc, log, _, left = run_tests.run_in_tmpdir(temp, job_writing("runtime-ci"), None, 10)
     assert (f, left) == (0, [])
     assert os.listdir(temp.root) == [run_tests.TempDirs.OWNER]     # the job's directories are gone
 
