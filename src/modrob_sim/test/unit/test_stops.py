@@ -165,13 +165,18 @@ def test_advance_ends_at_the_first_stop_for_python_and_makes_the_steps_of_step()
     assert seen[:3] == [0.005, 0.012, 0.019]
 
 
-def test_advance_in_python_goes_on_to_n():
-    """A hook without a due time keeps every step in Python: a pass makes its n steps (one pass per
-    step would only add the loop's own work)."""
-    w = _falling_boxes(False)
+@pytest.mark.parametrize("native", [None, False])
+def test_a_hook_due_at_every_step_keeps_passes_of_n(native):
+    """A hook without a due time stops the World at every step (natively: stretches of one step;
+    on the pure-Python backend: every step in Python): a pass still makes its n steps (one pass
+    per step would only add the loop's own work)."""
+    if native is None and native_mod.LIB is None:
+        pytest.skip("the C loop is not built")
+    w = _falling_boxes(native)
     calls = []
     w.add_step_hook(after=lambda t, dt: calls.append(t))
-    assert w.advance(10) == 10 and len(calls) == 10
+    assert [w.advance(10) for _ in range(5)][1:] == [10] * 4
+    assert w.iterations == len(calls) and w.iterations >= 41
     with pytest.raises(InputError):
         w.advance(0)
 

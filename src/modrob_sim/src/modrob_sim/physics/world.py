@@ -171,6 +171,7 @@ class World(object):
         #: (addition) steps made natively after their before-hooks ran in Python (statistics,
         #: tests); the steps made in Python are iterations - native_steps - hooked_steps
         self.hooked_steps = 0
+        self._last_stretch = 0          # steps of the last native stretch World.advance saw
         self._ncontacts = 0
         # Tear the ODE objects down in a safe order when the World goes (or on close()): PyODE
         # objects freed by the cycle collector in arbitrary order crash (a space or world freed
@@ -924,9 +925,16 @@ class World(object):
         done = 0
         while done < n:
             stretches = self.native_steps + self.hooked_steps
-            done += self._advance(n - done)
+            k = self._advance(n - done)
+            done += k
             if self.native_steps + self.hooked_steps != stretches:
-                break       # steps in Python (every step due) go on to n
+                # a native stretch ended for Python: the pass ends there, unless a hook is due at
+                # every step (this stretch and the one before made one step each), where a pass
+                # per step would only add the loop's own work; steps in Python go on to n too
+                every_step = k == 1 and self._last_stretch == 1
+                self._last_stretch = k
+                if not every_step:
+                    break
         return done
 
     def _advance(self, n):
