@@ -12,7 +12,8 @@ Each job runs with TMPDIR set to a fresh empty directory of its own (a short pat
 temporary directory): a test removes what it creates there. Whatever a job leaves in it, other than
 ALLOWED_LEFTOVERS, fails that job with the names listed; the directories are removed when the job
 ends, and the run's directory when the run ends, whether tests failed or the run was stopped:
-Ctrl-C (SIGINT) and SIGTERM (what CI and `timeout` send to cancel a job) interrupt the running jobs
+Ctrl-C (SIGINT), SIGTERM (what CI and `timeout` send to cancel a job) and SIGHUP (the terminal
+closed) interrupt the running jobs
 (each runs in a process group of its own, so its whole tree gets the SIGINT a terminal would send),
 kill what is left of them after JobProcesses.GRACE_S, remove the directories and exit with 128 + the
 signal's number. A run that could not clean up (SIGKILL) leaves its directory with its pid in it:
@@ -151,7 +152,7 @@ def process_exists(pid):
 
 
 class Stopped(Exception):
-    """The run was told to stop (SIGINT or SIGTERM): raised in the main thread by the handler."""
+    """The run was told to stop (one of STOP_SIGNALS): raised in the main thread by the handler."""
 
     def __init__(self, signum):
         super().__init__(signal.Signals(signum).name)
@@ -420,7 +421,9 @@ def run_jobs(jobs, workers, timeout, temp):
     return total
 
 
-STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+#: what stops a run: Ctrl-C, SIGTERM (CI, `timeout`) and SIGHUP (the terminal closed: the jobs run in
+#: process groups of their own, so without it they would run on without the runner)
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 
 def stop_run(signum, _frame):

@@ -206,9 +206,11 @@ def running(pid):
         return False
 
 
-def test_sigterm_stops_the_jobs_removes_the_directories_and_exits_143(tmp_path, short_base):
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGHUP])
+def test_sigterm_stops_the_jobs_removes_the_directories_and_exits_143(tmp_path, short_base, signum):
     """The runner (a copy, in a workspace whose one unit test runs until it is stopped) is sent
-    SIGTERM as CI or `timeout` would: the job and its child end, nothing is left, exit 128 + 15."""
+    SIGTERM as CI or `timeout` would (or SIGHUP, as when its terminal closes): the job and its
+    child end, nothing is left, exit 128 + the signal's number (143 for SIGTERM)."""
     ws = tmp_path / "ws"
     (ws / "scripts").mkdir(parents=True)
     shutil.copy(os.path.join(HERE, "..", "run_tests.py"), str(ws / "scripts"))
@@ -227,7 +229,7 @@ def test_sigterm_stops_the_jobs_removes_the_directories_and_exits_143(tmp_path, 
             time.sleep(0.05)
         run_dirs = glob.glob(os.path.join(short_base, "modrob-test-*"))
         assert len(run_dirs) == 1 and os.listdir(os.path.join(run_dirs[0], "1")) == ["made-by-the-job"]
-        proc.send_signal(signal.SIGTERM)
+        proc.send_signal(signum)
         out, _ = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
@@ -235,9 +237,9 @@ def test_sigterm_stops_the_jobs_removes_the_directories_and_exits_143(tmp_path, 
             proc.wait()
     job, child = (int(v) for v in pids.read_text().split())
     try:
-        assert proc.returncode == 128 + signal.SIGTERM, out
-        assert ("[tests] terminated by SIGTERM: the running jobs were stopped and %s removed" % run_dirs[0]
-                in out)
+        assert proc.returncode == 128 + signum, out
+        assert ("[tests] terminated by %s: the running jobs were stopped and %s removed"
+                % (signal.Signals(signum).name, run_dirs[0]) in out)
         assert os.listdir(short_base) == []
         assert not running(job)                      # the runner waited for it
         deadline = time.monotonic() + 10             # the child got the SIGINT as well: it ends on its own
