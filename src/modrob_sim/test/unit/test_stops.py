@@ -94,7 +94,9 @@ def test_the_world_stops_once_per_controller_update(monkeypatch):
     stops = _count_stops(rig.world)
     states = rig.out._model_states_pub.times
     del states[:]
+    counted = rig.world.stops
     lengths = rig.run_passes(0.5)
+    assert rig.world.stops - counted == len(stops)
     # the joint_state_controller's updates at .xx3 are the only stops (the guard takes its snapshots
     # in C); the passes end there too
     assert len(stops) == 50 and all(round(t * 1000) % 10 == 3 for t in stops), stops[:12]
@@ -102,6 +104,14 @@ def test_the_world_stops_once_per_controller_update(monkeypatch):
     # one state message per 10 ms period of simulated time, from the period's first stop
     assert states == stops
     assert len(rig.log) >= 50            # the joint_state_controller's 100 Hz samples
+    # the World counts its stops, and the node's real-time factor line gives them per simulated s
+    logged = []
+    monkeypatch.setattr(rospy, "loginfo", logged.append)
+    rig.out._last_rtf_log = -1e9
+    rig.out._rtf_log_from = (rig.world.stops - 100, rig.world.time - 1.0)
+    rig.out.publish_rtf(9.5, rig.world.time, False)
+    assert logged == ["sim time %.2f s, real-time factor 9.50, hooks in Python at 100 steps per simulated s"
+                      % rig.world.time]
 
 
 @needs_c
@@ -176,7 +186,7 @@ def test_a_hook_due_at_every_step_keeps_passes_of_n(native):
     calls = []
     w.add_step_hook(after=lambda t, dt: calls.append(t))
     assert [w.advance(10) for _ in range(5)][1:] == [10] * 4
-    assert w.iterations == len(calls) and w.iterations >= 41
+    assert w.iterations == len(calls) == w.stops and w.iterations >= 41
     with pytest.raises(InputError):
         w.advance(0)
 

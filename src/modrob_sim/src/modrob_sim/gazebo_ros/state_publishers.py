@@ -108,6 +108,7 @@ class StatePublishers(object):
         self._markers_behind = False    # marker times passed with nobody subscribed
         self._next_marker_t = 0.0
         self._last_rtf_log = time.monotonic()
+        self._rtf_log_from = (world.stops, world.time)     # the World's stops and time at the last log
 
     def flush_clock(self):
         """The /clock messages of the native steps so far leave now: before anything a hook
@@ -271,5 +272,12 @@ class StatePublishers(object):
         wall = time.monotonic()
         if self.params.rtf_log_period > 0 and wall - self._last_rtf_log >= self.params.rtf_log_period:
             self._last_rtf_log = wall
-            rospy.loginfo("sim time %.2f s, real-time factor %.2f%s" % (
-                sim_time, rtf, " (paused)" if paused else ""))
+            # at how many steps per simulated second hooks ran in Python since the last line: a
+            # plugin due at every step shows here as ~1000 (at 1 ms), docs/simulator.md
+            stops0, t0 = self._rtf_log_from
+            stops = self.world.stops
+            self._rtf_log_from = (stops, sim_time)
+            per = "" if paused or sim_time <= t0 else ", hooks in Python at %d steps per simulated s" % round(
+                (stops - stops0) / (sim_time - t0))
+            rospy.loginfo("sim time %.2f s, real-time factor %.2f%s%s" % (
+                sim_time, rtf, per, " (paused)" if paused else ""))

@@ -172,6 +172,10 @@ class World(object):
         #: tests); the steps made in Python are iterations - native_steps - hooked_steps
         self.hooked_steps = 0
         self._last_stretch = 0          # steps of the last native stretch World.advance saw
+        #: (addition) the steps at which hooks ran in Python: a before-hook due at the step's start,
+        #: after-hooks due at its end (one each), every step made in Python (statistics, the node's
+        #: log, tests)
+        self.stops = 0
         self._ncontacts = 0
         # Tear the ODE objects down in a safe order when the World goes (or on close()): PyODE
         # objects freed by the cycle collector in arbitrary order crash (a space or world freed
@@ -951,6 +955,7 @@ class World(object):
         before = earliest_due(self._before_dues) - DUE_MARGIN
         hooked = before <= t
         if hooked:
+            self.stops += 1
             dt = self._p.dt
             for h in self._before:
                 h(t, dt)
@@ -989,12 +994,15 @@ class World(object):
             if self._frozen:
                 self._hold_frozen()
         if r.after:             # the last step's after-hooks are due
+            self.stops += 1
             t, dt = self.time, self._p.dt
             for h in self._after:
                 h(t, dt)
 
     def _step_once(self, hooked=False):
-        """One step in Python; ``hooked``: its before-hooks have run already."""
+        """One step in Python; ``hooked``: its before-hooks have run already (and were counted)."""
+        if not hooked:
+            self.stops += 1
         dt = self._p.dt
         t = self.time
         if not hooked:
