@@ -1516,7 +1516,7 @@ int mr_run_steps(MrCtx *c, MrStretch *b, int n)
     b->after = 0;
     for (k = 0; k < n; ++k) {
         double t = b->time, tn = t + b->dt;
-        int after = tn + 1e-12 >= b->after_due;
+        int after = tn + 1e-12 >= b->after_due, snapshot;
         if (t >= b->before_due || mr_stretch_pieces_end(b, t) || (b->wake && *b->wake) ||
             mr_stretch_watches(b, t)) break;
         b->last_start = t;
@@ -1530,19 +1530,13 @@ int mr_run_steps(MrCtx *c, MrStretch *b, int n)
         b->time = tn;
         mr_track_turns(b->turns, b->nturns);
         if (b->observer) ((mr_observer_fn)b->observer)(b->observer_user, tn);
-        if (b->first_bad >= 0 || b->ncontacts > b->guard_max_contacts) {
+        snapshot = b->snapshot_interval > 0 && b->iterations % b->snapshot_interval == 0;
+        if (b->first_bad >= 0 || b->ncontacts > b->guard_max_contacts || (snapshot && !b->snap)) {
             b->guard = 1;
             b->after = after;
             return k + 1;
         }
-        if (b->snapshot_interval > 0 && b->iterations % b->snapshot_interval == 0) {
-            if (!b->snap) {
-                b->guard = 1;
-                b->after = after;
-                return k + 1;
-            }
-            mr_stretch_snapshot(b);
-        }
+        if (snapshot) mr_stretch_snapshot(b);
         if (after) {
             b->after = 1;
             return k + 1;
