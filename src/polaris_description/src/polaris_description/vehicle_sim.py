@@ -25,6 +25,7 @@ URDF_XACRO = os.path.join(PKG_DIR, "urdf", "polaris.urdf.xacro")
 PARKING_LOT = os.path.join(PKG_DIR, "worlds", "parking_lot.world")
 PID_CONFIGS = (1, 2, 3, 4, 5, 6)
 SPAWN_Z = 0.33
+INF = float("inf")
 FLAT_GROUND = ("<sdf version='1.6'><world name='flat'><include><uri>model://ground_plane</uri></include>"
                "</world></sdf>")
 
@@ -79,7 +80,8 @@ class VehicleSim(object):
         self.hw = RobotHWSim(self.model.joints, parse_transmissions(urdf),
                              Params(gains, "/gazebo_ros_control/pid_gains"), world=self.world)
         self.four_wd = four_wd
-        self.world.add_step_hook(before=self._before)
+        self._commanded = True
+        self.world.add_step_hook(before=self._before, before_due=self._before_due)
 
     def command(self, **cmds):
         for key, value in cmds.items():
@@ -88,8 +90,16 @@ class VehicleSim(object):
             res = self.hw.joints.get(G.JOINTS[key])
             if res is not None:
                 res.command = float(value)
+                self._commanded = True
+
+    def _before_due(self):
+        # as gazebo_ros_control's loop between controller updates: the hardware writes when a
+        # command came or its write still has work (a steering target rate-limited towards);
+        # otherwise the World's actuators hold the last write and the steps run natively
+        return None if self._commanded or self.hw.needs_every_update else INF
 
     def _before(self, t, dt):
+        self._commanded = False
         self.hw.read()
         self.hw.write(dt)
 
@@ -136,7 +146,7 @@ class VehicleSim(object):
         return self.hw.joints[G.JOINTS[key]].command * G.WHEEL_RADIUS - self.contact_ground_speed(key)
 
     def wheel_effort(self, key):
-        return self.hw.joints[G.JOINTS[key]].effort
+        return float(self.model.joints[G.JOINTS[key]].effort)   # the actuator's, of the last step
 
     def contact_ground_speed(self, key):
         """Ground speed, along the wheel's rolling direction, of the point where it touches the

@@ -100,3 +100,35 @@ def test_both_ramps_climbed_and_descended_without_tipping():
     assert top == pytest.approx(0.325 + parking_lot.RAMPS[1].height, abs=0.05)
     assert samples[-1]["z"] == pytest.approx(0.325, abs=0.02)
     assert abs(samples[-1]["y"] + 8.0) < 0.5
+
+
+class _EveryStep(VehicleSim):
+    """The hardware written at every step, as before the due times."""
+
+    def _before_due(self):
+        return None
+
+
+def _drive_two_commands(cls):
+    sim = cls(world_file=None, pid_config=5)
+
+    def ctl(s):
+        if abs(s["t"] - 0.5) < 1e-9:
+            sim.command(rear_left=4.0, rear_right=4.0, steer_left=0.3, steer_right=0.25)
+        elif abs(s["t"] - 2.0) < 1e-9:
+            sim.command(rear_left=-2.0, rear_right=-2.0, steer_left=-0.2, steer_right=-0.2)
+
+    out = sim.run(3.0, controller=ctl)
+    return out, [sim.wheel_effort(k) for k in REAR], sim.world.stops
+
+
+def test_hardware_writes_only_when_commanded_and_drives_the_same():
+    """Between commands the World's actuators hold the hardware's last write and the steps run
+    natively; while a steering target is still rate-limited towards, the write runs every step.
+    Both give the every-step write's run bit for bit."""
+    ours, effort, stops = _drive_two_commands(VehicleSim)
+    every, effort_every, stops_every = _drive_two_commands(_EveryStep)
+    assert ours == every
+    assert effort == effort_every and all(e != 0.0 for e in effort)
+    assert stops_every == 3000
+    assert 1 < stops < 1000          # the steering ramps after each command, then none
