@@ -3,7 +3,8 @@
 The seeded runs are the trials of the sweep modrob_sweep/sweeps/polaris_cones.yaml on a local Ray
 (``--workers`` side by side; docs/sweeps.md), each ``lap_bench --one SEED --out DIR``, which
 writes lap_run.json. Writes lap_paths.png and lap_bench.md into ``--out``, the sweep's table,
-summary and plots into ``--out``/sweep/."""
+summary, plots and trial folders into ``--sweep-out`` (default ``--out``/sweep/; the bench script
+keeps them out of the docs, in the workspace's out/bench/)."""
 import argparse
 import json
 import os
@@ -35,14 +36,13 @@ def one_run(seed, out):
     return 0 if good else 1
 
 
-def cone_runs(runs, workers, out):
-    """The seeded runs as sweep trials; their lap_run.json contents in seed order."""
+def cone_runs(runs, workers, folder):
+    """The seeded runs as sweep trials in ``folder``; their lap_run.json contents in seed order."""
     from modrob_sweep import results
     from modrob_sweep.runner import run
     from modrob_sweep.cli import find_file
     from modrob_sweep.spec import load
     sweep = load(find_file("polaris_cones.yaml"), runs=runs)
-    folder = os.path.join(out, "sweep")
     rows, interrupted = run(sweep, folder, workers=workers)
     if interrupted:
         raise KeyboardInterrupt()
@@ -69,6 +69,7 @@ def main(argv=None):
     p.add_argument("--out", required=True)
     p.add_argument("--runs", type=int, default=10)
     p.add_argument("--workers", type=int, default=1, help="seeded runs side by side")
+    p.add_argument("--sweep-out", default=None, help="the sweep's folder (default: OUT/sweep)")
     p.add_argument("--one", type=int, default=None, metavar="SEED", help="only the cone run of this seed")
     a = p.parse_args(argv)
     if a.one is not None:
@@ -80,7 +81,7 @@ def main(argv=None):
     print("lap: completed %s, max distance from the path %.2f m, %.1f s simulated (%.0f s wall)"
           % (lap["completed"], lap["max_cross_track"], lap["samples"][-1]["t"], time.time() - t0), flush=True)
     runs.append(("lap without obstacle", lap["samples"]))
-    done = cone_runs(a.runs, a.workers, a.out)
+    done = cone_runs(a.runs, a.workers, a.sweep_out or os.path.join(a.out, "sweep"))
     ok = sum(r["success"] for r in done)
     cones = [tuple(r["cone"]) for r in done]
     rows = [(r["seed"], tuple(r["cone"]), r["detected_ahead"], r["min_gap"], r["max_cross_track"],
