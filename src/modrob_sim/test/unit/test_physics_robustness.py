@@ -452,3 +452,33 @@ def test_sdf_physics_solver_type_and_max_contacts_apply_to_the_world():
     with pytest.raises(ModelError, match="<type> 'dantzig' is not 'quick' or 'world'"):
         world.add_sdf(sdf.replace(">world</type>", ">dantzig</type>").replace("'b'", "'b2'"))
     assert world.physics_params == before
+
+
+@pytest.mark.parametrize("native", [None, False])
+def test_a_dropped_world_leaves_no_ode_object_to_the_cycle_collector(native):
+    """The World tears its ODE objects down in order when it goes (its finalizer); what is left
+    after it in a reference cycle (an actuator keeps its backend, whose tables lead back to the
+    joint it drives) must hold none of them, or the cycle collector frees them in any order (it
+    freed a contact group after its joints: 'Exception ignored in ode.JointGroup.__dealloc__')."""
+    import gc
+    from modrob_sim.physics import actuators as A
+
+    def run():
+        world = World(native=native)
+        hand = world.add_urdf("hand", H.fixture("gripper_hand.urdf"))
+        world.add_urdf("box", H.robot("box", H.box_link("box", 0.1, (0.1, 0.1, 0.1))),
+                       pose=((0, 0, 0.9), (0, 0, 0, 1)))
+        world.add_actuator(hand.joints["left"], A.EFFORT).command = -20.0
+        world.add_actuator(hand.joints["right"], A.EFFORT).command = 20.0
+        world.step(300)
+        assert world.contacts()
+    gc.collect()
+    run()
+    gc.set_debug(gc.DEBUG_SAVEALL)
+    try:
+        gc.collect()
+        left = sorted(set(type(o).__name__ for o in gc.garbage if type(o).__module__ == "ode"))
+    finally:
+        gc.set_debug(0)
+        del gc.garbage[:]
+    assert left == []

@@ -277,7 +277,8 @@ class PureBackend(object):
         pass
 
     def close(self):
-        pass
+        # the last step's contacts hold bodies, geoms and contact joints: not past the World's end
+        self.contact_log, self.made, self.joints, self.feedback = [], [], [], []
 
     def make_mesh_geom(self, mesh, dynamic, what):
         warn_once(self.p.warned, "mesh-as-box", "%s: triangle meshes collide as their bounding boxes on "

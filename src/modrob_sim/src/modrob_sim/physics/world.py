@@ -180,9 +180,7 @@ class World(object):
         # Tear the ODE objects down in a safe order when the World goes (or on close()): PyODE
         # objects freed by the cycle collector in arbitrary order crash (a space or world freed
         # before its geoms/bodies). Models refer to the World only weakly, so this runs first.
-        self._finalizer = weakref.finalize(self, _teardown, self.models, self._p.geom_info, self._backend,
-                                           self._p.ode_world, self._p.static_space, self._p.dyn_space,
-                                           self._p.contact_group)
+        self._finalizer = weakref.finalize(self, _teardown, self.models, self._p, self._backend)
         self.layout_version = 0
         self._reseed()
         self._apply_params()
@@ -1310,14 +1308,19 @@ def _reaction(force, point, link):
     return f, cross((point[0] - o[0], point[1] - o[1], point[2] - o[2]), f)
 
 
-def _teardown(models, geom_info, backend, ode_world, static_space, dyn_space, contact_group):
+def _teardown(models, parts, backend):
+    # the ODE world, the spaces and the contact group are held here and no longer by the parts: an
+    # actuator or a contact watch can leave the parts in a reference cycle after the World is
+    # gone, and the cycle collector would free them in any order
+    ode_objects = (parts.ode_world, parts.static_space, parts.dyn_space, parts.contact_group)
     for m in list(models.values()):
-        _destroy_objects(m, geom_info, backend)
+        _destroy_objects(m, parts.geom_info, backend)
     models.clear()
-    geom_info.clear()
-    contact_group.empty()
+    parts.geom_info.clear()
+    parts.contact_group.empty()
     backend.close()
-    # ode_world, the spaces and the group are released when this returns (after their contents)
+    parts.ode_world = parts.static_space = parts.dyn_space = parts.contact_group = None
+    del ode_objects     # the group, the spaces, then the ODE world, after their contents
 
 
 class _OrderedSet(object):
