@@ -35,7 +35,7 @@ def private_reads(path):
 
 
 @pytest.mark.parametrize("module", ["world.py", "backends.py", "world_parts.py", "gripper.py",
-                                    "actuators.py"])
+                                    "contact_watch.py", "actuators.py"])
 def test_no_private_attribute_of_another_object(module):
     assert private_reads(os.path.join(PHYSICS, module)) == []
 

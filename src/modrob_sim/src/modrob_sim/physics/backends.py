@@ -31,6 +31,14 @@ only the physics-side interface of Model, Link and Joint (model.py):
     contacts() -> [(info1, info2, pos, normal, depth, wrenches)]   the last step's contact points;
                                     wrenches = (f1, t1, f2, t2): ODE's feedback of the contact joint
     overlaps(model) -> {(m1, l1, m2, l2): depth}   spawn-overlap check
+    new_watch(infos) -> handle      a contact watch on these geoms (the World's _GeomInfo of links
+                                    of one model): from now on every step notes, where it makes
+                                    its contacts, each distinct pair of a watched geom with a geom
+                                    on a body it made contacts with
+    drain_watch(handle) -> [(info watched, info other)]   those pairs since the last drain, in the
+                                    order first seen; then forgotten. A removed geom leaves every
+                                    watch and every pair (remove_geom)
+    close_watch(handle)             the watch ends (its handle may be given to a new one)
     close()                         free the backend's own objects
     new_actuator(joint, kind) -> record       an actuator's data (actuators.py)
     actuators_changed(actuators)    the World's list of actuators changed
@@ -45,6 +53,7 @@ only the physics-side interface of Model, Link and Joint (model.py):
 """
 import ctypes
 import math
+from collections import OrderedDict
 
 import ode
 
@@ -177,6 +186,9 @@ class PureBackend(object):
         self.feedback = []    # their feedback after the step: (f1, t1, f2, t2) as contact_log
         self.made = []        # (contact, body1, body2, whole depth) of this step's contact joints
         self.capped = False   # a contact of this step had its correction capped at maxVel
+        self.watches = {}     # contact watch handle -> (its infos, {(info, other info): None} seen)
+        self.watched = {}     # geom -> the seen dicts of the watches that hold it
+        self._next_watch = 0
 
     # ---- actuators (actuators.step_python) ----------------------------------------------------
     @staticmethod
@@ -251,10 +263,48 @@ class PureBackend(object):
         pass
 
     def remove_geom(self, geom):
-        pass
+        if self.watches:
+            self._unwatch_geom(geom)
 
     def rebuild(self, models):
         pass
+
+    # ---- contact watches (noted in _near) -----------------------------------------------------
+    def new_watch(self, infos):
+        handle = self._next_watch
+        self._next_watch += 1
+        seen = OrderedDict()
+        self.watches[handle] = (list(infos), seen)
+        for i in infos:
+            self.watched.setdefault(i.geom, []).append(seen)
+        return handle
+
+    def drain_watch(self, handle):
+        w = self.watches.get(handle)
+        if w is None:
+            return []
+        out = list(w[1])
+        w[1].clear()
+        return out
+
+    def close_watch(self, handle):
+        w = self.watches.pop(handle, None)
+        if w is None:
+            return
+        for i in w[0]:
+            rest = [seen for seen in self.watched.get(i.geom, ()) if seen is not w[1]]
+            if rest:
+                self.watched[i.geom] = rest
+            else:
+                self.watched.pop(i.geom, None)
+
+    def _unwatch_geom(self, geom):
+        """``geom`` leaves the world: no watch holds it or a pair with it any more."""
+        self.watched.pop(geom, None)
+        for infos, seen in self.watches.values():
+            infos[:] = [i for i in infos if i.geom is not geom]
+            for key in [k for k in seen if k[0].geom is geom or k[1].geom is geom]:
+                del seen[key]
 
     def wake(self):
         pass
@@ -277,8 +327,10 @@ class PureBackend(object):
         pass
 
     def close(self):
-        # the last step's contacts hold bodies, geoms and contact joints: not past the World's end
+        # the last step's contacts and the watches hold bodies, geoms and contact joints: not past
+        # the World's end
         self.contact_log, self.made, self.joints, self.feedback = [], [], [], []
+        self.watches, self.watched = {}, {}
 
     def make_mesh_geom(self, mesh, dynamic, what):
         warn_once(self.p.warned, "mesh-as-box", "%s: triangle meshes collide as their bounding boxes on "
@@ -501,6 +553,14 @@ class PureBackend(object):
         self.ncontacts += n
         i1.entry.ncontacts += n
         i2.entry.ncontacts += n
+        watched = self.watched
+        if watched:   # the contact watches: a watched geom's pair with a geom on a body
+            if b2 is not None:
+                for seen in watched.get(g1, ()):
+                    seen[(i1, i2)] = None
+            if b1 is not None:
+                for seen in watched.get(g2, ()):
+                    seen[(i2, i1)] = None
         fdir = None
         world = w.ode_world
         group = w.contact_group
@@ -823,6 +883,37 @@ class NativeBackend(object):
         if self.ctx is not None:
             self.nat.mr_ctx_free(self.ctx)
             self.ctx = None
+
+    # ---- contact watches (noted in mr_near) ---------------------------------------------------
+    def new_watch(self, infos):
+        w = self.nat.mr_watch_new(self.ctx)
+        for i in infos:
+            self.nat.mr_watch_add_geom(self.ctx, w, geom_ptr(i.geom))
+        return w
+
+    def drain_watch(self, handle):
+        if self.ctx is None:
+            return []
+        room = 16
+        while True:
+            buf = (ctypes.c_void_p * (2 * room))()
+            n = self.nat.mr_watch_drain(self.ctx, handle, buf, room)
+            if n <= room:
+                break
+            room = n
+        if n == 0:
+            return []
+        by_ptr = {geom_ptr(g): info for g, info in self.p.geom_info.items()}
+        out = []
+        for k in range(n):
+            mine, other = by_ptr.get(buf[2 * k]), by_ptr.get(buf[2 * k + 1])
+            if mine is not None and other is not None:
+                out.append((mine, other))
+        return out
+
+    def close_watch(self, handle):
+        if self.ctx is not None:
+            self.nat.mr_watch_free(self.ctx, handle)
 
     def rebuild(self, models):
         world = self.p

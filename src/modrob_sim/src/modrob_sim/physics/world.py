@@ -19,6 +19,7 @@ from . import native as native_mod
 from . import odelib
 from .backends import NativeBackend, NativeMesh, PureBackend  # noqa: F401 (NativeMesh: public name)
 from .builder import build_model
+from .contact_watch import ContactWatch, SeenContact  # noqa: F401 (SeenContact: public name)
 from .description import GeometryDesc
 from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN  # noqa: F401 (public names)
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, dot, normalized, pose_mul,
@@ -161,6 +162,7 @@ class World(object):
         self._actuators = []
         self._model_actuators = []
         self._wrench_links = _OrderedSet()
+        self._watches = []       # (ContactWatch, its model) of watch_contacts
         self._events = []
         self._used_slots = set()
         self._mesh_cache = {}
@@ -176,6 +178,9 @@ class World(object):
         #: after-hooks due at its end (one each), every step made in Python (statistics, the node's
         #: log, tests)
         self.stops = 0
+        #: (addition) how many times reset_world ran (reset() included): a helper that keeps state
+        #: between its due times (the <gripper> check) notices a reset by it at its next due time
+        self.reset_count = 0
         self._ncontacts = 0
         # Tear the ODE objects down in a safe order when the World goes (or on close()): PyODE
         # objects freed by the cycle collector in arbitrary order crash (a space or world freed
@@ -688,6 +693,10 @@ class World(object):
         LOG.info("removed model '%s'", name)
 
     def _destroy_model_objects(self, model):
+        for w, m in self._watches:
+            if m is model:
+                w.close()
+        self._watches = [(w, m) for w, m in self._watches if not w.closed]
         if any(a.model is model for a in self._model_actuators):
             self._model_actuators = [a for a in self._model_actuators if a.model is not model]
             self._backend.model_actuators_changed(self._model_actuators)
@@ -1196,6 +1205,33 @@ class World(object):
                                     depth, f1, t1, f2, t2))
         return out
 
+    def watch_contacts(self, links):
+        """(addition) A :class:`ContactWatch` on ``links`` (Links of one model of this World):
+        from now on every step notes, where its contacts are made (in C on the native backend),
+        each distinct pair of a watched link with a link on a body of another model (or of its
+        own, with self-collision) that made contacts with it; ``drain()`` hands out the pairs seen
+        at any step since the last drain. reset() and reset_world() drop what was seen; deleting
+        the model closes the watch; a model frozen by the guard keeps its watches. InputError when
+        the links are not links of one model of this World."""
+        links = list(links)
+        if not links:
+            raise InputError("watch_contacts: no link given; give the Links of one model to watch")
+        model = getattr(links[0], "model", None)
+        name = getattr(model, "name", None)
+        for ln in links:
+            if getattr(ln, "model", None) is not model or model.links.get(ln.name) is not ln:
+                raise InputError("watch_contacts: %r is not a link of model '%s'; a watch takes links of "
+                                 "one model" % (ln, name))
+        # (a model being built is not in self.models yet; its collisions are in the tables)
+        if model.removed or (self.models.get(name) is not model and self._p.entries.get(model) is None
+                             and model.geoms):
+            raise InputError("watch_contacts: model '%s' is not in this World" % name)
+        names = frozenset(ln.name for ln in links)
+        infos = [self._p.geom_info[g] for g in model.geoms if self._p.geom_info[g].link.name in names]
+        watch = ContactWatch(self._backend, name, names, self._backend.new_watch(infos))
+        self._watches = [(w, m) for w, m in self._watches if not w.closed] + [(watch, model)]
+        return watch
+
     def pop_events(self):
         ev, self._events = self._events, []
         return ev
@@ -1229,6 +1265,10 @@ class World(object):
         for name in list(self._frozen):
             self.unfreeze(name)
         self._backend.drop_snapshot()       # of the time before: reset() may have sent time back
+        self.reset_count += 1
+        self._watches = [(w, m) for w, m in self._watches if not w.closed]
+        for w, _m in self._watches:
+            w.clear()
         for m in self.models.values():
             e = self._p.entries[m]
             m.restore_state(e.spawn_state, zero_velocity=False)

@@ -123,6 +123,10 @@ def _declare(lib):
         "mr_apply_actuators": (None, [vp, i, d, d, i, i]),
         "mr_track_turns": (None, [vp, i]),
         "mr_apply_model_actuators": (None, [vp, i]),
+        "mr_watch_new": (i, [vp]),
+        "mr_watch_add_geom": (i, [vp, i, vp]),
+        "mr_watch_drain": (i, [vp, i, vp, i]),
+        "mr_watch_free": (None, [vp, i]),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)

@@ -8,6 +8,8 @@
  *   - collide + quickStep with a per-world ODE random seed, solved twice when a contact's
  *     correction was capped (Gazebo's split of position and velocity correction);
  *   - the velocity part of the blow-up guard;
+ *   - contact watches: the distinct pairs a few watched geoms made contacts in, at any step
+ *     between two drains (World.watch_contacts, for Gazebo's <gripper>);
  *   - triangle meshes (PyODE on Debian is built without trimesh support) in spaces of their own;
  *   - the World's actuators and turn counts, stretches of whole steps between Python hooks, link
  *     poses and twists into arrays.
@@ -36,6 +38,7 @@ typedef struct {
     int group;                 /* body group inside the model */
     int self_collide;
     int surface;
+    int nwatch;                /* how many contact watches hold this geom (0: mr_near skips them) */
 } MrGeomRec;
 
 typedef struct {
@@ -51,6 +54,21 @@ typedef struct {
     double full_depth;         /* the depth past minDepth, uncapped */
     dBodyID b1, b2;
 } MrMade;
+
+/* a pair that made contacts in a step: a watched geom and the geom on a body it touched */
+typedef struct {
+    dGeomID mine, other;
+} MrSeenPair;
+
+/* a contact watch (World.watch_contacts): its geoms, and the distinct pairs seen at any step since
+ * it was last drained */
+typedef struct {
+    int live;
+    dGeomID *geoms;
+    int ngeoms, capgeoms;
+    MrSeenPair *seen;
+    int nseen, capseen;
+} MrContactWatch;
 
 typedef struct {
     dTriMeshDataID data;
@@ -100,6 +118,9 @@ typedef struct {
     /* the broadphase (mr_sweep): the geoms' AABBs, sorted by the lower x bound */
     MrSweepEnt *sweep;
     int capsweep;
+    /* the contact watches (slots; a freed one is reused) */
+    MrContactWatch *watches;
+    int nwatches, capwatches;
     dContactGeom gen[MR_MAX_GEN];
 } MrCtx;
 
@@ -188,10 +209,14 @@ MrCtx *mr_ctx_new(dWorldID world, dSpaceID static_space, dSpaceID dyn_space)
 }
 
 void mr_mesh_destroy_all(MrCtx *c);
+void mr_watch_free(MrCtx *c, int w);
 
 void mr_ctx_free(MrCtx *c)
 {
+    int w;
     if (!c) return;
+    for (w = 0; w < c->nwatches; ++w) mr_watch_free(c, w);
+    free(c->watches);
     dJointGroupDestroy(c->contacts);
     mr_mesh_destroy_all(c);
     dSpaceDestroy(c->mesh_static);
@@ -219,6 +244,7 @@ void mr_set_geom(MrCtx *c, dGeomID g, int model, int model_uid, int group, int s
         while (c->recs[i].geom != NULL && c->recs[i].geom != MR_DELETED) i = (i + 1) & (c->caprec - 1);
         r = &c->recs[i];
         r->geom = g;
+        r->nwatch = 0;
         c->nrec++;
     }
     r->model = model;
@@ -228,10 +254,13 @@ void mr_set_geom(MrCtx *c, dGeomID g, int model, int model_uid, int group, int s
     r->surface = surface;
 }
 
+static void mr_watch_forget_geom(MrCtx *c, dGeomID g);
+
 void mr_remove_geom(MrCtx *c, dGeomID g)
 {
     MrGeomRec *r = mr_find(c, g);
     if (r) {
+        if (c->nwatches) mr_watch_forget_geom(c, g);
         r->geom = MR_DELETED;
         /* rebuild to keep probe chains short and reclaim deleted slots */
         mr_rehash(c, c->caprec);
@@ -345,6 +374,123 @@ static void mr_contact_feedback(MrCtx *c)
     for (i = 0; i < c->nlog; ++i) {
         memset(&c->log[i].fb, 0, sizeof(dJointFeedback));
         dJointSetFeedback(c->log[i].joint, &c->log[i].fb);
+    }
+}
+
+/* ---- contact watches ---------------------------------------------------------------------- */
+/* A contact watch keeps, for a few geoms (the gripper links of one model), the distinct pairs
+ * (watched geom, other geom on a body) that made contacts at ANY step since it was last drained:
+ * mr_near notes them where it makes the contacts, so a check that runs every 0.75 s of simulated
+ * time (Gazebo's <gripper>) sees every step's contacts without Python at every step. A geom's
+ * record counts the watches that hold it, so that mr_near looks only at watched geoms. */
+
+/* a new watch (a free slot again when one was freed); returns its index */
+int mr_watch_new(MrCtx *c)
+{
+    int w;
+    for (w = 0; w < c->nwatches && c->watches[w].live; ++w) {}
+    if (w == c->nwatches) {
+        if (c->nwatches == c->capwatches) {
+            c->capwatches = c->capwatches ? 2 * c->capwatches : 8;
+            c->watches = (MrContactWatch *)realloc(c->watches, c->capwatches * sizeof(MrContactWatch));
+        }
+        c->nwatches++;
+    }
+    memset(&c->watches[w], 0, sizeof(MrContactWatch));
+    c->watches[w].live = 1;
+    return w;
+}
+
+/* watch `g` (a registered geom) in watch `w`; 0 when there is no such geom or watch */
+int mr_watch_add_geom(MrCtx *c, int w, dGeomID g)
+{
+    MrGeomRec *r = mr_find(c, g);
+    MrContactWatch *cw;
+    int i;
+    if (!r || w < 0 || w >= c->nwatches || !c->watches[w].live) return 0;
+    cw = &c->watches[w];
+    for (i = 0; i < cw->ngeoms; ++i)
+        if (cw->geoms[i] == g) return 1;
+    if (cw->ngeoms == cw->capgeoms) {
+        cw->capgeoms = cw->capgeoms ? 2 * cw->capgeoms : 4;
+        cw->geoms = (dGeomID *)realloc(cw->geoms, cw->capgeoms * sizeof(dGeomID));
+    }
+    cw->geoms[cw->ngeoms++] = g;
+    r->nwatch++;
+    return 1;
+}
+
+/* mr_near: `mine` (a watched geom) made contacts with `other` (on a body) in this step */
+static void mr_watch_note(MrCtx *c, dGeomID mine, dGeomID other)
+{
+    int w, i;
+    for (w = 0; w < c->nwatches; ++w) {
+        MrContactWatch *cw = &c->watches[w];
+        if (!cw->live) continue;
+        for (i = 0; i < cw->ngeoms && cw->geoms[i] != mine; ++i) {}
+        if (i == cw->ngeoms) continue;
+        for (i = 0; i < cw->nseen; ++i)
+            if (cw->seen[i].mine == mine && cw->seen[i].other == other) break;
+        if (i < cw->nseen) continue;
+        if (cw->nseen == cw->capseen) {
+            cw->capseen = cw->capseen ? 2 * cw->capseen : 8;
+            cw->seen = (MrSeenPair *)realloc(cw->seen, cw->capseen * sizeof(MrSeenPair));
+        }
+        cw->seen[cw->nseen].mine = mine;
+        cw->seen[cw->nseen].other = other;
+        cw->nseen++;
+    }
+}
+
+/* the pairs watch `w` has seen since its last drain, in the order first seen: 2 geoms per pair
+ * into `out` (room for `max` pairs), then forgotten. Returns how many there are; when that is
+ * more than `max` nothing is copied or forgotten (ask again with room for them) */
+int mr_watch_drain(MrCtx *c, int w, void **out, int max)
+{
+    MrContactWatch *cw;
+    int i, n;
+    if (w < 0 || w >= c->nwatches || !c->watches[w].live) return 0;
+    cw = &c->watches[w];
+    n = cw->nseen;
+    if (n > max) return n;
+    for (i = 0; i < n; ++i) {
+        out[2 * i] = (void *)cw->seen[i].mine;
+        out[2 * i + 1] = (void *)cw->seen[i].other;
+    }
+    cw->nseen = 0;
+    return n;
+}
+
+/* end watch `w`: its geoms are watched no more (by it), what it saw is dropped, the slot is free */
+void mr_watch_free(MrCtx *c, int w)
+{
+    MrContactWatch *cw;
+    int i;
+    if (w < 0 || w >= c->nwatches || !c->watches[w].live) return;
+    cw = &c->watches[w];
+    for (i = 0; i < cw->ngeoms; ++i) {
+        MrGeomRec *r = mr_find(c, cw->geoms[i]);
+        if (r && r->nwatch > 0) r->nwatch--;
+    }
+    free(cw->geoms);
+    free(cw->seen);
+    memset(cw, 0, sizeof(MrContactWatch));
+}
+
+/* a geom leaves the world (mr_remove_geom): no watch holds it or a pair with it any more, so no
+ * pointer a drain hands out is a freed geom (or a new one at the same address) */
+static void mr_watch_forget_geom(MrCtx *c, dGeomID g)
+{
+    int w, i, k;
+    for (w = 0; w < c->nwatches; ++w) {
+        MrContactWatch *cw = &c->watches[w];
+        if (!cw->live) continue;
+        for (i = k = 0; i < cw->ngeoms; ++i)
+            if (cw->geoms[i] != g) cw->geoms[k++] = cw->geoms[i];
+        cw->ngeoms = k;
+        for (i = k = 0; i < cw->nseen; ++i)
+            if (cw->seen[i].mine != g && cw->seen[i].other != g) cw->seen[k++] = cw->seen[i];
+        cw->nseen = k;
     }
 }
 
@@ -570,6 +716,10 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
         }
     }
     c->ncontacts += k;
+    /* the contact watches: a watched geom's pair with a geom on a body (a static side does not
+     * count, as Gazebo's gripper ignores static collisions) */
+    if (r1->nwatch && b2) mr_watch_note(c, o1, o2);
+    if (r2->nwatch && b1) mr_watch_note(c, o2, o1);
     if (r1->model >= 0 && r1->model < c->nmodels) c->model_contacts[r1->model] += k;
     if (r2->model != r1->model && r2->model >= 0 && r2->model < c->nmodels) c->model_contacts[r2->model] += k;
 }
