@@ -7,12 +7,17 @@ import pytest
 
 from modrob_sim.errors import ModelError
 from modrob_sim.physics import World
-from modrob_sim.physics.gripper import UPDATE_PERIOD
+from modrob_sim.physics import builder
+from modrob_sim.physics import native as native_mod
+from modrob_sim.physics.gripper import UPDATE_PERIOD, Gripper
 
 _FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "physics")
 _spec = importlib.util.spec_from_file_location("physics_helpers", os.path.join(_FIX, "physics_helpers.py"))
 H = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(H)
+
+
+needs_c = pytest.mark.skipif(native_mod.LIB is None, reason="the C loop is not built")
 
 
 def hand_and_box():
@@ -101,3 +106,143 @@ def test_dropping_the_world_while_an_object_is_held_exits_cleanly():
     assert r.returncode == 0, r.stderr[-2000:]
     assert r.stdout.strip() == "clean"
     assert "Exception ignored" not in r.stderr
+
+
+# ---- due times: the check runs at its updates only, on the contacts of every step between ----------
+
+def lifting_hand_and_box(native):
+    """The fixture's hand on a vertical slider (a POSITION_PID actuator holds it, then lifts), its
+    fingers squeezed by EFFORT actuators, the box between them: nothing of it needs Python between
+    the gripper's updates."""
+    from modrob_sim.physics import actuators as A
+    xml = H.fixture("gripper_hand.urdf").replace(
+        '<joint name="mount" type="fixed"><parent link="world"/><child link="palm"/><origin xyz="0 0 1"/>',
+        '<joint name="mount" type="prismatic"><parent link="world"/><child link="palm"/><origin xyz="0 0 1"/>'
+        '<axis xyz="0 0 1"/><limit lower="-0.2" upper="0.5" effort="500" velocity="1"/>')
+    assert 'type="prismatic"><parent link="world"/>' in xml
+    world = World(time_step=0.001, native=native)
+    hand = world.add_urdf("hand", xml)
+    box = world.add_urdf("box", H.robot("box", H.box_link("box", 0.1, (0.1, 0.1, 0.1))),
+                         pose=((0, 0, 0.9), (0, 0, 0, 1)))
+    lift = world.add_actuator(hand.joints["mount"], A.POSITION_PID, gains=A.PidGains(3000.0, 0.0, 200.0))
+    fingers = [world.add_actuator(hand.joints[j], A.EFFORT) for j in ("left", "right")]
+    return world, hand, box, lift, fingers
+
+
+def record_updates(gripper):
+    """[(t, contacts counted, held)] at each of ``gripper``'s updates (nothing here may hold the
+    World: the gripper is reachable from it, and the World must stay collectable)."""
+    log = []
+    update = gripper._update
+
+    def recorded(seen):
+        update(seen)
+        log.append((round(gripper.world.time, 6), tuple(sorted(seen)), gripper.attached is not None))
+    gripper._update = recorded
+    return log
+
+
+def close_hold_lift_open(world, box, lift, fingers):
+    """Close on the box (it is welded after 13 updates), lift it 0.3 m, open: the weld holds it
+    until the contact has been gone for more than detach_steps updates, then it falls."""
+    left, right = fingers
+    left.command, right.command = -20.0, 20.0
+    seconds(world, 12.0)
+    lift.command = 0.3
+    seconds(world, 2.0)
+    held = box.pose[0][2]
+    left.command, right.command = 20.0, -20.0
+    seconds(world, 4.0)
+    return held
+
+
+class EveryStepGripper(Gripper):
+    """The grasp check as it was before due times: its hook is due at EVERY step and gathers the
+    contacts of world.contacts() (the last step's); its updates count those. It also drains its
+    contact watch at each update and keeps both, so that a test can compare them update by update."""
+
+    def __init__(self, world, model, desc):
+        self.per_step, self.compared = set(), []
+        super(EveryStepGripper, self).__init__(world, model, desc)
+
+    def after_due(self):
+        return None
+
+    def after_step(self, t, dt):
+        name = self.model.name
+        for c in self.world.contacts():
+            for me, ml, om, ol in ((c.model1, c.link1, c.model2, c.link2),
+                                   (c.model2, c.link2, c.model1, c.link1)):
+                if me != name or ml not in self.links or (om == name and ol in self.links):
+                    continue
+                m = self.world.models.get(om)
+                if m is not None and m.links[ol].body is not None:
+                    self.per_step.add((ml, om, ol))
+        super(EveryStepGripper, self).after_step(t, dt)
+
+    def _contacts(self):
+        watched = super(EveryStepGripper, self)._contacts()
+        per_step, self.per_step = self.per_step, set()
+        self.compared.append((watched, per_step))
+        return per_step
+
+
+def run_lift(native, every_step, monkeypatch):
+    with monkeypatch.context() as mp:
+        if every_step:
+            mp.setattr(builder, "Gripper", EveryStepGripper)
+        world, hand, box, lift, fingers = lifting_hand_and_box(native)
+    g = hand._grippers[0]
+    assert isinstance(g, EveryStepGripper) == every_step
+    log = record_updates(g)
+    held = close_hold_lift_open(world, box, lift, fingers)
+    return world, g, log, held, box
+
+
+@needs_c
+def test_the_check_on_due_times_decides_as_at_every_step_and_stops_the_world_only_at_its_updates(monkeypatch):
+    """The same scene natively (between the updates in C), on the pure-Python backend and with the
+    every-step rule: the same contacts counted at the same updates, the same attach and detach;
+    natively the World stops for Python once per update (0.75 s), not at every step."""
+    native = run_lift(True, False, monkeypatch)
+    pure = run_lift(False, False, monkeypatch)
+    every = run_lift(True, True, monkeypatch)
+    world, log = native[0], native[2]
+    held = [u for u in log if u[2]]
+    assert len(log) == 24 and log[0][0] == UPDATE_PERIOD and log[-1][0] == 18.0
+    assert held[0][0] == 9.75 and held[-1][0] == 15.75      # welded at the 13th update, let go at the 22nd
+    assert len(log[0][1]) == 2 and log[-1][1] == ()
+    assert native[3] > 1.15 and native[4].pose[0][2] < 0.0  # lifted with the hand, dropped when let go
+    assert pure[2] == log
+    assert every[2] == log
+    # update by update the watch saw exactly what every step's contacts added up to
+    assert len(every[1].compared) == 24
+    assert all(watched == per_step for watched, per_step in every[1].compared)
+    assert every[0].state_digest() == world.state_digest()
+    # 1.33 stops per simulated second, every step made in C; at every step with the old rule
+    assert world.stops == len(log) and world.native_steps == world.iterations == 18000
+    assert every[0].stops == 18000
+
+
+@pytest.mark.parametrize("native", [pytest.param(False, id="pure"),
+                                    pytest.param(True, id="native", marks=needs_c)])
+def test_reset_world_and_reset_let_go_and_count_again(native):
+    """After a reset the gripper lets go at the next step and its updates start 0.75 s later: the
+    object is welded again only after as many updates as the first time."""
+    world, hand, box, lift, fingers = lifting_hand_and_box(native)
+    g = hand._grippers[0]
+    log = record_updates(g)
+    fingers[0].command, fingers[1].command = -20.0, 20.0
+    seconds(world, 10.0)
+    assert g.attached is not None
+    for reset in ("reset_world", "reset"):
+        t0 = world.time if reset == "reset_world" else 0.0
+        getattr(world, reset)()
+        del log[:]
+        world.step(1)
+        assert g.attached is None, reset
+        seconds(world, 10.0 if reset == "reset_world" else 1.6)
+        assert [u[0] for u in log[:2]] == [round(t0 + 0.001 + UPDATE_PERIOD, 6),
+                                           round(t0 + 0.001 + 2 * UPDATE_PERIOD, 6)], reset
+        held = [u[2] for u in log]
+        assert held.index(True) == 12 if reset == "reset_world" else not any(held)   # the 13th, as at first

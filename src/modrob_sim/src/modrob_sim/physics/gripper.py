@@ -14,8 +14,15 @@ the contact has been gone for long enough. As gazebo::physics::Gripper:
 
 Only movable links count (Gazebo filters static collisions too). Defaults as SDF's:
 attach_steps 20, detach_steps 40, min_contact_count 2.
+
+Gazebo's gripper collects the contacts of EVERY step between its updates. So does this one,
+without Python at every step: a contact watch on the gripper links (``World.watch_contacts``)
+notes the pairs where the backend makes the contacts, and the check is an after-step hook due at
+its next update (and at once after a reset or when the held object was deleted), so the steps in
+between run natively.
 """
 import logging
+import math
 import weakref
 from collections import deque, namedtuple
 
@@ -72,56 +79,55 @@ class Gripper(object):
         self._joint = None
         self._pos = 0
         self._zero = 0
-        self._seen = set()        # (gripper link, object model, object link) since the last update
-        self._sides = {}          # object -> set of gripper links
         self._next = world.time + UPDATE_PERIOD
-        self._last_t = world.time
+        self._resets = world.reset_count
         self._prev_rel = None
         self._diffs = deque([float("inf")] * STABLE_SAMPLES, maxlen=STABLE_SAMPLES)
+        # the contacts of every step between two updates (static collisions are not noted)
+        self._watch = world.watch_contacts([model.links[n] for n in desc.gripper_links])
         me = weakref.ref(self)
 
         def hook(t, dt):
             g = me()
             if g is not None:
                 g.after_step(t, dt)
-        self._hook = world.add_step_hook(after=hook)
+
+        def due():
+            g = me()
+            return g.after_due() if g is not None else math.inf
+        self._hook = world.add_step_hook(after=hook, after_due=due)
 
     # -- the hook ----------------------------------------------------------------------------
+    def after_due(self):
+        """The next update; now (None) after a reset or when the held object was deleted, so that
+        the gripper lets go at the next step."""
+        if self.world.reset_count != self._resets or (self.attached is not None and self.attached[0].removed):
+            return None
+        return self._next
+
     def after_step(self, t, dt):
         if self.model.removed:
             self.close()
             return
-        if t < self._last_t:  # reset / reset_world: let go and start counting again
+        if self.world.reset_count != self._resets:  # reset / reset_world: let go, count again
+            self._resets = self.world.reset_count
             self._detach("the world was reset")
             self._pos = self._zero = 0
-            self._seen.clear()
-            self._next = t + UPDATE_PERIOD
-        self._last_t = t
+            self._next = t + UPDATE_PERIOD      # (the World dropped what the watch had seen)
         if self.attached is not None and self.attached[0].removed:
             self._detach("model '%s' was deleted" % self.attached[0].name)
-        name = self.model.name
-        for c in self.world.contacts():
-            if c.model1 == name and c.link1 in self.links:
-                self._touch(c.link1, c.model2, c.link2)
-            if c.model2 == name and c.link2 in self.links:
-                self._touch(c.link2, c.model1, c.link1)
-        if t + 1e-12 >= self._next:
+        if t + 1e-9 >= self._next:             # the World's rule for due times
             self._next += UPDATE_PERIOD
-            self._update()
+            self._update(self._contacts())
 
-    def _touch(self, glink, model_name, link_name):
-        if model_name == self.model.name and link_name in self.links:
-            return
-        m = self.world.models.get(model_name)
-        if m is None or link_name not in m.links or m.links[link_name].body is None:
-            return  # static: Gazebo's gripper ignores those
-        self._seen.add((glink, model_name, link_name))
+    def _contacts(self):
+        """{(gripper link, object model, object link)} touched at any step since the last update
+        (the gripper links touching each other do not count)."""
+        me = self.model.name
+        return set((s.link, s.other_model, s.other_link) for s in self._watch.drain()
+                   if not (s.other_model == me and s.other_link in self.links))
 
-    def _update(self):
-        models = self.world.models
-        seen = set(s for s in self._seen if s[1] in models and s[2] in models[s[1]].links
-                   and not models[s[1]].removed)
-        self._seen = set()
+    def _update(self, seen):
         if len(seen) >= self.desc.min_contact_count:
             self._pos += 1
             self._zero = 0
@@ -178,6 +184,7 @@ class Gripper(object):
             self._joint.release()
             self._joint = None
         self.attached = None
+        self._watch.close()
         if self._hook is not None:
             try:
                 self.world.remove_step_hook(self._hook)
