@@ -10,9 +10,8 @@ import os
 import pytest
 
 from modrob_sim.errors import InputError
-from modrob_sim.physics import World
+from modrob_sim.physics import SeenContact, World
 from modrob_sim.physics import native as native_mod
-from modrob_sim.physics.contact_watch import SeenContact
 
 _FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures", "physics")
 _spec = importlib.util.spec_from_file_location("physics_helpers", os.path.join(_FIX, "physics_helpers.py"))

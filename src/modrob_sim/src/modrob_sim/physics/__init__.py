@@ -7,8 +7,10 @@
 
 See docs/design/sim_core_api.md (the contract) and docs/physics.md (the design).
 """
+from .contact_watch import ContactWatch, SeenContact
 from .description import PluginSpec
 from .model import Joint, Link, Model
 from .world import DEFAULT_PARAMS, ContactPoint, GuardEvent, World
 
-__all__ = ["World", "Model", "Link", "Joint", "GuardEvent", "ContactPoint", "PluginSpec", "DEFAULT_PARAMS"]
+__all__ = ["World", "Model", "Link", "Joint", "GuardEvent", "ContactPoint", "ContactWatch", "SeenContact",
+           "PluginSpec", "DEFAULT_PARAMS"]

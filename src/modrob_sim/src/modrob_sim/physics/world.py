@@ -19,7 +19,7 @@ from . import native as native_mod
 from . import odelib
 from .backends import NativeBackend, NativeMesh, PureBackend  # noqa: F401 (NativeMesh: public name)
 from .builder import build_model
-from .contact_watch import ContactWatch, SeenContact  # noqa: F401 (SeenContact: public name)
+from .contact_watch import ContactWatch
 from .description import GeometryDesc
 from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN  # noqa: F401 (public names)
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, dot, normalized, pose_mul,
