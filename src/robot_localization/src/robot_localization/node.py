@@ -117,6 +117,7 @@ class EkfNode(object):
         self.queue = collections.deque()
         self.last_measurement = None
         self.last_stamp = None          # of the last estimate published
+        self.last_tick = None           # this node's time at the last tick
         self.latest = {}                # input name -> stamp of its newest message
         self._warned = {}
         self.tf_buffer = tf2_ros.Buffer()
@@ -188,6 +189,9 @@ class EkfNode(object):
     # -- the periodic update --------------------------------------------------------------------
     def _tick(self, event):
         now = rospy.get_time()
+        if self.last_tick is not None and now < self.last_tick:
+            self.last_stamp = None      # the clock went back (reset_simulation, a new bag): start afresh
+        self.last_tick = now
         with self.lock:
             horizon = self._horizon()
             if horizon is None:
@@ -208,9 +212,13 @@ class EkfNode(object):
                 stamp = now
             else:
                 state, cov, stamp = f.state.copy(), f.covariance.copy(), f.time
-        if self.last_stamp is not None and stamp <= self.last_stamp and now >= self.last_stamp:
-            return          # nothing newer (simulated time stood still): tf2 would refuse a repeated stamp
-        self.last_stamp = stamp     # (a clock sent back, as by reset_simulation, starts afresh)
+        if self.last_stamp is not None and stamp <= self.last_stamp:
+            # nothing newer: tf2 would refuse a repeated stamp (TF_REPEATED_DATA). Simulated time
+            # stood still, or this node's clock is behind the measurements' stamps (the
+            # simulator's /clock reaches it after its sensors' messages), so the estimate keeps
+            # the newest measurement's time from one tick to the next
+            return
+        self.last_stamp = stamp
         if not np.all(np.isfinite(state)):
             rospy.logerr_throttle(5.0, "%s: the filter's state is not finite: check the inputs' covariances "
                                   "and process_noise_covariance" % rospy.get_name())
