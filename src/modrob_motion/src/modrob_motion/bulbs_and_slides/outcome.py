@@ -28,6 +28,31 @@ def at_rest(speeds, threshold=0.005):
     return len(speeds) > 0 and max(speeds) < threshold
 
 
+class RestWindow(object):
+    """Whether a bulb has been at rest (``at_rest``) over the last ``window`` s of simulated time,
+    from its speed sampled at simulated times ``t``. The window counts simulated time, not samples:
+    a scenario process starved beside a fast simulation samples less often than it asks for, and
+    a count of samples then spans more simulated time than the window, up to the whole timeout.
+    The samples judged are those from the newest one at or before the window's start (which
+    covers it) to the last, at least ``min_samples`` of them."""
+
+    def __init__(self, window, min_samples=3):
+        self.window = window
+        self.min_samples = min_samples
+        self._samples = []
+
+    def add(self, t, speed):
+        self._samples.append((t, speed))
+        # keep the newest sample at or before t - window: the rest cover the window
+        while len(self._samples) > 1 and self._samples[1][0] <= t - self.window + 1e-9:
+            self._samples.pop(0)
+
+    def at_rest(self):
+        s = self._samples
+        return (len(s) >= self.min_samples and s[-1][0] - s[0][0] >= self.window - 1e-9
+                and at_rest([v for _, v in s]))
+
+
 def fingers_done(positions, goal, efforts, effort_limits, moved, tol=0.002, share=0.8, still=5e-4):
     """Whether a gripper command has taken effect, from one joint_states sample of its fingers:
     every finger within ``tol`` of its goal (open, or closed on nothing), or every finger still

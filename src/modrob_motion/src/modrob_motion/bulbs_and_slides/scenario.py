@@ -20,7 +20,7 @@ from modrob_motion.bulbs_and_slides import ScenarioError
 from modrob_motion.bulbs_and_slides.clearance import clearance, positions_by_model, skeleton, urdf_parents
 from modrob_motion.bulbs_and_slides.grasp_ik import GraspIk
 from modrob_motion.bulbs_and_slides.layout import bulb_grasp_point
-from modrob_motion.bulbs_and_slides.outcome import at_rest, expected_rest, on_slide
+from modrob_motion.bulbs_and_slides.outcome import RestWindow, expected_rest, on_slide
 from modrob_motion.bulbs_and_slides.planner import ArmPlanner, Segment, plan_pick_and_place
 from modrob_motion.bulbs_and_slides.recording import Recorder
 from modrob_motion.bulbs_and_slides.ros_robot import RosArm, WorldMonitor, sim_sleep
@@ -250,12 +250,17 @@ class Scenario(object):
         return bulb_grasp_point(self.layout, pose)
 
     def wait_at_rest(self, names, timeout=10.0, window=0.5):
+        """True once every bulb of ``names`` has been at rest for ``window`` s of simulated time
+        (sampled every 0.02 s, or as often as this process gets to), False after ``timeout``."""
         end = rospy.get_time() + timeout
-        hist = {n: [] for n in names}
-        while rospy.get_time() < end and not rospy.is_shutdown():
+        rest = {n: RestWindow(window) for n in names}
+        while not rospy.is_shutdown():
+            t = rospy.get_time()
+            if t >= end:
+                break
             for n in names:
-                hist[n] = (hist[n] + [self.world.speed(n) or 0.0])[-int(window / 0.02):]
-            if all(len(h) >= int(window / 0.02) and at_rest(h) for h in hist.values()):
+                rest[n].add(t, self.world.speed(n) or 0.0)
+            if all(r.at_rest() for r in rest.values()):
                 return True
             sim_sleep(0.02)
         return False
