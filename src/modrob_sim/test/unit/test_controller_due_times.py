@@ -86,6 +86,22 @@ def test_group_controllers_step_natively_and_equal_every_update_bit_for_bit():
     assert fast.model.joints["elbow"].effort == 3.0
 
 
+@needs_c
+def test_a_control_period_of_one_step_steps_natively_as_without_one():
+    """franka_description's <controlPeriod>0.001</controlPeriod> at 1 ms steps: gazebo_ros_control
+    updates before every step, as without a period, so the controllers' due times hold as well;
+    the period made every step an update in Python (the Panda at 1000 per simulated second)."""
+    def arm(fast, period):
+        rig = GroupArm(fast)
+        rig.loop.control_period = period
+        return run(rig, 1200, GROUP_EVENTS)
+    ref = arm(False, None)
+    fast = arm(True, 0.001)
+    assert ref.log == fast.log and len(ref.log) == 60
+    assert snapshot(ref) == snapshot(fast)
+    assert fast.world.native_steps > 0.9 * fast.world.iterations, fast.world.native_steps
+
+
 class Gripper(ControlRig):
     """The parallel gripper's effort_controllers/GripperActionController (its PID in the finger's
     actuator; ``position``: position_controllers/GripperActionController, the finger set

@@ -22,8 +22,16 @@ class ControlLoop(object):
         self.control_period = control_period
         self.last_update = None
 
-    def before_due(self):
+    def _period(self):
+        """The control period, or None when the controllers update at every step: no
+        controlPeriod, or one no longer than the physics step (franka_description's 0.001 at 1 ms
+        steps; gazebo_ros_control then updates before every step, one step apart). Only a longer
+        period keeps an update in Python once per period."""
         period = self.control_period
+        return None if period is None or period <= self.world.time_step + 1e-9 else period
+
+    def before_due(self):
+        period = self._period()
         if period is not None:
             return None if self.last_update is None else self.last_update + period - 1e-9
         if self.hw.needs_every_update:
@@ -44,7 +52,7 @@ class ControlLoop(object):
         return due
 
     def before_step(self, t, dt):
-        period = self.control_period
+        period = self._period()
         if period is not None and self.last_update is not None and t - self.last_update < period - 1e-9:
             return
         step = dt if self.last_update is None or period is None else t - self.last_update
