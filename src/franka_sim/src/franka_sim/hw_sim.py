@@ -95,6 +95,7 @@ class FrankaHWSim(RobotHWSim):
         self.initialized = False
         self.on_initialized = None    # called once, at the first read (the ROS side publishes it)
         self._hold_pending = True     # the next write takes the idle joints' actuators to hold them
+        self._hold_gains = {}         # idle-held joint -> the position generator's gains its actuator has
         self.model = model
         self.gravity_free_links = []
         for link_name in arm_link_subtree(model.joints, arm_id):
@@ -114,7 +115,13 @@ class FrankaHWSim(RobotHWSim):
     # ---- ros_control ------------------------------------------------------------------------
     @property
     def needs_every_update(self):
-        return self._hold_pending or super(FrankaHWSim, self).needs_every_update
+        return self._hold_pending or self._hold_gains_changed() or super(FrankaHWSim, self).needs_every_update
+
+    def _hold_gains_changed(self):
+        """An idle-held joint whose position generator gains changed (dynamic_reconfigure at
+        motion_generators/position/gains/<joint>): the next write gives its actuator the new ones."""
+        return any(self.joints[j].owner is self and self.position_pid[j].gains is not g
+                   for j, g in self._hold_gains.items())
 
     def do_switch(self, start, stop):
         for c in stop:
@@ -165,8 +172,13 @@ class FrankaHWSim(RobotHWSim):
                     continue
                 if res.owner is not self:
                     res.actuate(actuators.POSITION_PID, pid.gains, res.position_rule, owner=self)
+                    self._hold_gains[j] = pid.gains
                 res.actuator.command = self.stop_position.get(j, res.position)
             self._hold_pending = False
+        for j, gains in self._hold_gains.items():
+            res, pid = self.joints[j], self.position_pid[j]
+            if res.owner is self and pid.gains is not gains:
+                res.actuator.gains = self._hold_gains[j] = pid.gains
         super(FrankaHWSim, self).write(dt, t)
 
     def reset_commands(self):

@@ -9,6 +9,7 @@ import yaml
 from franka_sim.hw_sim import FrankaHWSim
 from modrob_sim.errors import ControllerError
 from modrob_sim.physics import World
+from modrob_sim.physics.actuators import PidGains
 from modrob_sim.ros_control.params import Params
 from modrob_sim.ros_control.transmissions import CPP_NAMES, POSITION, parse_transmissions
 
@@ -82,3 +83,25 @@ def test_missing_arm_joints_and_gains_are_named(arm):
     bare = FrankaHWSim(model, parse_transmissions(urdf), "panda", Params({}, "/motion_generators"))
     with pytest.raises(ControllerError, match="motion_generators/position/gains/panda_joint1"):
         bare.do_switch([Claim(POSITION, ["panda_joint1"])], [])
+
+
+def test_the_idle_hold_needs_no_update_and_takes_new_generator_gains(arm):
+    """dynamic_reconfigure's first callback at motion_generators/position/gains/<joint> swaps in
+    gains equal to the old ones: after one update the idle arm needs no update in Python again
+    (it needed one at every step: the Panda at 1000 per simulated second); changed gains reach the
+    hold's actuator."""
+    world, model, hw = arm
+    run(world, hw, 10)
+    assert not hw.needs_every_update
+    for j in hw.arm:
+        g = hw.position_pid[j].gains
+        hw.position_pid[j].set_gains(PidGains(g.p, g.i, g.d, g.i_max, g.i_min, g.antiwindup))
+    run(world, hw, 1)
+    assert not hw.needs_every_update
+    old = hw.position_pid["panda_joint2"].gains
+    new = PidGains(2.0 * old.p, old.i, 3.0 * old.d, old.i_max, old.i_min, old.antiwindup)
+    hw.position_pid["panda_joint2"].set_gains(new)
+    assert hw.needs_every_update
+    run(world, hw, 1)
+    assert hw.joints["panda_joint2"].actuator.gains.as_dict() == new.as_dict()
+    assert hw.joints["panda_joint2"].owner is hw and not hw.needs_every_update

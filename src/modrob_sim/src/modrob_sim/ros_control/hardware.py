@@ -405,16 +405,18 @@ class RobotHWSim(object):
         """True when the hardware's write has work at the next step although no controller
         updates: a position joint moved kinematically without an actuator (a test plant), a
         pid_gains position joint whose command is still rate-limited towards its target
-        (the velocity limit moves it by one step's worth per write), or pid_gains changed. Then
-        the next step is an update in Python; otherwise the actuators (held efforts, pid_gains
-        PIDs) and the ODE motors carry the last write."""
+        (the velocity limit moves it by one step's worth per write), or the pid_gains of a joint
+        the hardware drives changed (a joint a controller or the hardware's subclass owns gets its
+        gains from that owner, as in write). Then the next step is an update in Python; otherwise
+        the actuators (held efforts, pid_gains PIDs) and the ODE motors carry the last write."""
         for res in self.joints.values():
             m = res.method
             if m == POSITION and res.actuator is None:
                 return True
             if m == POSITION_PID and res.owner is None and not self._position_settled(res):
                 return True
-            if res.pid is not None and res.pid.gains is not res.synced_gains and res.actuator is not None:
+            if res.owner is None and res.pid is not None and res.pid.gains is not res.synced_gains and \
+                    res.actuator is not None:
                 return True
         return False
 
