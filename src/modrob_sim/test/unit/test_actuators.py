@@ -288,6 +288,32 @@ def test_bad_requests_say_what_to_do():
     assert w.actuators == () and om.joints["yaw"].actuator is None
 
 
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_a_dropped_world_with_actuators_frees_its_backend_without_the_cycle_collector(native):
+    """An actuator holds its backend weakly: the backend's tables lead to the models and back to
+    the joint the actuator drives, so a strong reference left the backend in a reference cycle
+    that only the cycle collector freed. With the collector off, dropping the World frees it; an
+    actuator kept past its World says so."""
+    import gc
+    import weakref
+    from modrob_sim.errors import SimulationError
+    gc.collect()
+    gc.disable()
+    try:
+        w, m = arm(native)
+        kept = w.add_actuator(m.joints["yaw"], A.POSITION_PID, gains=A.PidGains(60.0, 1.0, 3.0))
+        w.add_actuator(m.joints["elbow"], A.SEGMENT_PID).set_segment([0.0, 0.4], 0.0, 1.0)
+        kept.command = 0.5
+        w.step(200)
+        world, backend = weakref.ref(w), weakref.ref(w._backend)
+        del w, m
+        assert world() is None and backend() is None
+        with pytest.raises(SimulationError, match="its World is gone.*world.add_actuator"):
+            kept.gains = A.PidGains(1.0, 0.0, 0.0)
+    finally:
+        gc.enable()
+
+
 PLANAR_BOT = """<robot name="base">
   <link name="base"><inertial><origin xyz="0.05 -0.02 0.1"/><mass value="8"/>
     <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.15" iyz="0" izz="0.2"/></inertial></link>

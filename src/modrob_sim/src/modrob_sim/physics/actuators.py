@@ -62,6 +62,7 @@ import math
 import weakref
 from collections import namedtuple
 
+from ..errors import SimulationError
 from .angles import shortest_angular_distance
 from .model import FORCE_CAP, check_twist
 from .transforms import check_vec3, rpy_from_quat
@@ -363,7 +364,9 @@ class Actuator(object):
         # the World only weakly (as models hold it): its finalizer must run before the cycle
         # collector frees PyODE objects in an arbitrary order
         self._world = weakref.ref(world) if world is not None else None
-        self._be = backend
+        # the backend weakly too: its tables lead to the models and back to the joint this drives
+        # (joint.actuator), a cycle that only the cycle collector would free
+        self._backend = weakref.ref(backend)
         self.joint = joint
         self._r = record
         self._kind = kind
@@ -376,6 +379,14 @@ class Actuator(object):
     def record(self):
         """The backend's data of this actuator (physics side: the World's backends)."""
         return self._r
+
+    @property
+    def _be(self):
+        be = self._backend()
+        if be is None:
+            raise SimulationError("%r: its World is gone (closed or dropped); make a new actuator with "
+                                  "world.add_actuator in the World that runs now" % self)
+        return be
 
     @property
     def kind(self):

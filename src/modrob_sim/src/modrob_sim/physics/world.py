@@ -1349,9 +1349,10 @@ def _reaction(force, point, link):
 
 
 def _teardown(models, parts, backend):
-    # the ODE world, the spaces and the contact group are held here and no longer by the parts: an
-    # actuator or a contact watch can leave the parts in a reference cycle after the World is
-    # gone, and the cycle collector would free them in any order
+    # the ODE world, the spaces and the contact group are held here and no longer by the parts:
+    # whatever still refers to the parts after the World is gone (a model kept by a user; a model's
+    # links and joints refer to it, a cycle) must not hand them to the cycle collector, which would
+    # free them in any order. Actuators and contact watches hold the backend weakly.
     ode_objects = (parts.ode_world, parts.static_space, parts.dyn_space, parts.contact_group)
     for m in list(models.values()):
         _destroy_objects(m, parts.geom_info, backend)
