@@ -1,4 +1,5 @@
 """Tier 1: the physics core's basic physics and contract accessors (pendulum, box drop, hooks)."""
+import logging
 import math
 import os
 
@@ -180,6 +181,42 @@ def test_default_resolver_finds_package_uris_through_rospkg():
     m = world.add_urdf("m", xml, pose=((0, 0, 0.2), (0, 0, 0, 1)))
     world.step(800)
     assert m.pose[0][2] == pytest.approx(0.05, abs=0.002)
+
+
+def test_a_missing_visual_mesh_is_not_drawn_and_said_once(caplog, monkeypatch):
+    """turtlebot3_description's waffle_base.stl missing from a checkout: the model loads without
+    that visual, one warning names it (RViz, the camera renderer's scene, reported it at every
+    update of the scene markers, 30 times a second), and the model's package:// URIs are found
+    with one crawl of ROS_PACKAGE_PATH."""
+    import rospkg
+    from modrob_sim.gazebo_ros.markers import WorldMarkers
+    made = []
+
+    class CountedRosPack(rospkg.RosPack):
+        def __init__(self, *args, **kwargs):
+            made.append(self)
+            super(CountedRosPack, self).__init__(*args, **kwargs)
+    monkeypatch.setattr(rospkg, "RosPack", CountedRosPack)
+    cube = "package://modrob_sim/test/fixtures/physics/cube_binary.stl"
+    gone = "package://modrob_sim/test/fixtures/physics/waffle_base.stl"
+    lost = "file:///nonexistent/meshes/base.dae"
+    inertial = ('<inertial><mass value="0.5"/><inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" '
+                'izz="1e-3"/></inertial>')
+    mesh = '<visual><geometry><mesh filename="%s"/></geometry></visual>'
+    xml = ('<robot name="m"><link name="base">%s%s%s<collision><geometry><mesh filename="%s"/></geometry>'
+           '</collision></link><link name="top">%s%s</link><joint name="j" type="fixed"><parent link="base"/>'
+           '<child link="top"/></joint></robot>'
+           % (inertial, mesh % cube, mesh % gone, cube, inertial, mesh % lost))
+    world = World()
+    with caplog.at_level(logging.WARNING):
+        m = world.add_urdf("m", xml, pose=((0, 0, 0.2), (0, 0, 0, 1)))
+    assert [g.uri for g in m.links["base"].visuals] == [cube] and m.links["top"].visuals == []
+    said = [r.getMessage() for r in caplog.records if "visual mesh" in r.getMessage()]
+    assert said == ["model 'm': 2 visual mesh files not found, not drawn (as Gazebo's client draws nothing "
+                    "there): base ('%s'); top ('%s')" % (gone, lost)]
+    assert len(made) == 1
+    markers = WorldMarkers(world, "all").update(force=True)
+    assert [mk.mesh_resource for mk in markers.markers if mk.mesh_resource] == [cube]
 
 
 def test_zero_and_tiny_inertias_do_not_break_ode():

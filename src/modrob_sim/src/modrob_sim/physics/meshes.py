@@ -59,15 +59,17 @@ def find_model_uri(uri, dirs):
                                       "it from its online model database)" % (uri, ", ".join(dirs)))
 
 
-def default_resolver(uri):
+def default_resolver(uri, rospack=None):
     """package:// through rospkg (no rospy), file:// and plain paths as they are, model:// through
-    :func:`model_dirs`. Returns an absolute path or raises MeshError."""
+    :func:`model_dirs`. Returns an absolute path or raises MeshError. ``rospack``: a
+    rospkg.RosPack to ask (it keeps what it found: a new one crawls ROS_PACKAGE_PATH again, tens of
+    milliseconds per URI on a long path), else a new one."""
     if uri.startswith("package://"):
         rest = uri[len("package://"):]
         pkg, _, rel = rest.partition("/")
         try:
             import rospkg
-            base = rospkg.RosPack().get_path(pkg)
+            base = (rospack or rospkg.RosPack()).get_path(pkg)
         except ImportError:
             raise MeshError("rospkg is not available to resolve '%s'" % uri)
         except Exception as e:  # rospkg.ResourceNotFound and friends

@@ -804,7 +804,11 @@ class World(object):
             if not path:
                 raise meshlib.MeshError("the resource resolver returned nothing")
             return path
-        return meshlib.default_resolver(uri)
+        return meshlib.default_resolver(uri, self._rospack)
+
+    #: while a model's meshes are prepared: the rospkg.RosPack that resolves its package:// URIs
+    #: (one crawl of ROS_PACKAGE_PATH for all of them); None otherwise (a new one per URI)
+    _rospack = None
 
     def _offline_meshes(self, desc):
         """A ``model://`` mesh found nowhere on this machine (Gazebo would download it from its
@@ -872,10 +876,40 @@ class World(object):
                             % (desc.name, len(swapped), "s" if len(swapped) > 1 else "",
                                "" if len(swapped) > 1 else "es", "; ".join(swapped)))
 
+    def _missing_visual_meshes(self, desc):
+        """A visual mesh whose file is not on this machine (a package:// or file:// URI naming
+        no file; model:// ones are _offline_meshes') is dropped from its link with one warning per
+        model listing them: Gazebo's client draws nothing there and says so once, where RViz (the
+        camera renderer's scene) would report it again at every update of the scene markers."""
+        gone = []
+        for ld in desc.links.values():
+            for gd in list(ld.visuals):
+                if gd.kind == "mesh" and gd.uri and not gd.uri.startswith("model://") and \
+                        self._mesh_file(gd.uri) is None:
+                    ld.visuals.remove(gd)
+                    gone.append("%s ('%s')" % (ld.name, gd.uri))
+        if gone:
+            self._warn_once("mesh-visual-missing:%s" % desc.name,
+                            "model '%s': %d visual mesh file%s not found, not drawn (as Gazebo's "
+                            "client draws nothing there): %s"
+                            % (desc.name, len(gone), "s" if len(gone) > 1 else "", "; ".join(gone)))
+
     def _prepare_meshes(self, desc):
         """Resolve and load every collision mesh of ``desc`` before any ODE object is made."""
+        try:
+            import rospkg
+            self._rospack = rospkg.RosPack()    # it crawls at its first lookup
+        except ImportError:
+            self._rospack = None                # default_resolver says so at a package:// URI
+        try:
+            return self._prepare_mesh_files(desc)
+        finally:
+            self._rospack = None
+
+    def _prepare_mesh_files(self, desc):
         self._offline_meshes(desc)
         self._unbuilt_collision_meshes(desc)
+        self._missing_visual_meshes(desc)
         out = {}
         for ld in desc.links.values():
             for gd in ld.collisions:
