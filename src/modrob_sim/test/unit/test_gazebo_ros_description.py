@@ -8,7 +8,6 @@ from modrob_sim.errors import ModelError
 from modrob_sim.gazebo_ros import markers, world_file
 from modrob_sim.gazebo_ros import resources
 from modrob_sim.gazebo_ros.resources import ResourceResolver
-from modrob_sim.gazebo_ros.services.properties import collision_names
 from modrob_sim.gazebo_ros.services.models import xml_kind
 from modrob_sim.physics import World
 
@@ -43,7 +42,7 @@ def test_urdf_visuals_colours_and_inertial_origin_come_from_the_core():
         base = vis["base"][0]
         assert base.kind == "box" and base.size == (0.2, 0.3, 0.4) and base.rgba == (1, 0, 0, 1)
         assert base.origin[0] == (0.0, 0.0, 0.1)
-        assert collision_names(m.links["base"]) == ["base_collision"]
+        assert m.links["base"].collision_names == ["base_collision"]
         assert m.links["base"].inertial_origin[0] == (0.0, 0.0, 0.05)
         assert vis["tip"][0].rgba == markers.GAZEBO_MATERIALS["Gazebo/Blue"]
     finally:

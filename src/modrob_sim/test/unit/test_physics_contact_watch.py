@@ -1,9 +1,9 @@
-"""Tier 1: the World's contact watches (World.watch_contacts, physics/contact_watch.py): the pairs a
-few links touched at ANY step since the last drain, noted where each backend makes its contacts
-(the C loop's near callback, the pure-Python path's), so that the steps between two drains run
-natively. Both backends; what the watch reports equals a per-step accumulation over
-world.contacts(); it survives spawns (the C geom table rehashed), deletions, resets and a model
-frozen by the guard."""
+"""Tier 1: the World's contact watches (World.watch_contacts, physics/contact_watch.py): the pairs of
+collisions a few links touched at ANY step since the last drain and in how many steps, noted where
+each backend makes its contacts (the C loop's near callback, the pure-Python path's), so that the
+steps between two drains run natively. Both backends; what the watch reports equals a per-step
+accumulation over world.contacts(); a link with two collisions makes two pairs; it survives spawns
+(the C geom table rehashed), deletions, resets and a model frozen by the guard."""
 import importlib.util
 import os
 
@@ -40,7 +40,13 @@ def chute_world(native):
     return world, chute, ball
 
 
-PLATE_BALL = [SeenContact("plate", "ball", "ball")]
+def pairs(drained):
+    """(watched link, other model, other link) of what a drain gave (the steps checked apart)."""
+    assert all(s.steps > 0 for s in drained)
+    return [(s.link, s.other_model, s.other_link) for s in drained]
+
+
+PLATE_BALL = [("plate", "ball", "ball")]
 
 
 @pytest.mark.parametrize("native", BACKENDS)
@@ -50,22 +56,30 @@ def test_a_contact_between_two_drains_is_reported_though_gone_at_the_drain(nativ
     world.step(1500)
     assert ball.pose[0][2] < 0.0                 # it rolled off and fell past the plate
     assert world.contacts() == []                # nothing touches anything now
-    assert watch.drain() == PLATE_BALL           # but the plate was touched in between
+    seen = watch.drain()                         # but the plate was touched in between:
+    assert seen == [SeenContact("plate", "plate_collision", "ball", "ball", "ball_collision", seen[0].steps)]
+    assert 50 < seen[0].steps < 1000             # in the steps it rolled over the plate
     assert watch.drain() == []                   # forgotten once handed out
     if native:
         assert world.native_steps == world.iterations == 1500   # every step made in C
 
 
 def per_step_accumulation(world, model, links):
-    """What the watch should report, from world.contacts() after every step (a Python hook)."""
-    seen = set()
+    """What the watch should report, from world.contacts() after every step (a Python hook): the
+    steps in which each pair touched (the links here have one collision each)."""
+    seen = {}
 
     def after(t, dt):
+        step = set()
         for c in world.contacts():
             for me, ml, om, ol in ((c.model1, c.link1, c.model2, c.link2),
                                    (c.model2, c.link2, c.model1, c.link1)):
                 if me == model and ml in links and world.models[om].links[ol].body is not None:
-                    seen.add(SeenContact(ml, om, ol))
+                    (name,) = world.models[me].links[ml].collision_names
+                    (other,) = world.models[om].links[ol].collision_names
+                    step.add((ml, name, om, ol, other))
+        for key in step:
+            seen[key] = seen.get(key, 0) + 1
     world.add_step_hook(after=after)
     return seen
 
@@ -92,7 +106,7 @@ def test_the_watch_reports_what_every_steps_contacts_add_up_to(native):
     for _ in range(12):
         world.step(100)
         got = watch.drain()
-        assert got == sorted(expected), "t=%.3f" % world.time
+        assert got == sorted(SeenContact(*(key + (n,))) for key, n in expected.items()), "t=%.3f" % world.time
         drains.append(got)
         expected.clear()
         assert on_floor.drain() == []              # a static collision is no pair
@@ -105,6 +119,37 @@ def test_the_watch_reports_what_every_steps_contacts_add_up_to(native):
 
 
 @pytest.mark.parametrize("native", BACKENDS)
+def test_each_pair_of_collisions_counts_the_steps_it_touched_in(native):
+    """A bar with a block at each end (two collisions of one link, one named, one not) is dropped
+    tilted on a loose plate lying on the floor: one end lands first. The watch on the plate gives
+    a pair per collision, each with the steps in which it touched; resting (awake: auto-disable
+    off, a sleeping pair makes no contacts), both touch at every step. The floor (static) is no
+    pair of the plate's."""
+    world = World(time_step=0.001, native=native)
+    world.set_physics_params(auto_disable=False)
+    world.add_sdf("<sdf version='1.6'><world name='w'><include><uri>model://ground_plane</uri></include>"
+                  "</world></sdf>")
+    plate = world.add_urdf("plate", H.robot("plate", H.box_link("plate", 5.0, (0.6, 0.3, 0.02))),
+                           pose=((0, 0, 0.01), (0, 0, 0, 1)))
+    ball = '<collision%s><origin xyz="%r 0 0"/><geometry><box size="0.06 0.06 0.06"/></geometry></collision>'
+    bar = ('<link name="bar">%s%s%s</link>'
+           % (H.inertial(0.3, 1e-4, 4e-3, 4e-3), ball % (' name="end_a"', -0.2), ball % ("", 0.2)))
+    # tilted about y by -0.3 rad: end_a (at -x) is the lower one
+    world.add_urdf("bar", H.robot("bar", bar), pose=((0, 0, 0.2), (0, -0.14943813, 0, 0.98877108)))
+    watch = world.watch_contacts([plate.links["plate"]])
+    world.step(1500)
+    landed = watch.drain()
+    assert [(s.collision, s.other_model, s.other_link, s.other_collision) for s in landed] == [
+        ("plate_collision", "bar", "bar", "bar_collision_1"), ("plate_collision", "bar", "bar", "end_a")]
+    first, second = landed[1].steps, landed[0].steps
+    assert 1500 > first > second > 1000           # end_a landed first, both rest now
+    world.step(100)
+    assert [(s.other_collision, s.steps) for s in watch.drain()] == [("bar_collision_1", 100), ("end_a", 100)]
+    if native:
+        assert world.native_steps == world.iterations == 1600
+
+
+@pytest.mark.parametrize("native", BACKENDS)
 def test_models_spawned_and_deleted_around_a_watch(native):
     world, chute, ball = chute_world(native)
     watch = world.watch_contacts([chute.links["plate"]])
@@ -113,14 +158,14 @@ def test_models_spawned_and_deleted_around_a_watch(native):
         world.add_urdf("crate%d" % k, H.robot("crate", H.box_link("crate", 0.1, (0.05, 0.05, 0.05))),
                        pose=((5.0 + 0.1 * (k % 10), 0.1 * (k // 10), 0.02), (0, 0, 0, 1)))
     world.step(150)
-    assert watch.drain() == PLATE_BALL
+    assert pairs(watch.drain()) == PLATE_BALL
     # a pair with a model deleted since it was seen is dropped
     world.step(20)
     world.remove_model("ball")
     assert watch.drain() == []
     world.add_urdf("ball", ball_urdf(), pose=((0, 0, 1.15), (0, 0, 0, 1)))
     world.step(150)
-    assert watch.drain() == PLATE_BALL           # the ball of the same name, spawned again
+    assert pairs(watch.drain()) == PLATE_BALL    # the ball of the same name, spawned again
     # deleting the watched model closes its watch
     world.step(20)
     world.remove_model("chute")
@@ -140,7 +185,7 @@ def test_reset_and_reset_world_drop_what_was_seen(native):
         world.step(50)
         assert watch.drain() == []
         world.step(150)
-        assert watch.drain() == PLATE_BALL, reset
+        assert pairs(watch.drain()) == PLATE_BALL, reset
 
 
 @pytest.mark.parametrize("native", BACKENDS)
@@ -165,7 +210,7 @@ def test_a_watch_on_a_model_the_guard_froze_keeps_watching(native):
     assert watch.drain() == []
     world.add_urdf("ball", ball_urdf(), pose=((0, 0, 5.2), (0, 0, 0, 1)))
     world.step(300)
-    assert watch.drain() == [SeenContact("a", "ball", "ball")]
+    assert pairs(watch.drain()) == [("a", "ball", "ball")]
     assert 5.05 < world.models["ball"].pose[0][2] < 5.2   # it rests on the frozen model
 
 

@@ -33,11 +33,12 @@ only the physics-side interface of Model, Link and Joint (model.py):
     overlaps(model) -> {(m1, l1, m2, l2): depth}   spawn-overlap check
     new_watch(infos) -> handle      a contact watch on these geoms (the World's _GeomInfo of links
                                     of one model): from now on every step notes, where it makes
-                                    its contacts, each distinct pair of a watched geom with a geom
-                                    on a body it made contacts with
-    drain_watch(handle) -> [(info watched, info other)]   those pairs since the last drain, in the
-                                    order first seen; then forgotten. A removed geom leaves every
-                                    watch and every pair (remove_geom)
+                                    its contacts, each pair of a watched geom with a geom on a
+                                    body it made contacts with, and counts the steps
+    drain_watch(handle) -> [(info watched, info other, steps)]   those pairs since the last
+                                    drain, in the order first seen, with the number of steps in
+                                    which each made contacts; then forgotten. A removed geom
+                                    leaves every watch and every pair (remove_geom)
     close_watch(handle)             the watch ends (its handle may be given to a new one)
     close()                         free the backend's own objects
     new_actuator(joint, kind) -> record       an actuator's data (actuators.py)
@@ -186,7 +187,7 @@ class PureBackend(object):
         self.feedback = []    # their feedback after the step: (f1, t1, f2, t2) as contact_log
         self.made = []        # (contact, body1, body2, whole depth) of this step's contact joints
         self.capped = False   # a contact of this step had its correction capped at maxVel
-        self.watches = {}     # contact watch handle -> (its infos, {(info, other info): None} seen)
+        self.watches = {}     # contact watch handle -> (its infos, {(info, other info): steps} seen)
         self.watched = {}     # geom -> the seen dicts of the watches that hold it
         self._next_watch = 0
 
@@ -283,7 +284,7 @@ class PureBackend(object):
         w = self.watches.get(handle)
         if w is None:
             return []
-        out = list(w[1])
+        out = [(mine, other, steps) for (mine, other), steps in w[1].items()]
         w[1].clear()
         return out
 
@@ -554,13 +555,15 @@ class PureBackend(object):
         i1.entry.ncontacts += n
         i2.entry.ncontacts += n
         watched = self.watched
-        if watched:   # the contact watches: a watched geom's pair with a geom on a body
+        if watched:
+            # the contact watches: a watched geom's pair with a geom on a body (a pair of geoms
+            # comes here at most once per step: one more step for it)
             if b2 is not None:
                 for seen in watched.get(g1, ()):
-                    seen[(i1, i2)] = None
+                    seen[(i1, i2)] = seen.get((i1, i2), 0) + 1
             if b1 is not None:
                 for seen in watched.get(g2, ()):
-                    seen[(i2, i1)] = None
+                    seen[(i2, i1)] = seen.get((i2, i1), 0) + 1
         fdir = None
         world = w.ode_world
         group = w.contact_group
@@ -897,7 +900,8 @@ class NativeBackend(object):
         room = 16
         while True:
             buf = (ctypes.c_void_p * (2 * room))()
-            n = self.nat.mr_watch_drain(self.ctx, handle, buf, room)
+            steps = (ctypes.c_int * room)()
+            n = self.nat.mr_watch_drain(self.ctx, handle, buf, steps, room)
             if n <= room:
                 break
             room = n
@@ -908,7 +912,7 @@ class NativeBackend(object):
         for k in range(n):
             mine, other = by_ptr.get(buf[2 * k]), by_ptr.get(buf[2 * k + 1])
             if mine is not None and other is not None:
-                out.append((mine, other))
+                out.append((mine, other, steps[k]))
         return out
 
     def close_watch(self, handle):

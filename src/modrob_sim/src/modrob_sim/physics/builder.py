@@ -251,7 +251,8 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
     # ---- geoms ------------------------------------------------------------------------------
     for link in model.links.values():
         ld = desc.links[link.name]
-        for gd in ld.collisions:
+        names = link.collision_names
+        for ci, gd in enumerate(ld.collisions):
             what = "model '%s' link '%s'" % (model.name, link.name)
             surface = gd.surface or ld.surface
             body = link._body
@@ -260,7 +261,7 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
                     raise ModelError("%s: a <plane> collision must be static (in a static model)" % what)
                 world_pose = pose_mul(link._static_pose, gd.origin)
                 geom = world.make_plane(gd.size, world_pose)
-                world.register_geom(geom, model, link, surface, None)
+                world.register_geom(geom, model, link, names[ci], surface, None)
                 link._geoms.append((geom, gd.origin))
                 continue
             space = world.space(dynamic=body is not None)
@@ -278,7 +279,7 @@ def _build(world, model, desc, pose, robot_namespace, prepared_meshes):
                 geom.setOffsetQuaternion(to_ode_quat(rel[1]))
             else:
                 world.place_static_geom(geom, pose_mul(link._static_pose, origin))
-            world.register_geom(geom, model, link, surface, body)
+            world.register_geom(geom, model, link, names[ci], surface, body)
             link._geoms.append((geom, origin))
 
     # ---- joints -----------------------------------------------------------------------------

@@ -1,25 +1,28 @@
-"""The World's contact watches (``World.watch_contacts``): which links of other models a few links of
-one model touched at ANY step since the watch was last asked, not only in the last step
-(``World.contacts``). A check that runs now and then (Gazebo's ``<gripper>``, every 0.75 s) thus sees
-the contacts of every step between its runs while the steps between them run natively.
+"""The World's contact watches (``World.watch_contacts``): which collisions a few links of one model
+touched at ANY step since the watch was last asked, not only in the last step (``World.contacts``),
+and in how many steps. A check that runs now and then (Gazebo's ``<gripper>``, every 0.75 s, which
+counts one contact per pair of collisions per step) thus sees the contacts of every step between
+its runs while the steps between them run natively.
 
-The pairs are noted by the backend where it makes the contacts (the C loop's near callback, the
-pure-Python path's), deduplicated there; the watch hands them out by name.
+The pairs are noted and counted by the backend where it makes the contacts (the C loop's near
+callback, the pure-Python path's); the watch hands them out by name.
 """
 import weakref
 from collections import namedtuple
 
-#: a pair a contact watch saw: the watched link's name, the other side's model and link names
-SeenContact = namedtuple("SeenContact", "link other_model other_link")
+#: a pair of collisions a contact watch saw: the watched link's name and its collision's, the other
+#: side's model, link and collision names, and in how many steps the pair made contacts
+SeenContact = namedtuple("SeenContact", "link collision other_model other_link other_collision steps")
 
 
 class ContactWatch(object):
     """A contact watch on links of one model (made by ``World.watch_contacts``).
 
-    * ``drain()``: the distinct SeenContact pairs whose collisions made contacts at any step since
-      the last drain (or since the watch was made, or the world was reset), sorted; then forgotten.
-      Only pairs whose other side is on a body count (static collisions do not, as Gazebo's
-      gripper ignores them); two watched links touching each other count both ways.
+    * ``drain()``: a SeenContact for each pair of collisions (one of a watched link, the other
+      anywhere) that made contacts at any step since the last drain (or since the watch was made,
+      or the world was reset), with the number of those steps, sorted; then forgotten. Only pairs
+      whose other side is on a body count (static collisions do not, as Gazebo's gripper drops
+      them); two watched links touching each other are there both ways round.
     * ``clear()``: forget what was seen (the World does it at reset and reset_world).
     * ``close()``: stop watching. Deleting the watched model closes its watches; a pair with a
       model deleted since it was seen is dropped. A closed watch drains nothing.
@@ -43,8 +46,11 @@ class ContactWatch(object):
         backend = None if self._closed else self._backend()
         if backend is None:
             return []
-        return sorted(set(SeenContact(mine.link.name, other.model.name, other.link.name)
-                          for mine, other in backend.drain_watch(self._handle)))
+        steps = {}
+        for mine, other, n in backend.drain_watch(self._handle):
+            key = (mine.link.name, mine.collision, other.model.name, other.link.name, other.collision)
+            steps[key] = steps.get(key, 0) + n
+        return sorted(SeenContact(*(key + (n,))) for key, n in steps.items())
 
     def clear(self):
         backend = None if self._closed else self._backend()

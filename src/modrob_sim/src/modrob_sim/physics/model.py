@@ -227,6 +227,13 @@ class Link(object):
         self._body = None
         self._wrenches = []
 
+    @property
+    def collision_names(self):
+        """(addition) Gazebo's names of the link's collisions, in order: the name given, else
+        ``<link>_collision`` for the first and ``<link>_collision_<i>`` for the i-th after it."""
+        return [g.name or ("%s_collision" % self.name if i == 0 else "%s_collision_%d" % (self.name, i))
+                for i, g in enumerate(self.collisions)]
+
     # ---- wrenches ----------------------------------------------------------------------------
     @property
     def collides(self):

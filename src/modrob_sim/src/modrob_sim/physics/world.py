@@ -92,13 +92,14 @@ class _ModelEntry(object):
 
 
 class _GeomInfo(object):
-    __slots__ = ("model", "link", "body", "surface", "self_collide", "group", "geom", "entry")
+    __slots__ = ("model", "link", "collision", "body", "surface", "self_collide", "group", "geom", "entry")
 
-    def __init__(self, geom, entry, link, surface, body):
+    def __init__(self, geom, entry, link, collision, surface, body):
         self.geom = geom
         self.entry = entry
         self.model = entry.model
         self.link = link
+        self.collision = collision      # its <collision>'s name (Link.collision_names)
         self.body = body
         self.surface = surface
         self.self_collide = link.self_collide
@@ -732,10 +733,11 @@ class World(object):
         self._anti_gravity = [g for m in ms for g in m.dynamic_groups if g.anti_gravity]
         self._backend.rebuild(list(self.models.values()))
 
-    def register_geom(self, geom, model, link, surface, body):
-        """(builder) ``geom`` of ``link`` of ``model``: collision tables and the backend."""
+    def register_geom(self, geom, model, link, collision, surface, body):
+        """(builder) ``geom`` of ``link`` of ``model`` (its <collision> named ``collision``):
+        collision tables and the backend."""
         model.add_geom(geom)
-        info = _GeomInfo(geom, self._entry(model), link, surface, body)
+        info = _GeomInfo(geom, self._entry(model), link, collision, surface, body)
         self._p.geom_info[geom] = info
         self._backend.register_geom(info)
 
@@ -1242,11 +1244,12 @@ class World(object):
     def watch_contacts(self, links):
         """(addition) A :class:`ContactWatch` on ``links`` (Links of one model of this World):
         from now on every step notes, where its contacts are made (in C on the native backend),
-        each distinct pair of a watched link with a link on a body of another model (or of its
-        own, with self-collision) that made contacts with it; ``drain()`` hands out the pairs seen
-        at any step since the last drain. reset() and reset_world() drop what was seen; deleting
-        the model closes the watch; a model frozen by the guard keeps its watches. InputError when
-        the links are not links of one model of this World."""
+        each pair of collisions (one of a watched link, the other on a body of another model, or
+        of its own with self-collision) that made contacts, and counts the steps in which it did;
+        ``drain()`` hands out the pairs seen since the last drain (SeenContact, with those
+        steps). reset() and reset_world() drop what was seen; deleting the model closes the
+        watch; a model frozen by the guard keeps its watches. InputError when the links are not
+        links of one model of this World."""
         links = list(links)
         if not links:
             raise InputError("watch_contacts: no link given; give the Links of one model to watch")

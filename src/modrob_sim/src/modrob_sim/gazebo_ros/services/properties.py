@@ -18,15 +18,6 @@ JOINT_TYPE = {"revolute": gzs.GetJointPropertiesResponse.REVOLUTE,
 NO_LIGHTS = "lights are not simulated (RViz lights the scene itself)"
 
 
-def collision_names(link):
-    """Gazebo's names of a link's collisions: the name attribute, else <link>_collision[_N]."""
-    out = []
-    for i, g in enumerate(link.collisions):
-        default = "%s_collision" % link.name if i == 0 else "%s_collision_%d" % (link.name, i)
-        out.append(g.name or default)
-    return out
-
-
 class PropertyServices(ServiceGroup):
     def advertise(self):
         S = rospy.Service
@@ -74,7 +65,7 @@ class PropertyServices(ServiceGroup):
             resp.parent_model_name = ""
             resp.canonical_body_name = m.canonical_link.name if m.canonical_link is not None else ""
             resp.body_names = list(m.links)
-            resp.geom_names = [g for link in m.links.values() for g in collision_names(link)]
+            resp.geom_names = [g for link in m.links.values() for g in link.collision_names]
             resp.joint_names = [n for n, j in m.joints.items() if j.type != "fixed"]
             resp.child_model_names = []
             resp.is_static = bool(m.is_static)

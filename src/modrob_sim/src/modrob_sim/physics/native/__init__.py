@@ -125,7 +125,7 @@ def _declare(lib):
         "mr_apply_model_actuators": (None, [vp, i]),
         "mr_watch_new": (i, [vp]),
         "mr_watch_add_geom": (i, [vp, i, vp]),
-        "mr_watch_drain": (i, [vp, i, vp, i]),
+        "mr_watch_drain": (i, [vp, i, vp, vp, i]),
         "mr_watch_free": (None, [vp, i]),
     }
     for name, (res, args) in sig.items():

@@ -8,7 +8,7 @@
  *   - collide + quickStep with a per-world ODE random seed, solved twice when a contact's
  *     correction was capped (Gazebo's split of position and velocity correction);
  *   - the velocity part of the blow-up guard;
- *   - contact watches: the distinct pairs a few watched geoms made contacts in, at any step
+ *   - contact watches: the pairs a few watched geoms made contacts in and in how many steps,
  *     between two drains (World.watch_contacts, for Gazebo's <gripper>);
  *   - triangle meshes (PyODE on Debian is built without trimesh support) in spaces of their own;
  *   - the World's actuators and turn counts, stretches of whole steps between Python hooks, link
@@ -55,13 +55,14 @@ typedef struct {
     dBodyID b1, b2;
 } MrMade;
 
-/* a pair that made contacts in a step: a watched geom and the geom on a body it touched */
+/* a pair that made contacts: a watched geom and the geom on a body it touched, and in how many
+ * steps since the last drain */
 typedef struct {
     dGeomID mine, other;
+    int steps;
 } MrSeenPair;
 
-/* a contact watch (World.watch_contacts): its geoms, and the distinct pairs seen at any step since
- * it was last drained */
+/* a contact watch (World.watch_contacts): its geoms, and the pairs seen since it was last drained */
 typedef struct {
     int live;
     dGeomID *geoms;
@@ -378,11 +379,13 @@ static void mr_contact_feedback(MrCtx *c)
 }
 
 /* ---- contact watches ---------------------------------------------------------------------- */
-/* A contact watch keeps, for a few geoms (the gripper links of one model), the distinct pairs
- * (watched geom, other geom on a body) that made contacts at ANY step since it was last drained:
- * mr_near notes them where it makes the contacts, so a check that runs every 0.75 s of simulated
- * time (Gazebo's <gripper>) sees every step's contacts without Python at every step. A geom's
- * record counts the watches that hold it, so that mr_near looks only at watched geoms. */
+/* A contact watch keeps, for a few geoms (the gripper links of one model), the pairs (watched
+ * geom, other geom on a body) that made contacts since it was last drained, each with the
+ * number of steps in which it did: mr_near notes them where it makes the contacts (a pair of
+ * geoms comes to it at most once per step), so a check that runs every 0.75 s of simulated time
+ * (Gazebo's <gripper>, which counts one contact per pair of collisions per step) sees every
+ * step's contacts without Python at every step. A geom's record counts the watches that hold it,
+ * so that mr_near looks only at watched geoms. */
 
 /* a new watch (a free slot again when one was freed); returns its index */
 int mr_watch_new(MrCtx *c)
@@ -420,7 +423,7 @@ int mr_watch_add_geom(MrCtx *c, int w, dGeomID g)
     return 1;
 }
 
-/* mr_near: `mine` (a watched geom) made contacts with `other` (on a body) in this step */
+/* mr_near: `mine` (a watched geom) made contacts with `other` in this step */
 static void mr_watch_note(MrCtx *c, dGeomID mine, dGeomID other)
 {
     int w, i;
@@ -431,21 +434,26 @@ static void mr_watch_note(MrCtx *c, dGeomID mine, dGeomID other)
         if (i == cw->ngeoms) continue;
         for (i = 0; i < cw->nseen; ++i)
             if (cw->seen[i].mine == mine && cw->seen[i].other == other) break;
-        if (i < cw->nseen) continue;
+        if (i < cw->nseen) {
+            cw->seen[i].steps++;
+            continue;
+        }
         if (cw->nseen == cw->capseen) {
             cw->capseen = cw->capseen ? 2 * cw->capseen : 8;
             cw->seen = (MrSeenPair *)realloc(cw->seen, cw->capseen * sizeof(MrSeenPair));
         }
         cw->seen[cw->nseen].mine = mine;
         cw->seen[cw->nseen].other = other;
+        cw->seen[cw->nseen].steps = 1;
         cw->nseen++;
     }
 }
 
 /* the pairs watch `w` has seen since its last drain, in the order first seen: 2 geoms per pair
- * into `out` (room for `max` pairs), then forgotten. Returns how many there are; when that is
- * more than `max` nothing is copied or forgotten (ask again with room for them) */
-int mr_watch_drain(MrCtx *c, int w, void **out, int max)
+ * into `out` and the pair's steps into `steps` (room for `max` pairs), then forgotten. Returns
+ * how many there are; when that is more than `max` nothing is copied or forgotten (ask again
+ * with room for them) */
+int mr_watch_drain(MrCtx *c, int w, void **out, int *steps, int max)
 {
     MrContactWatch *cw;
     int i, n;
@@ -456,6 +464,7 @@ int mr_watch_drain(MrCtx *c, int w, void **out, int max)
     for (i = 0; i < n; ++i) {
         out[2 * i] = (void *)cw->seen[i].mine;
         out[2 * i + 1] = (void *)cw->seen[i].other;
+        steps[i] = cw->seen[i].steps;
     }
     cw->nseen = 0;
     return n;
@@ -717,7 +726,7 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
     }
     c->ncontacts += k;
     /* the contact watches: a watched geom's pair with a geom on a body (a static side does not
-     * count, as Gazebo's gripper ignores static collisions) */
+     * count, as Gazebo's gripper drops pairs with a static collision) */
     if (r1->nwatch && b2) mr_watch_note(c, o1, o2);
     if (r2->nwatch && b1) mr_watch_note(c, o2, o1);
     if (r1->model >= 0 && r1->model < c->nmodels) c->model_contacts[r1->model] += k;
