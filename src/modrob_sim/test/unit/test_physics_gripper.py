@@ -1,12 +1,13 @@
-"""Tier 1: Gazebo's <gripper> grasp check welds an object held from two sides to the palm and lets
-it go once the contact is gone (physics/gripper.py)."""
+"""Tier 1: Gazebo's <gripper> grasp check welds a held object to the palm and lets it go once the
+contact is gone (physics/gripper.py), counting as Gazebo 11 does: one contact per pair of
+collisions per step, one gripper link is enough, one stillness ring for all candidates."""
 import importlib.util
 import os
 
 import pytest
 
 from modrob_sim.errors import ModelError
-from modrob_sim.physics import World
+from modrob_sim.physics import SeenContact, World
 from modrob_sim.physics import builder
 from modrob_sim.physics import native as native_mod
 from modrob_sim.physics.gripper import UPDATE_PERIOD, Gripper
@@ -158,11 +159,12 @@ def close_hold_lift_open(world, box, lift, fingers):
 
 class EveryStepGripper(Gripper):
     """The grasp check as it was before due times: its hook is due at EVERY step and gathers the
-    contacts of world.contacts() (the last step's); its updates count those. It also drains its
-    contact watch at each update and keeps both, so that a test can compare them update by update."""
+    contacts of world.contacts() (the last step's), one per pair of collisions per step (the
+    links here have one collision each); its updates count those. It also drains its contact
+    watch at each update and keeps both, so that a test can compare them update by update."""
 
     def __init__(self, world, model, desc):
-        self.per_step, self.compared = set(), []
+        self.per_step, self.compared = {}, []
         super(EveryStepGripper, self).__init__(world, model, desc)
 
     def after_due(self):
@@ -170,19 +172,24 @@ class EveryStepGripper(Gripper):
 
     def after_step(self, t, dt):
         name = self.model.name
+        step = set()
         for c in self.world.contacts():
             for me, ml, om, ol in ((c.model1, c.link1, c.model2, c.link2),
                                    (c.model2, c.link2, c.model1, c.link1)):
-                if me != name or ml not in self.links or (om == name and ol in self.links):
+                if me != name or ml not in self.links:
                     continue
                 m = self.world.models.get(om)
                 if m is not None and m.links[ol].body is not None:
-                    self.per_step.add((ml, om, ol))
+                    (mc,), (oc,) = self.model.links[ml].collision_names, m.links[ol].collision_names
+                    step.add((ml, mc, om, ol, oc))
+        for key in step:
+            self.per_step[key] = self.per_step.get(key, 0) + 1
         super(EveryStepGripper, self).after_step(t, dt)
 
     def _contacts(self):
         watched = super(EveryStepGripper, self)._contacts()
-        per_step, self.per_step = self.per_step, set()
+        per_step, self.per_step = self.per_step, {}
+        per_step = sorted(SeenContact(*(key + (n,))) for key, n in per_step.items())
         self.compared.append((watched, per_step))
         return per_step
 
@@ -246,3 +253,95 @@ def test_reset_world_and_reset_let_go_and_count_again(native):
                                            round(t0 + 0.001 + 2 * UPDATE_PERIOD, 6)], reset
         held = [u[2] for u in log]
         assert held.index(True) == 12 if reset == "reset_world" else not any(held)   # the 13th, as at first
+
+
+# ---- Gazebo 11's counting: contacts per pair of collisions and step; one ring for all candidates ----
+
+def pressed_against_posts(native, sides):
+    """The fixture's hand with its fingers opening outwards, each pressing a box (0.06 m) against a
+    static post beside it (``sides``: "l", "r" or both): each box touches ONE gripper link."""
+    world = World(time_step=0.001, native=native)
+    hand = world.add_urdf("hand", H.fixture("gripper_hand.urdf"))
+    posts = '<link name="world"/>'
+    for side, sign in (("l", 1), ("r", -1)):
+        posts += (H.box_link("post_" + side, 1.0, (0.1, 0.05, 0.3)) +
+                  H.joint("at_" + side, "fixed", "world", "post_" + side, xyz="0 %r 0.9" % (sign * 0.2)))
+        if side in sides:
+            world.add_urdf("box_" + side, H.robot("box", H.box_link("box", 0.1, (0.06, 0.06, 0.06))),
+                           pose=((0, sign * 0.145, 0.9), (0, 0, 0, 1)))
+    world.add_urdf("posts", H.robot("posts", posts))
+    from modrob_sim.physics import actuators as A
+    world.add_actuator(hand.joints["left"], A.EFFORT).command = 20.0     # opening: towards +y
+    world.add_actuator(hand.joints["right"], A.EFFORT).command = -20.0
+    return world, hand
+
+
+@pytest.mark.parametrize("native", [pytest.param(False, id="pure"),
+                                    pytest.param(True, id="native", marks=needs_c)])
+def test_an_object_touched_by_one_gripper_link_is_welded(native):
+    """Gazebo counts the contacts of every step, one per pair of collisions: one finger pressing a
+    box makes 750 of them per update (>= min_contact_count 2), and the box, in at least 2 of them,
+    is welded once still (the 13th update with the fixture's attach_steps 2: the 3rd update on
+    fills the ring of 10). The rule before counted distinct pairs (1 < 2) and wanted two sides."""
+    world, hand = pressed_against_posts(native, "l")
+    g = hand._grippers[0]
+    log = record_updates(g)
+    seconds(world, 13 * UPDATE_PERIOD - 0.01)
+    assert g.attached is None
+    seconds(world, 0.02)
+    assert g.attached is not None and g.attached[0].name == "box_l"
+    assert [len(u[1]) for u in log] == [1] * 13              # finger_l and the box only
+    assert all(u[1][0].link == "finger_l" and u[1][0].steps == 750 for u in log[1:])
+    if native:
+        assert world.stops == 13
+
+
+@needs_c
+def test_two_objects_touched_at_once_share_one_stillness_ring_and_neither_is_welded():
+    """Each finger presses a box of its own: both are candidates at every update, in the order of
+    their collisions' scoped names, and each one's position is compared with the other's (Gazebo's
+    one ring and one previous pose): neither ever counts as still, although each alone is welded
+    at the 13th update (above)."""
+    world, hand = pressed_against_posts(True, "lr")
+    g = hand._grippers[0]
+    log = record_updates(g)
+    seconds(world, 20 * UPDATE_PERIOD)
+    assert g.attached is None
+    assert all(sorted(s.other_model for s in u[1]) == ["box_l", "box_r"] for u in log[1:])
+    assert g._pos == 20 and min(g._diffs) > 0.08          # |(0, 0.29, 0)|^2 between the boxes
+
+
+def test_the_update_counts_contacts_per_step_and_pair_of_collisions():
+    """One finger touching an object in 2 steps of an update period counts up (min_contact_count
+    2); in 1 step it counts down; two fingers touching each other make one contact per step
+    (the watch has their pair both ways round)."""
+    world = World(time_step=0.001, native=False)
+    hand = world.add_urdf("hand", H.fixture("gripper_hand.urdf"))
+    g = hand._grippers[0]
+
+    def box(steps):
+        return SeenContact("finger_l", "finger_l_collision", "box", "box", "box_collision", steps)
+
+    def fingers(steps):
+        lc, rc = "finger_l_collision", "finger_r_collision"
+        return [SeenContact("finger_l", lc, "hand", "finger_r", rc, steps),
+                SeenContact("finger_r", rc, "hand", "finger_l", lc, steps)]
+    for seen, counted, pos in (([box(2)], 2, 1), ([box(1)], 1, 0), ([box(5)], 5, 1), (fingers(1), 1, 0),
+                               (fingers(2), 2, 1), (fingers(1) + [box(1)], 2, 2)):
+        assert g.contact_count(seen) == counted
+        g._update(seen)
+        assert g._pos == pos, seen
+
+
+@needs_c
+def test_a_let_go_object_is_welded_again_at_once_where_it_was():
+    """HandleDetach keeps the ring and the previous position (Gazebo resets neither): an object
+    still where it was when welded is welded again at the next update that counts up."""
+    world, hand = pressed_against_posts(True, "l")
+    g = hand._grippers[0]
+    log = record_updates(g)
+    seconds(world, 13 * UPDATE_PERIOD + 0.01)
+    assert g.attached is not None
+    g._detach("a test let go")
+    seconds(world, UPDATE_PERIOD)
+    assert g.attached is not None and log[-1][2]

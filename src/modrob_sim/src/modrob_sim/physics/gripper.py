@@ -1,25 +1,36 @@
 """Gazebo's ``<gripper>`` grasp check (SDF ``<model><gripper>``, URDF ``<gazebo><gripper>``):
 an object held by the gripper links for long enough is welded to the palm link, and let go when
-the contact has been gone for long enough. As gazebo::physics::Gripper:
+the contact has been gone for long enough. The rules are gazebo::physics::Gripper's (Gazebo 11):
 
-* every UPDATE_PERIOD (Gazebo: 0.75 s of wall time; here of simulated time, so that runs are
-  deterministic) the contacts seen since the last update are counted: ``min_contact_count`` or
-  more counts one up (and resets the "no contact" count), fewer counts one down and the "no
-  contact" count one up;
-* when the count exceeds ``attach_steps``, an object link touched from two sides (by at least two
-  different gripper links, or one gripper link at two contacts where only one is listed) whose
-  pose relative to the palm has kept still (squared displacement per update below 1e-5 m^2 over
-  the last 10 updates) is welded to the palm with a fixed joint;
-* when the "no contact" count exceeds ``detach_steps``, the joint goes.
+* between two updates every step's contacts of the gripper links' collisions are collected, ONE
+  per colliding pair of collisions per step (Gazebo's contact manager makes one contact message
+  per pair and step), both sides on a body (Gazebo drops a pair with a static collision); two
+  gripper collisions touching each other make one contact too;
+* every UPDATE_PERIOD (Gazebo: 0.75 s of wall time since the last update; here of simulated
+  time, on a fixed grid from the gripper's spawn, so that runs are deterministic) the number of
+  contacts collected counts: ``min_contact_count`` or more counts one up (and the "no contact"
+  count back to 0), fewer counts one down (not below 0) and the "no contact" count one up. So
+  one finger touching an object for two steps is enough for the default of 2;
+* when the count exceeds ``attach_steps`` and nothing is held: each collision that is not a
+  gripper collision and appears in at least 2 of the collected contacts is a candidate, taken in
+  the order of its scoped name (``model::link::collision``). For each, until one is welded: its
+  link's position relative to the palm (in the palm frame) is compared with the previous
+  candidate's (the origin at first), the squared displacement goes into ONE ring of the last 10
+  (shared by all candidates: two objects touched at once keep each other from being welded), and
+  when every entry is below 1e-5 m^2 the link is welded to the palm with a fixed joint;
+* when the "no contact" count exceeds ``detach_steps`` while holding, the joint goes; the ring
+  and the previous position stay as they are (Gazebo resets neither).
 
-Only movable links count (Gazebo filters static collisions too). Defaults as SDF's:
-attach_steps 20, detach_steps 40, min_contact_count 2.
+Where this differs from Gazebo (docs/physics.md): simulated time; a reset (reset, reset_world)
+lets go and starts the counts, the ring and the previous position afresh; a held object that is
+deleted is let go at the next step; a link welded to the world counts as static (it has no body
+here). Defaults as SDF's: attach_steps 20, detach_steps 40, min_contact_count 2.
 
-Gazebo's gripper collects the contacts of EVERY step between its updates. So does this one,
-without Python at every step: a contact watch on the gripper links (``World.watch_contacts``)
-notes the pairs where the backend makes the contacts, and the check is an after-step hook due at
-its next update (and at once after a reset or when the held object was deleted), so the steps in
-between run natively.
+The contacts of every step are collected without Python at every step: a contact watch on the
+gripper links (``World.watch_contacts``) counts, per pair of collisions, the steps in which the
+pair made contacts, where the backend makes them; the check is an after-step hook due at its next
+update (and at once after a reset or when the held object was deleted), so the steps in between
+run natively.
 """
 import logging
 import math
@@ -81,10 +92,12 @@ class Gripper(object):
         self._zero = 0
         self._next = world.time + UPDATE_PERIOD
         self._resets = world.reset_count
-        self._prev_rel = None
-        self._diffs = deque([float("inf")] * STABLE_SAMPLES, maxlen=STABLE_SAMPLES)
-        # the contacts of every step between two updates (static collisions are not noted)
+        self._restart_ring()
+        # the contacts of every step between two updates (static collisions are not noted). A
+        # static gripper link (no body: a static model's, or welded to the world) counts nothing,
+        # as Gazebo drops a pair with a static collision.
         self._watch = world.watch_contacts([model.links[n] for n in desc.gripper_links])
+        self._static = frozenset(n for n in desc.gripper_links if model.links[n].body is None)
         me = weakref.ref(self)
 
         def hook(t, dt):
@@ -109,10 +122,11 @@ class Gripper(object):
         if self.model.removed:
             self.close()
             return
-        if self.world.reset_count != self._resets:  # reset / reset_world: let go, count again
+        if self.world.reset_count != self._resets:  # reset / reset_world: let go, count afresh
             self._resets = self.world.reset_count
             self._detach("the world was reset")
             self._pos = self._zero = 0
+            self._restart_ring()
             self._next = t + UPDATE_PERIOD      # (the World dropped what the watch had seen)
         if self.attached is not None and self.attached[0].removed:
             self._detach("model '%s' was deleted" % self.attached[0].name)
@@ -121,14 +135,32 @@ class Gripper(object):
             self._update(self._contacts())
 
     def _contacts(self):
-        """{(gripper link, object model, object link)} touched at any step since the last update
-        (the gripper links touching each other do not count)."""
-        me = self.model.name
-        return set((s.link, s.other_model, s.other_link) for s in self._watch.drain()
-                   if not (s.other_model == me and s.other_link in self.links))
+        """The SeenContacts of the gripper links since the last update: per pair of collisions,
+        the steps in which it made contacts (none of a static gripper link)."""
+        return [s for s in self._watch.drain() if s.link not in self._static]
+
+    def _restart_ring(self):
+        """The stillness ring full of 'not still' and the previous position at the palm's origin,
+        as a newly loaded Gazebo gripper has them."""
+        self._prev_rel = (0.0, 0.0, 0.0)
+        self._diffs = deque([float("inf")] * STABLE_SAMPLES, maxlen=STABLE_SAMPLES)
+
+    def _is_gripper(self, model_name, link_name):
+        return model_name == self.model.name and link_name in self.links
+
+    def contact_count(self, seen):
+        """Gazebo's contacts collected between two updates: one per pair of collisions per step.
+        A pair of two gripper collisions is in ``seen`` both ways round; it counts once."""
+        n = 0
+        for s in seen:
+            if self._is_gripper(s.other_model, s.other_link) and \
+                    (s.other_link, s.other_collision) < (s.link, s.collision):
+                continue
+            n += s.steps
+        return n
 
     def _update(self, seen):
-        if len(seen) >= self.desc.min_contact_count:
+        if self.contact_count(seen) >= self.desc.min_contact_count:
             self._pos += 1
             self._zero = 0
         else:
@@ -140,26 +172,33 @@ class Gripper(object):
             self._detach("no contact for %d updates" % self._zero)
 
     def _try_attach(self, seen):
-        sides = {}
-        for glink, mn, ln in seen:
-            sides.setdefault((mn, ln), set()).add(glink)
-        need = 2 if len(self.links) > 1 else 1
-        for (mn, ln), glinks in sorted(sides.items()):
-            if len(glinks) < need:
+        counts = {}
+        for s in seen:
+            if self._is_gripper(s.other_model, s.other_link):
                 continue
-            obj = self.world.models[mn].links[ln]
+            key = "%s::%s::%s" % (s.other_model, s.other_link, s.other_collision)
+            n = counts.get(key, (s.other_model, s.other_link, 0))
+            counts[key] = (n[0], n[1], n[2] + s.steps)
+        for key in sorted(counts):
+            mn, ln, n = counts[key]
+            if n < 2:
+                continue
+            model = self.world.models.get(mn)
+            obj = model.links.get(ln) if model is not None else None
+            if obj is None:
+                continue
             rel = _relative_position(self.palm, obj)
-            if self._prev_rel is not None:
-                d = [a - b for a, b in zip(rel, self._prev_rel)]
-                self._diffs.append(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+            d = [a - b for a, b in zip(rel, self._prev_rel)]
             self._prev_rel = rel
+            self._diffs.append(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
             if max(self._diffs) < STABLE_DISPLACEMENT2:
-                self._attach(self.world.models[mn], obj)
-            return
+                self._attach(model, obj)
+                if self.attached is not None:
+                    return
 
     def _attach(self, obj_model, obj_link):
-        if obj_link.body is None:
-            return
+        if obj_link.body is None or obj_link.body is self.palm.body:
+            return      # nothing to weld (a link of the palm's own body, with self-collision)
         self._joint = self.world.weld(obj_link, self.palm)  # a static palm: to the world
         self.attached = (obj_model, obj_link.name)
         LOG.info("model '%s' gripper '%s': attached model '%s' link '%s' to palm link '%s'",
@@ -173,8 +212,6 @@ class Gripper(object):
         self._joint = None
         obj = self.attached
         self.attached = None
-        self._diffs.extend([float("inf")] * STABLE_SAMPLES)
-        self._prev_rel = None
         LOG.info("model '%s' gripper '%s': released model '%s' link '%s' (%s)",
                  self.model.name, self.desc.name, obj[0].name, obj[1], why)
 
