@@ -345,3 +345,22 @@ def test_a_let_go_object_is_welded_again_at_once_where_it_was():
     g._detach("a test let go")
     seconds(world, UPDATE_PERIOD)
     assert g.attached is not None and log[-1][2]
+
+
+@pytest.mark.parametrize("native", [pytest.param(False, id="pure"),
+                                    pytest.param(True, id="native", marks=needs_c)])
+def test_a_static_gripper_link_counts_nothing(native):
+    """Gazebo drops a contact with a static collision: a box resting (awake) on the fixture's palm,
+    welded to the world and named a gripper link here, is never counted."""
+    xml = H.fixture("gripper_hand.urdf").replace("<gripper_link>finger_l</gripper_link>",
+                                                  "<gripper_link>palm</gripper_link>")
+    world = World(time_step=0.001, native=native)
+    world.set_physics_params(auto_disable=False)
+    hand = world.add_urdf("hand", xml)
+    world.add_urdf("box", H.robot("box", H.box_link("box", 0.1, (0.1, 0.1, 0.1))),
+                   pose=((0, 0, 1.08), (0, 0, 0, 1)))
+    g = hand._grippers[0]
+    assert hand.links["palm"].body is None
+    seconds(world, 3 * UPDATE_PERIOD)
+    assert world.models["box"].pose[0][2] == pytest.approx(1.075, abs=0.002)   # resting on the palm
+    assert (g._pos, g._zero) == (0, 3)
