@@ -352,8 +352,8 @@ def test_a_let_go_object_is_welded_again_at_once_where_it_was():
 def test_a_static_gripper_link_counts_nothing(native):
     """Gazebo drops a contact with a static collision: a box resting (awake) on the fixture's palm,
     welded to the world and named a gripper link here, is never counted."""
-    xml = H.fixture("gripper_hand.urdf").replace("<gripper_link>finger_l</gripper_link>",
-                                                  "<gripper_link>palm</gripper_link>")
+    xml = H.fixture("gripper_hand.urdf")
+    xml = xml.replace("<gripper_link>finger_l</gripper_link>", "<gripper_link>palm</gripper_link>")
     world = World(time_step=0.001, native=native)
     world.set_physics_params(auto_disable=False)
     hand = world.add_urdf("hand", xml)
