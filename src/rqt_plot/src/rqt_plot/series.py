@@ -50,9 +50,12 @@ class SeriesStore(object):
         with self.lock:
             if self.t0 is None:
                 return
-            end = self.t0 + duration
+            t0 = self.t0
+            # t - t0 <= duration, not t <= t0 + duration: the span a reader computes (last - first)
+            # must not exceed the duration by a rounding error (3.05 + 5.0 = 8.05, but 8.05 - 3.05
+            # = 5.000000000000001)
             for samples in self.data.values():
-                samples[:] = [s for s in samples if s[0] <= end]
+                samples[:] = [s for s in samples if s[0] - t0 <= duration]
 
     def latest_time(self):
         with self.lock:

@@ -98,3 +98,16 @@ def test_trim_keeps_exactly_the_duration():
         store.append("/s", 10.0 + 0.1 * i, 0.0)
     store.trim(5.0)
     assert store.span() == pytest.approx(5.0) and len(store.data["/s"]) == 51
+
+
+def test_trim_never_exceeds_the_duration_by_rounding():
+    """A sample at t0 + duration whose difference to t0 rounds above the duration (3.05 + 5.0 =
+    8.05, 8.05 - 3.05 = 5.000000000000001) is dropped rather than making the span longer than
+    asked."""
+    t0 = 3.05
+    store = SeriesStore(["/s"])
+    for t in (t0, 6.0, t0 + 5.0, 9.0):
+        store.append("/s", t, 0.0)
+    store.trim(5.0)
+    kept = [t for t, _ in store.data["/s"]]
+    assert kept[-1] - kept[0] <= 5.0 and kept == [t0, 6.0]
