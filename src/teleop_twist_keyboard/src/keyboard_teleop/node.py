@@ -7,6 +7,7 @@ import sys
 import termios
 import threading
 import tty
+import warnings
 
 import rospy
 from geometry_msgs.msg import Twist, TwistStamped
@@ -15,7 +16,12 @@ from geometry_msgs.msg import Twist, TwistStamped
 class Publisher(object):
     def __init__(self, rate, stamped=False, frame_id=""):
         self.stamped, self.frame_id = stamped, frame_id
-        self.pub = rospy.Publisher("cmd_vel", TwistStamped if stamped else Twist, queue_size=1)
+        # synchronous (no queue_size): only this object's own thread publishes, and a queued
+        # message still waiting in rospy's connection thread when the node shuts down is dropped,
+        # which lost the zero twist on the way out on a loaded machine
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SyntaxWarning)      # rospy's advice for the queued kind
+            self.pub = rospy.Publisher("cmd_vel", TwistStamped if stamped else Twist, queue_size=None)
         self.timeout = 1.0 / rate if rate > 0.0 else None
         self.cond = threading.Condition()
         self.value = (0.0, 0.0, 0.0, 0.0)
