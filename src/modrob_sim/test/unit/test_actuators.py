@@ -395,3 +395,91 @@ def test_model_actuator_requests_say_what_to_do():
         other.add_model_actuator(free, A.PLANAR_VELOCITY)
     w.remove_model("base")
     assert w.model_actuators == ()
+
+
+def follow_scenario(native):
+    """A FOLLOW_PID actuator on the elbow following the yaw (a continuous joint spun through
+    several turns: its turn count is in the master's position), then the shoulder; gains, the
+    deadband and the master changed mid-run, an effort given with set_effort, a step without a
+    master; what was seen at every 20th step."""
+    w, m = arm(native)
+    yaw, shoulder, elbow = (m.joints[n] for n in ("yaw", "shoulder", "elbow"))
+    a_yaw = w.add_actuator(yaw, A.VELOCITY_PID, gains=A.PidGains(20.0))
+    a_yaw.command = 9.0
+    a_sh = w.add_actuator(shoulder, A.POSITION_PID, gains=A.PidGains(150.0, 0.0, 8.0))
+    a_sh.command = 0.3
+    a_el = w.add_actuator(elbow, A.FOLLOW_PID, gains=A.PidGains(40.0, 10.0, 2.0, 2.0, -2.0), effort_limit=6.0)
+    a_el.follow(yaw, 0.05, -0.2)
+    seen = []
+    turns = 0
+    for k in range(1500):
+        if k == 300:
+            a_el.gains = A.PidGains(60.0, 0.0, 3.0)
+            a_el.follow(yaw, 0.05, -0.2, deadband=0.02)   # inside it: no effort, the PID kept
+            a_sh.command = -0.4
+        if k == 600:
+            a_el.follow(shoulder, -1.5, 0.1)
+            a_yaw.command = -4.0
+        if 700 <= k < 705:
+            elbow.set_effort(2.0)                         # added before the joint's clamp
+        if k == 900:
+            a_el.follow(None)
+        if k == 950:
+            a_el.follow(shoulder, 1.0, 0.0, deadband=0.001)
+        if k == 1200:
+            a_el.kind = A.POSITION_PID
+            a_el.command = 0.5
+        w.step(1)
+        turns = max(turns, abs(yaw.turn_state[0]))
+        if k % 20 == 0 or 700 <= k < 706 or 298 <= k < 330:
+            seen.append((k, [(j.position, j.velocity, j.effort) for j in (yaw, shoulder, elbow)],
+                         [(a.pid_state(), a.last) for a in w.actuators], yaw.turn_state))
+    assert turns >= 1, "the master should have turned"
+    return w, seen
+
+
+@needs_c
+def test_follow_pid_steps_alike_on_both_backends_bit_for_bit():
+    assert_backends_alike(follow_scenario, 100)
+
+
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_a_follow_pid_holds_its_joint_on_the_master(native):
+    w, m = arm(native)
+    yaw, shoulder, elbow = (m.joints[n] for n in ("yaw", "shoulder", "elbow"))
+    w.add_actuator(yaw, A.VELOCITY_PID, gains=A.PidGains(20.0)).command = 12.0
+    a = w.add_actuator(elbow, A.FOLLOW_PID, gains=A.PidGains(400.0, 0.0, 10.0), effort_limit=40.0)
+    a.follow(yaw, 0.02, 0.1)
+    assert a.master is yaw
+    w.step(3000)
+    # the yaw turned several times: its position (with the turns) is what the elbow follows
+    assert yaw.position > 4 * math.pi
+    s = a.last
+    assert s.set_point == pytest.approx(0.02 * yaw.position + 0.1, abs=1e-3)
+    assert abs(elbow.position - s.set_point) < 0.01
+    assert abs(elbow.effort) <= 40.0
+    # inside the deadband: no effort and the PID's state as it was
+    a.follow(yaw, 0.0, elbow.position, deadband=0.5)
+    state = a.pid_state()
+    w.step(5)
+    assert a.pid_state() == state and a.last.output == 0.0 and elbow.effort == 0.0
+    a.follow(None)
+    w.step(1)
+    assert a.last.output == 0.0 and a.last.set_point == a.last.position
+
+
+def test_bad_follow_requests_say_what_to_do():
+    w, m = arm(False)
+    a = w.add_actuator(m.joints["elbow"], A.FOLLOW_PID, gains=A.PidGains(1.0))
+    with pytest.raises(InputError, match="a joint cannot follow itself"):
+        a.follow(m.joints["elbow"])
+    with pytest.raises(InputError, match="joint 'base_fixed' is fixed; only a revolute"):
+        a.follow(m.joints["base_fixed"])
+    other, om = arm(False)
+    with pytest.raises(InputError, match="the master must be a joint of model 'arm'"):
+        a.follow(om.joints["yaw"])
+    with pytest.raises(InputError, match="deadband -1 >= 0"):
+        a.follow(m.joints["yaw"], deadband=-1)
+    with pytest.raises(ValueError, match="set-point from an EFFORT, POSITION_PID or SEGMENT_PID kind, "
+                                         "not FOLLOW_PID"):
+        a.output = A.OUT_POSITION

@@ -16,6 +16,11 @@ VELOCITY_PID    out = PID(command - dq)
 SEGMENT_PID     desired (p, v) from the segment; out = PID(error(p, q), v - dq) + ff * v
 MOTOR           ODE joint motor: velocity ramped towards command by at most accel * dt,
                 force at most max_force (a wheel's motor); out = 0
+FOLLOW_PID      set-point multiplier * q_master + offset (``follow``: another joint of the
+                model, its position as Joint.position gives it); out = PID(set-point - q)
+                when |set-point - q| >= deadband, else 0 and the PID not advanced (a mimic
+                joint held by a PID: roboticsgroup's mimic joint plugin with <hasPID>);
+                no master: out = 0
 ==============  ========================================================================
 
 then what the joint gets depends on the actuator's OUTPUT:
@@ -62,15 +67,15 @@ import math
 import weakref
 from collections import namedtuple
 
-from ..errors import SimulationError
+from ..errors import InputError, SimulationError
 from .angles import shortest_angular_distance
 from .model import FORCE_CAP, check_twist
 from .transforms import check_vec3, rpy_from_quat
 
 #: actuator kinds (the numbers are the C loop's)
-EFFORT, POSITION_PID, SEGMENT_PID, VELOCITY_PID, MOTOR = 0, 1, 2, 3, 4
+EFFORT, POSITION_PID, SEGMENT_PID, VELOCITY_PID, MOTOR, FOLLOW_PID = 0, 1, 2, 3, 4, 5
 KIND_NAMES = {EFFORT: "EFFORT", POSITION_PID: "POSITION_PID", SEGMENT_PID: "SEGMENT_PID",
-              VELOCITY_PID: "VELOCITY_PID", MOTOR: "MOTOR"}
+              VELOCITY_PID: "VELOCITY_PID", MOTOR: "MOTOR", FOLLOW_PID: "FOLLOW_PID"}
 #: what an actuator's output drives: the joint's effort, or its ODE motor's velocity (the numbers
 #: are the C loop's)
 OUT_EFFORT, OUT_VELOCITY, OUT_POSITION = 0, 1, 2
@@ -190,7 +195,7 @@ class PyRecord(object):
                  "traj_kind", "coef", "seg_t0", "seg_t1", "rel_base", "offset", "has_offset", "ff",
                  "abs_until", "rel_until", "max_force", "accel", "motor_vel", "out_kind", "vel_limit",
                  "bodies", "pos_prev", "watch", "watch_target", "watch_tol", "watch_vel", "watch_timeout",
-                 "moved_at", "pid")
+                 "moved_at", "master", "mult", "follow_offset", "deadband", "pid")
 
     def __init__(self, kind):
         self.kind = kind
@@ -213,6 +218,8 @@ class PyRecord(object):
         self.pos_prev = 0.0
         self.watch = 0
         self.watch_target = self.watch_tol = self.watch_vel = self.watch_timeout = self.moved_at = 0.0
+        self.master = None          # FOLLOW_PID: the Joint followed (the C record: its ODE joint)
+        self.mult, self.follow_offset, self.deadband = 1.0, 0.0, 0.0
         self.pid = Pid(PidGains(0.0))
 
 
@@ -329,6 +336,16 @@ def step_python(r, joint, t, dt, limit):
         r.out = 0.0
         joint.drive_motor(target, r.max_force)
         return None
+    elif kind == FOLLOW_PID:
+        r.desired_velocity = 0.0
+        master = r.master
+        if master is None:
+            r.set_point = q
+            f = 0.0
+        else:
+            r.set_point = target = r.mult * master.position + r.follow_offset
+            error = target - q
+            f = 0.0 if abs(error) < r.deadband else pid.compute(error, dt)
     else:
         f = r.set_point = r.command
         r.desired_velocity = 0.0
@@ -370,6 +387,7 @@ class Actuator(object):
         self.joint = joint
         self._r = record
         self._kind = kind
+        self._master = None
 
     def __repr__(self):
         return "<Actuator %s on %s::%s>" % (KIND_NAMES.get(self._kind, self._kind), self.joint.model.name,
@@ -464,6 +482,37 @@ class Actuator(object):
         r.out_kind = output
         if was == OUT_VELOCITY and output != OUT_VELOCITY and self._kind != MOTOR:
             self.joint.release_motor()
+
+    def follow(self, master, multiplier=1.0, offset=0.0, deadband=0.0):
+        """FOLLOW_PID: the set-point is ``multiplier * master.position + offset`` at every step
+        (``master``: a revolute, continuous or prismatic joint of the same model; None: none, no
+        effort); an error below ``deadband`` gives no effort and leaves the PID as it is."""
+        j = self.joint
+        what = "%r: follow(%r)" % (self, master)
+        if master is not None:
+            if getattr(master, "model", None) is not j.model:
+                raise InputError("%s: the master must be a joint of model '%s'" % (what, j.model.name))
+            if master is j:
+                raise InputError("%s: a joint cannot follow itself" % what)
+            if master.ode_joint is None or master.type not in ("revolute", "continuous", "prismatic"):
+                raise InputError("%s: joint '%s' is %s; only a revolute, continuous or prismatic joint "
+                                 "can be followed" % (what, master.name, master.type))
+        try:
+            m, o, d = float(multiplier), float(offset), float(deadband)
+        except (TypeError, ValueError):
+            raise InputError("%s: multiplier, offset and deadband must be numbers" % what)
+        if not (math.isfinite(m) and math.isfinite(o) and d >= 0.0):
+            raise InputError("%s: multiplier %r and offset %r must be finite, deadband %r >= 0"
+                             % (what, multiplier, offset, deadband))
+        r = self._r
+        r.mult, r.follow_offset, r.deadband = m, o, d
+        self._master = master
+        self._be.set_actuator_master(r, master)
+
+    @property
+    def master(self):
+        """FOLLOW_PID: the joint followed (None: none)."""
+        return self._master
 
     def watch(self, target, tolerance, still_velocity, timeout, moved_at):
         """A goal's checks for the native stretches (a gripper goal): a stretch ends before a step

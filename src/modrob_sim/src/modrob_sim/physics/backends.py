@@ -51,6 +51,7 @@ only the physics-side interface of Model, Link and Joint (model.py):
     actuator_gains(r), set_actuator_gains(r, g), reset_actuator_pid(r), actuator_pid_state(r),
     actuator_terms(r), set_actuator_coeffs(r, coeffs)   an actuator's PID and segment
     set_actuator_bodies(r, bodies)  the bodies an OUT_POSITION actuator turns with its joint
+    set_actuator_master(r, joint)   the joint a FOLLOW_PID actuator follows (None: none)
 """
 import ctypes
 import math
@@ -117,7 +118,10 @@ class MrActuator(ctypes.Structure):
         [("out_kind", ctypes.c_int), ("vel_limit", ctypes.c_double), ("nbodies", ctypes.c_int),
          ("bodies", ctypes.c_void_p), ("pos_prev", ctypes.c_double), ("watch", ctypes.c_int)] + \
         [(n, ctypes.c_double)
-         for n in ("watch_target", "watch_tol", "watch_vel", "watch_timeout", "moved_at")]
+         for n in ("watch_target", "watch_tol", "watch_vel", "watch_timeout", "moved_at")] + \
+        [("master", ctypes.c_void_p), ("master_turn", ctypes.POINTER(MrTurn)),
+         ("master_slider", ctypes.c_int)] + \
+        [(n, ctypes.c_double) for n in ("mult", "follow_offset", "deadband")]
 
 
 class MrModelActuator(ctypes.Structure):
@@ -250,6 +254,10 @@ class PureBackend(object):
     @staticmethod
     def set_actuator_bodies(r, bodies):
         r.bodies = tuple(bodies)
+
+    @staticmethod
+    def set_actuator_master(r, joint):
+        r.master = joint
 
     def set_seed(self, seed):
         self.seed = seed
@@ -765,6 +773,16 @@ class NativeBackend(object):
         rec = self._turns.get(joint)
         r.turn = ctypes.pointer(rec) if rec is not None else ctypes.POINTER(MrTurn)()
 
+    def set_actuator_master(self, r, joint):
+        if joint is None:
+            r.master = None
+            r.master_turn = ctypes.POINTER(MrTurn)()
+            return
+        r.master = odelib.raw_pointer(joint.ode_joint)
+        r.master_slider = 0 if joint.is_angular else 1
+        rec = self._turns.get(joint)
+        r.master_turn = ctypes.pointer(rec) if rec is not None else ctypes.POINTER(MrTurn)()
+
     def actuators_changed(self, actuators):
         self._acts = tuple(actuators)
         live = {ctypes.addressof(a.record) for a in self._acts}
@@ -944,6 +962,8 @@ class NativeBackend(object):
             *[ctypes.pointer(turns[j]) for j in unwrap])
         for a in self._acts:
             self._bind_turn(a.record, a.joint)
+            if a.master is not None:
+                self.set_actuator_master(a.record, a.master)
         self._arrange_mimics_and_soft(world.mimics, world.soft)
         owners = [(m, g) for m in world.dynamic_models for g in m.dynamic_groups]
         self._body_owner = owners

@@ -385,8 +385,8 @@ class World(object):
         what = "add_actuator: joint '%s' of model '%s'" % (getattr(joint, "name", joint),
                                                            getattr(model, "name", "?"))
         if kind not in actuators_mod.KIND_NAMES:
-            raise InputError("%s: unknown kind %r (physics.actuators: EFFORT, POSITION_PID, VELOCITY_PID, "
-                             "SEGMENT_PID, MOTOR)" % (what, kind))
+            raise InputError("%s: unknown kind %r (physics.actuators: %s)"
+                             % (what, kind, ", ".join(actuators_mod.KIND_NAMES.values())))
         if output not in actuators_mod.OUTPUT_NAMES:
             raise InputError("%s: unknown output %r (physics.actuators: OUT_EFFORT, OUT_VELOCITY, "
                              "OUT_POSITION)"

@@ -1144,8 +1144,9 @@ void mr_link_poses(const MrLinkEntry *e, int n, void *poses, void *twists)
  * The World's actuators (physics/actuators.py: one per driven joint, owned by the native backend in
  * this C memory): at every step, from the joint's state at the step's start, an output (EFFORT: the
  * command; POSITION_PID: PID on the position error; VELOCITY_PID: PID on the velocity error;
- * SEGMENT_PID: PID along a trajectory segment plus velocity feed-forward) or an ODE joint motor
- * (MOTOR); the output is an effort (OUT_EFFORT: the hardware clamp) or the ODE motor's velocity
+ * SEGMENT_PID: PID along a trajectory segment plus velocity feed-forward; FOLLOW_PID: PID on the
+ * error to multiplier * another joint's position + offset, none inside a deadband) or an ODE joint
+ * motor (MOTOR); the output is an effort (OUT_EFFORT: the hardware clamp) or the ODE motor's velocity
  * (OUT_VELOCITY), then the efforts given with set_effort in that step, the joint's own clamp
  * (Joint.limit_effort) and FORCE_CAP. The pure-Python backend does the same in
  * actuators.step_python; test_actuators.py runs both on the same worlds. */
@@ -1159,7 +1160,7 @@ typedef struct {
     dJointID joint;
     MrTurn *turn;        /* the joint's turn count (its position = raw angle + 2 pi turns), or NULL */
     int slider;          /* 0 hinge, 1 slider */
-    int kind;            /* 0 EFFORT, 1 POSITION_PID, 2 SEGMENT_PID, 3 VELOCITY_PID, 4 MOTOR */
+    int kind;            /* 0 EFFORT, 1 POSITION_PID, 2 SEGMENT_PID, 3 VELOCITY_PID, 4 MOTOR, 5 FOLLOW_PID */
     int err_kind;        /* 0 target - q, 1 target clamped to [lower, upper] first, 2 shortest angle */
     int has_hw_limit;
     int antiwindup;
@@ -1188,6 +1189,13 @@ typedef struct {
      * moved faster since watch_timeout; moved_at is the last step start with |dq| > watch_vel */
     int watch;
     double watch_target, watch_tol, watch_vel, watch_timeout, moved_at;
+    /* FOLLOW_PID (Actuator.follow): the set-point is mult * the master's position (as
+     * Joint.position: its turn count too) + follow_offset; an error below deadband gives no
+     * effort and leaves the PID as it is; no master (NULL): no effort */
+    dJointID master;
+    MrTurn *master_turn;
+    int master_slider;
+    double mult, follow_offset, deadband;
 } MrActuator;
 
 #define MR_TWO_PI 6.283185307179586
@@ -1432,6 +1440,18 @@ void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param
             mr_set_param(j->joint, j->slider, param_vel, target);
             mr_set_param(j->joint, j->slider, param_fmax, j->max_force);
             continue;
+        } else if (j->kind == 5) {
+            j->desired_velocity = 0.0;
+            if (!j->master) {
+                j->set_point = q;
+                f = 0.0;
+            } else {
+                double target = j->mult * mr_joint_position(j->master, j->master_slider, j->master_turn) +
+                                j->follow_offset;
+                double error = target - q;
+                j->set_point = target;
+                f = fabs(error) < j->deadband ? 0.0 : mr_pid(j, error, dt);
+            }
         } else {
             f = j->set_point = j->command;
             j->desired_velocity = 0.0;
