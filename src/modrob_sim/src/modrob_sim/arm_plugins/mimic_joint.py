@@ -13,11 +13,17 @@ Parameters as the original reads them: ``<joint>`` and ``<mimicJoint>`` (require
   Python hooks), so the joint follows within a fraction of a milliradian and pushes back on what it
   meets as a linkage would. ``sensitiveness`` is accepted and not needed.
 - With ``<hasPID>`` it applies ``clamp(pid(target - position), +-maxEffort)`` to the mimic joint at
-  every step, with control_toolbox gains read from the ROS parameters in the namespace that
-  ``<hasPID>`` names, relative to the robot namespace (empty: ``gazebo_ros_control/pid_gains/
-  <mimicJoint>``), as ``control_toolbox::Pid::init`` reads them. This runs in Python at every step.
-  A URDF ``<mimic>`` on that joint (which Gazebo's physics ignores) is released, so that only the
-  plugin's PID drives it, as on Gazebo.
+  every step (none, and the PID left as it is, while the error is below ``sensitiveness``), with
+  control_toolbox gains read from the ROS parameters in the namespace that ``<hasPID>`` names,
+  relative to the robot namespace (empty: ``gazebo_ros_control/pid_gains/<mimicJoint>``), as
+  ``control_toolbox::Pid::init`` reads them (once, at load: no dynamic_reconfigure server). The
+  World's actuator of the joint does it (physics.actuators FOLLOW_PID, ``maxEffort`` its hardware
+  clamp), natively between Python hooks; the plugin has no step hook. Reset and reset_world zero
+  the PID's state. A joint that already has an actuator when the plugin loads (another plugin's,
+  or ros_control's for a joint with pid_gains) keeps it: the plugin then adds its PID's effort to
+  that joint with set_effort at every step, in Python, as Gazebo adds the two, and says so in a
+  warning. A URDF ``<mimic>`` on that joint (which Gazebo's physics ignores) is released, so that
+  only the plugin's PID drives it, as on Gazebo.
 """
 import logging
 import math
@@ -25,7 +31,7 @@ import math
 from modrob_sim.errors import PluginError
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
-from modrob_sim.physics.actuators import Pid
+from modrob_sim.physics.actuators import FOLLOW_PID, Pid
 
 FILENAMES = ("libroboticsgroup_gazebo_mimic_joint_plugin.so",
              "libroboticsgroup_upatras_gazebo_mimic_joint_plugin.so")
@@ -56,7 +62,8 @@ class MimicJointPlugin(ModelPlugin):
         self.max_effort = self.param("maxEffort", limit if limit and limit > 0 else INF, float)
         self.urdf_mimic = self.joint.mimic
         has_pid = self.element.find("hasPID")
-        self.pid = None
+        self.pid = None         # the PID run in Python (a joint that has another actuator)
+        self.actuator = None    # the World's FOLLOW_PID actuator of the joint
         if has_pid is None:
             self.world.set_mimic(self.joint, self.master, self.multiplier, self.offset)
             LOG.info("%s: joint '%s' follows '%s' (multiplier %g, offset %g), coupled by the physics",
@@ -64,9 +71,20 @@ class MimicJointPlugin(ModelPlugin):
             return
         rel = (has_pid.text or "").strip() or "gazebo_ros_control/pid_gains/" + self.joint.name
         self.gains_ns = _join(spec.robot_namespace, rel)
-        self.pid = Pid(self.read_gains(self.gains_ns))
+        gains = self.read_gains(self.gains_ns)
         if self.urdf_mimic is not None:
             self.world.set_mimic(self.joint, None)
+        other = self.joint.actuator
+        if other is None:
+            self.actuator = self.world.add_actuator(
+                self.joint, FOLLOW_PID, gains=gains,
+                effort_limit=self.max_effort if math.isfinite(self.max_effort) else None)
+            # (a negative or NaN sensitiveness leaves no error alone, as the original: deadband 0)
+            self.actuator.follow(self.master, self.multiplier, self.offset, max(0.0, self.sensitiveness))
+        else:
+            self.pid = Pid(gains)
+            LOG.warning("%s: joint '%s' is driven by %r already: the PID's effort is added to it at every "
+                        "step, in Python (as Gazebo adds the two efforts)", self.name, self.joint.name, other)
         LOG.info("%s: joint '%s' follows '%s' (multiplier %g, offset %g) by a PID (gains from %s, max "
                  "effort %g)", self.name, self.joint.name, self.master.name, self.multiplier, self.offset,
                  self.gains_ns, self.max_effort)
@@ -103,8 +121,13 @@ class MimicJointPlugin(ModelPlugin):
     def reset(self):
         if self.pid is not None:
             self.pid.reset()
+        if self.actuator is not None:
+            self.actuator.reset()
 
     def shutdown(self):
+        a, self.actuator = self.actuator, None
+        if a is not None and a in self.world.actuators:     # (a removed model took it along)
+            self.world.remove_actuator(a)
         # the joint's own <mimic> (or nothing) again, unless the model is gone
         if self.joint.ode_joint is None:
             return
