@@ -432,6 +432,14 @@ class SensorPlugins(unittest.TestCase):
             self.assertTrue(wait_until(followed, 30.0), "%s: right %.4f left %.4f" % (
                 model, q(model, "right_finger_joint"), q(model, "left_finger_joint")))
 
+        # the PID's gains are live, as control_toolbox's Pid::init serves them: all zero, nothing
+        # holds the follower at -0.75 any more and it sinks onto its stop at -0.8
+        from dynamic_reconfigure.client import Client
+        gains = Client("/pid_fingers/gazebo_ros_control/pid_gains/left_finger_joint", timeout=20)
+        gains.update_configuration({"p": 0.0, "i": 0.0, "d": 0.0})
+        self.assertTrue(wait_until(lambda: q("pid_fingers", "left_finger_joint") < -0.79, 30.0),
+                        "left %.4f" % q("pid_fingers", "left_finger_joint"))
+
 
 if __name__ == "__main__":
     _cases = ["test_" + c for c in CASE.split(",")]

@@ -196,3 +196,23 @@ def test_reset_zeroes_the_pid_and_unloading_frees_the_joint(native, pid_gains):
     w2.remove_model("fingers")
     host2.unload("fingers")
     assert w2.actuators == ()
+
+
+@pytest.mark.parametrize("native", BACKENDS)
+def test_gains_from_the_reconfigure_server_reach_the_actuator_at_the_next_step(native, pid_gains):
+    w, host, m, loaded, drive = fingers(native, "<hasPID/>")
+    plugin = loaded[0]
+    assert plugin.reconfigure is None           # no ROS node in this test: read_gains is replaced
+    left = m.joints["left_finger_joint"]
+    drive.command = 0.3
+    w.step(500)
+    stops = w.stops
+    new = PidGains(0.0, 0.0, 0.0)
+    plugin.tuned.set_gains(new)                 # what the server's callback does, then it wakes
+    plugin.context.wake()
+    w.step(1)
+    assert left.actuator.gains.as_dict() == new.as_dict() and w.stops == stops + 1
+    w.step(300)
+    if w.native:
+        assert w.stops <= stops + 2, "no stop for Python once the gains are handed over"
+    assert left.actuator.last.output == 0.0     # the PID gives nothing with zero gains

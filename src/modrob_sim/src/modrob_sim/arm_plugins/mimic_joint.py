@@ -16,9 +16,11 @@ Parameters as the original reads them: ``<joint>`` and ``<mimicJoint>`` (require
   every step (none, and the PID left as it is, while the error is below ``sensitiveness``), with
   control_toolbox gains read from the ROS parameters in the namespace that ``<hasPID>`` names,
   relative to the robot namespace (empty: ``gazebo_ros_control/pid_gains/<mimicJoint>``), as
-  ``control_toolbox::Pid::init`` reads them (once, at load: no dynamic_reconfigure server). The
-  World's actuator of the joint does it (physics.actuators FOLLOW_PID, ``maxEffort`` its hardware
-  clamp), natively between Python hooks; the plugin has no step hook. Reset and reset_world zero
+  ``control_toolbox::Pid::init`` reads them, with a dynamic_reconfigure server for them in that
+  namespace as that ``init`` starts (p, i, d, i_clamp_min, i_clamp_max, antiwindup; a change is
+  handed to the PID at the next step). The World's actuator of the joint does it
+  (physics.actuators FOLLOW_PID, ``maxEffort`` its hardware clamp), natively between Python
+  hooks; the plugin has a step hook only for handing over new gains. Reset and reset_world zero
   the PID's state. A joint that already has an actuator when the plugin loads (another plugin's,
   or ros_control's for a joint with pid_gains) keeps it: the plugin then adds its PID's effort to
   that joint with set_effort at every step, in Python, as Gazebo adds the two, and says so in a
@@ -46,6 +48,16 @@ def _join(ns, name):
     return "/" + (ns + "/" if ns else "") + name
 
 
+class _TunedGains(object):
+    """The PID's gains as the reconfigure server sets them (a reference swap, from its thread)."""
+
+    def __init__(self, gains):
+        self.gains = gains
+
+    def set_gains(self, gains):
+        self.gains = gains
+
+
 class MimicJointPlugin(ModelPlugin):
     def load(self, model, spec, context):
         self.world = context.world
@@ -64,6 +76,7 @@ class MimicJointPlugin(ModelPlugin):
         has_pid = self.element.find("hasPID")
         self.pid = None         # the PID run in Python (a joint that has another actuator)
         self.actuator = None    # the World's FOLLOW_PID actuator of the joint
+        self.reconfigure = None
         if has_pid is None:
             self.world.set_mimic(self.joint, self.master, self.multiplier, self.offset)
             LOG.info("%s: joint '%s' follows '%s' (multiplier %g, offset %g), coupled by the physics",
@@ -81,10 +94,12 @@ class MimicJointPlugin(ModelPlugin):
                 effort_limit=self.max_effort if math.isfinite(self.max_effort) else None)
             # (a negative or NaN sensitiveness leaves no error alone, as the original: deadband 0)
             self.actuator.follow(self.master, self.multiplier, self.offset, max(0.0, self.sensitiveness))
+            self.tuned, self._synced = _TunedGains(gains), gains
         else:
-            self.pid = Pid(gains)
+            self.pid = self.tuned = Pid(gains)
             LOG.warning("%s: joint '%s' is driven by %r already: the PID's effort is added to it at every "
                         "step, in Python (as Gazebo adds the two efforts)", self.name, self.joint.name, other)
+        self.reconfigure = self.serve_gains(self.gains_ns, self.tuned)
         LOG.info("%s: joint '%s' follows '%s' (multiplier %g, offset %g) by a PID (gains from %s, max "
                  "effort %g)", self.name, self.joint.name, self.master.name, self.multiplier, self.offset,
                  self.gains_ns, self.max_effort)
@@ -106,10 +121,26 @@ class MimicJointPlugin(ModelPlugin):
         except ControllerError as e:
             raise PluginError("%s: <hasPID>: %s" % (self.name, e))
 
+    def serve_gains(self, ns, tuned):
+        """control_toolbox's dynamic_reconfigure server for the gains at ``ns``, setting ``tuned``'s
+        (None without a ROS node: read_gains needs one, so only a test gets here without it)."""
+        import rospy
+        from modrob_sim.ros_control.ros_pid_reconfigure import PidReconfigure
+        if not rospy.core.is_initialized():
+            return None
+        return PidReconfigure(tuned, ns, on_change=lambda _gains: self.context.wake())
+
     def before_due(self):
-        return -INF if self.pid is not None else INF
+        if self.pid is not None or (self.actuator is not None and self.tuned.gains is not self._synced):
+            return -INF
+        return INF
 
     def before_step(self, t, dt):
+        if self.actuator is not None:
+            gains = self.tuned.gains
+            if gains is not self._synced:       # the reconfigure server's (the World's thread sets them)
+                self.actuator.gains = self._synced = gains
+            return
         if self.pid is None:
             return
         error = self.multiplier * self.master.position + self.offset - self.joint.position
@@ -125,6 +156,9 @@ class MimicJointPlugin(ModelPlugin):
             self.actuator.reset()
 
     def shutdown(self):
+        if self.reconfigure is not None:
+            self.reconfigure.shutdown()
+            self.reconfigure = None
         a, self.actuator = self.actuator, None
         if a is not None and a in self.world.actuators:     # (a removed model took it along)
             self.world.remove_actuator(a)
