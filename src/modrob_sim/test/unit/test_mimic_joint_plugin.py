@@ -216,3 +216,14 @@ def test_gains_from_the_reconfigure_server_reach_the_actuator_at_the_next_step(n
     if w.native:
         assert w.stops <= stops + 2, "no stop for Python once the gains are handed over"
     assert left.actuator.last.output == 0.0     # the PID gives nothing with zero gains
+
+
+def test_a_controller_that_wants_the_followers_actuator_later_is_refused_by_name(pid_gains):
+    from modrob_sim.errors import InputError
+    from modrob_sim.ros_control.hardware import JointResource
+    from modrob_sim.ros_control.transmissions import EFFORT as EFFORT_INTERFACE
+    w, host, m, loaded, drive = fingers(None, "<hasPID/>")
+    res = JointResource(m.joints["left_finger_joint"], EFFORT_INTERFACE, world=w)
+    with pytest.raises(InputError, match="left_finger_joint.*already has an actuator.*FOLLOW_PID"):
+        res.actuate(POSITION_PID)
+    assert m.joints["left_finger_joint"].actuator is loaded[0].actuator
