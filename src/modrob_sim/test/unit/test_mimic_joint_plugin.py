@@ -88,6 +88,17 @@ def test_a_missing_joint_is_named_and_the_model_spawns(caplog):
     assert "no joint named 'left_fnger_joint'" in caplog.text and "left_finger_joint" in caplog.text
 
 
+def test_a_negative_max_effort_is_named_and_its_size_used(caplog, monkeypatch):
+    monkeypatch.setattr(mimic_joint.MimicJointPlugin, "read_gains", lambda self, ns: PidGains(50.0))
+    negative = ("<maxEffort>5.0</maxEffort>", "<maxEffort>-5.0</maxEffort>")
+    w, host, m, loaded, drive = fingers(None, "<hasPID/>", replace=[negative])
+    assert len(loaded) == 1 and loaded[0].max_effort == 5.0
+    assert "<maxEffort> -5.0 must be >= 0: using 5" in caplog.text
+    drive.command = 0.3
+    w.step(200)
+    assert 0.0 < abs(m.joints["left_finger_joint"].effort) <= 5.0      # it pushes, within 5 N
+
+
 def test_the_upatras_successor_is_the_same_plugin():
     upatras = ("libroboticsgroup_gazebo_mimic_joint_plugin.so",
                "libroboticsgroup_upatras_gazebo_mimic_joint_plugin.so")

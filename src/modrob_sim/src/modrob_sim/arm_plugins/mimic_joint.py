@@ -71,7 +71,14 @@ class MimicJointPlugin(ModelPlugin):
         self.offset = self.param("offset", 0.0, float)
         self.sensitiveness = self.param("sensitiveness", 0.0, float)
         limit = self.joint.effort_limit
-        self.max_effort = self.param("maxEffort", limit if limit and limit > 0 else INF, float)
+        default = limit if limit and limit > 0 else INF
+        self.max_effort = self.param("maxEffort", default, float)
+        if not self.max_effort >= 0.0:
+            # the original clamps to [-maxEffort, maxEffort], which is no range for a negative one
+            fixed = abs(self.max_effort) if math.isfinite(self.max_effort) else default
+            LOG.warning("%s: <maxEffort> %s must be >= 0: using %g (the joint '%s' effort limit is %s)",
+                        self.name, self.max_effort, fixed, self.joint.name, limit)
+            self.max_effort = fixed
         self.urdf_mimic = self.joint.mimic
         has_pid = self.element.find("hasPID")
         self.pid = None         # the PID run in Python (a joint that has another actuator)
