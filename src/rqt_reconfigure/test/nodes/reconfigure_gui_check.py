@@ -16,7 +16,7 @@ from dynamic_reconfigure.client import Client
 from modrob_viz.render.xvfb import Xvfb
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from step_response import StepProbe, rise_time  # noqa: E402
+from step_response import StepProbe, measure_rise  # noqa: E402
 
 CTRL = "/ptrz/pan_position_controller"
 SERVER = CTRL + "/pid"
@@ -75,11 +75,9 @@ class ReconfigureGui(unittest.TestCase):
         self.assertFalse(items[SERVER].isHidden())
 
     def test_2_slider_changes_the_gain_and_the_step_response(self):
-        start = self.probe.step(0.0, 1.0, self.app.processEvents)[-1].process_value
-        slow = self.probe.step(1.0, 3.0, self.app.processEvents)
+        rise_slow, slow = measure_rise(self.probe, 0.0, 1.0, 3.0, self.app.processEvents)
         self.assertEqual(slow[-1].p, 100.0)
-        rise_slow = rise_time(slow, start, 1.0)
-        start = self.probe.step(0.0, 3.0, self.app.processEvents)[-1].process_value
+        self.probe.step(0.0, 3.0, self.app.processEvents)
 
         item = self.window.server_items()[SERVER]
         self.window._item_clicked(item, 0)               # what a click on the tree item does
@@ -95,8 +93,7 @@ class ReconfigureGui(unittest.TestCase):
         client = Client(SERVER, timeout=20)
         self.wait(lambda: client.get_configuration(timeout=5)["p"] == 400.0, 30, "p = 400 at the server")
         self.wait(lambda: self.probe.latest().p == 400.0, 30, "p = 400 in the controller state")
-        fast = self.probe.step(1.0, 3.0, self.app.processEvents)
-        rise_fast = rise_time(fast, start, 1.0)
+        rise_fast, fast = measure_rise(self.probe, 0.0, 1.0, 3.0, self.app.processEvents)
         rospy.loginfo("pan 1 rad step: rise time %.3f s with p = 100, %.3f s with p = 400",
                       rise_slow, rise_fast)
         self.assertLess(rise_fast, 0.8 * rise_slow)
