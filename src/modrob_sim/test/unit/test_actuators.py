@@ -28,6 +28,15 @@ def arm(native):
     return w, m
 
 
+def sample(k, w, joints, links=()):
+    """What a scenario compares between the backends after step ``k``: the joints' state, every
+    actuator's PID state and last step, the first joint's turn count (and the links' poses)."""
+    out = (k, [(j.position, j.velocity, j.effort) for j in joints],
+           [(a.pid_state(), a.last) for a in w.actuators], joints[0].turn_state)
+    links = [(ln.pose, ln.twist) for ln in links]
+    return out + (links,) if links else out
+
+
 def scenario(native):
     """Every kind on the three joints in turn; returns what was seen at every 25th step."""
     w, m = arm(native)
@@ -65,8 +74,7 @@ def scenario(native):
             w.remove_actuator(a_el)
         w.step(1)
         if k % 25 == 0 or 1000 <= k < 1012:
-            seen.append((k, [(j.position, j.velocity, j.effort) for j in (yaw, shoulder, elbow)],
-                         [(a.pid_state(), a.last) for a in w.actuators], yaw.turn_state))
+            seen.append(sample(k, w, (yaw, shoulder, elbow)))
     return w, seen
 
 
@@ -121,8 +129,7 @@ def velocity_scenario(native):
             w.remove_actuator(a_el)
         w.step(1)
         if k % 20 == 0 or 700 <= k < 706:
-            seen.append((k, [(j.position, j.velocity, j.effort) for j in (yaw, shoulder, elbow)],
-                         [(a.pid_state(), a.last) for a in w.actuators], yaw.turn_state))
+            seen.append(sample(k, w, (yaw, shoulder, elbow)))
     return w, seen
 
 
@@ -192,9 +199,7 @@ def position_scenario(native):
             w.remove_actuator(a_yaw)
         w.step(1)
         if k % 20 == 0 or 550 <= k < 556:
-            seen.append((k, [(j.position, j.velocity, j.effort) for j in (yaw, shoulder, elbow)],
-                         [(a.pid_state(), a.last) for a in w.actuators], yaw.turn_state,
-                         [(ln.pose, ln.twist) for ln in m.links.values()]))
+            seen.append(sample(k, w, (yaw, shoulder, elbow), m.links.values()))
     return w, seen
 
 
@@ -432,8 +437,7 @@ def follow_scenario(native):
         w.step(1)
         turns = max(turns, abs(yaw.turn_state[0]))
         if k % 20 == 0 or 700 <= k < 706 or 298 <= k < 330:
-            seen.append((k, [(j.position, j.velocity, j.effort) for j in (yaw, shoulder, elbow)],
-                         [(a.pid_state(), a.last) for a in w.actuators], yaw.turn_state))
+            seen.append(sample(k, w, (yaw, shoulder, elbow)))
     assert turns >= 1, "the master should have turned"
     return w, seen
 
