@@ -34,6 +34,7 @@ This module is pure (no rospy): plugins' cores and their tests can use it withou
 import math
 
 from modrob_sim.errors import PluginError
+from modrob_sim.physics.due import is_due
 from modrob_sim.physics.transforms import quat_from_rpy
 
 _UNSET = object()
@@ -191,7 +192,7 @@ class RateGate(object):
     def due(self, t):
         if self.period <= 0.0:
             return True
-        if self._next is None or t + 1e-9 >= self._next:
+        if self._next is None or is_due(t, self._next):
             # next slot on the period grid after t: a late call does not make a burst
             nxt = (self._next if self._next is not None else t) + self.period
             if nxt <= t + 1e-9:

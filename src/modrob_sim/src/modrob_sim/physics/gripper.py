@@ -37,6 +37,8 @@ import math
 import weakref
 from collections import deque, namedtuple
 
+from .due import is_due
+
 LOG = logging.getLogger("modrob_sim.physics")
 
 UPDATE_PERIOD = 0.75
@@ -130,7 +132,7 @@ class Gripper(object):
             self._next = t + UPDATE_PERIOD      # (the World dropped what the watch had seen)
         if self.attached is not None and self.attached[0].removed:
             self._detach("model '%s' was deleted" % self.attached[0].name)
-        if t + 1e-9 >= self._next:             # the World's rule for due times
+        if is_due(t, self._next):
             self._next += UPDATE_PERIOD
             self._update(self._contacts())
 

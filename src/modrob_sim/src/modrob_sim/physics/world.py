@@ -20,6 +20,7 @@ from . import odelib
 from .backends import NativeBackend, NativeMesh, PureBackend  # noqa: F401 (NativeMesh: public name)
 from .builder import build_model
 from .contact_watch import ContactWatch
+from .due import DUE_MARGIN
 from .description import GeometryDesc
 from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN  # noqa: F401 (public names)
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, dot, normalized, pose_mul,
@@ -57,9 +58,6 @@ DEFAULT_PARAMS = OrderedDict([
 ])
 
 INF = float("inf")
-#: the hooks' due times compare t + 1e-9 >= due; a native stretch ends 2e-9 earlier so that float
-#: rounding never lets it run past a due step (a hook called a step early finds nothing to do)
-DUE_MARGIN = 2e-9
 
 #: restorations of one model, each within a second of the last, after which the guard freezes that
 #: model (a model restored every step of a simulated second at 1 ms); the rest of the world goes on
