@@ -18,6 +18,7 @@ help:
 	@echo "make sweep FILE=<sweep.yaml> [RUNS=N] [ADDRESS=<ray head:port>]  trials on Ray (local or a cluster): out/sweeps/<name>/"
 	@echo "make lint      catkin_lint on all packages + flake8 on all Python"
 	@echo "make bench     quick benchmarks vs PyBullet/MuJoCo (< 10 min; FULL=1 everything, J=N side by side): docs/benchmarks.md, out/bench/"
+	@echo "make bench AGAINST=<commit> [PAIRS=3] [ONLY=polaris_pace,...]  the scenario launches' pace against another commit's"
 	@echo "make tune      rqt_reconfigure on the running system (FILTER=/ptrz narrows; LAUNCH='pkg file args' starts a scenario beside it)"
 	@echo "make graph     rqt_graph of the running system to out/rqt_graph.png/.svg, then its window (LAUNCH= as for tune)"
 	@echo "make plot SERIES='/topic/field[i] ...'  live plot; out/rqt_plot.png/.csv when closed (LAUNCH= as for tune)"
@@ -83,7 +84,8 @@ lint:
 
 bench:
 	@$(ROOT)/scripts/setup.sh
-	@$(ENV) && bash $(ROOT)/scripts/bench/run.sh $(if $(filter 1 true yes,$(FULL)),--full) $(if $(J),-j $(J))
+	@$(ENV) && bash $(ROOT)/scripts/bench/run.sh $(if $(filter 1 true yes,$(FULL)),--full) $(if $(J),-j $(J)) \
+	  $(if $(AGAINST),--against $(AGAINST) $(if $(PAIRS),--pairs $(PAIRS)) $(if $(ONLY),--only $(ONLY)))
 
 rviz:
 	@$(ENV) && roslaunch modrob_sim empty_world.launch gui:=true

@@ -4,6 +4,7 @@ its peer measured in the same run; JSON under out/bench/ and the generated table
 docs/benchmarks.md between the markers (the hand-written rest of the file is kept).
 
     bash scripts/bench/run.sh [--full] [-j N] [--repeat R] [--only a,b] [--no-write]
+    bash scripts/bench/run.sh --against <commit> [--pairs N] [--only a,b]     (scripts/bench/against.py)
 
 Quick set (default, < 10 min on 2 cores): physics core (ours with sleeping bodies and awake)
 vs PyBullet and MuJoCo; the full /gazebo node with ros_control (/clock throttled and every step)
@@ -344,7 +345,14 @@ def main():
     ap.add_argument("--repeat", type=int, default=0, help="repetitions per unit (default: the plan's)")
     ap.add_argument("--only", default="", help="comma-separated units: %s" % ", ".join(PLAN))
     ap.add_argument("--no-write", action="store_true", help="print only: no JSON, no docs")
+    ap.add_argument("--against", default="", help="the scenario pace units against this commit's "
+                    "workspace instead (scripts/bench/against.py)")
+    ap.add_argument("--pairs", type=int, default=3, help="with --against: runs per unit and side")
     args = ap.parse_args()
+    if args.against:
+        import against
+        return against.main(["--against", args.against, "--pairs", str(args.pairs)]
+                            + (["--only", args.only] if args.only else []))
     units = [u for u in (args.only.split(",") if args.only else PLAN) if u]
     for u in units:
         if u not in PLAN:
