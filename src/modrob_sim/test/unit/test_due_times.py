@@ -219,7 +219,7 @@ def test_sensors_nobody_listens_to_step_natively_and_send_what_they_would_have_s
     update times. Once someone listens they send what sensors that never idled send, from at most
     IDLE_LOOK (and one IMU update) after the subscriber came."""
     from modrob_sim.sensors import ros_plugins
-    from modrob_sim.sensors.ros_plugins import IDLE_LOOK
+    from modrob_sim.physics.due import IDLE_LOOK
     calls = []
     for cls in (ros_plugins.ImuSensorPlugin, ros_plugins.LaserPlugin):
         def counted(self, t, dt, _hook=cls.after_step):

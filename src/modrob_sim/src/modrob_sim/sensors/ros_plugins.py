@@ -22,6 +22,7 @@ from std_srvs.srv import Empty, EmptyResponse
 
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin, RateGate, SensorPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
+from modrob_sim.physics.due import IdleLook, is_due
 
 from . import laser, velodyne
 from .contact import ContactSensor
@@ -69,13 +70,6 @@ def _reseed(context):
     return context.world.time == 0.0
 
 
-#: simulated seconds between two looks for a subscriber while a sensor that keeps no history has
-#: nobody listening (the laser, the Velodyne, a noiseless IMU): meanwhile its hook is not due, so
-#: the World steps natively through its update times; its first message after a subscriber
-#: connects comes at most this much (the IMU: one update more) after the connection
-IDLE_LOOK = 0.1
-
-
 def _on_grid_from(rate, until):
     """The first time of ``rate``'s grid (its ``next_time`` plus whole ``period``s) from ``until``
     on: the update times stay those of a sensor that never idled."""
@@ -86,26 +80,26 @@ def _on_grid_from(rate, until):
 
 
 class _Publishing(object):
-    """Publisher gating shared by the sensor plugins."""
+    """Publisher gating shared by the sensor plugins: a sensor that keeps no history (the laser,
+    the Velodyne, a noiseless IMU) idles while nobody listens, looking for a subscriber only every
+    IDLE_LOOK of simulated time (physics.due.IdleLook)."""
 
     pubs = ()
-    #: while nobody listened at the last look: the simulated time of the next look (else None)
-    idle_until = None
+
+    def __init__(self, *args, **kw):
+        super(_Publishing, self).__init__(*args, **kw)
+        self.idle = IdleLook()
 
     def active(self):
         return any(p.has_subscribers for p in self.pubs)
 
     def look(self, t):
-        """``active()``, remembering an idle look at simulated time ``t`` (see IDLE_LOOK)."""
-        if self.active():
-            self.idle_until = None
-            return True
-        self.idle_until = t + IDLE_LOOK
-        return False
+        """``active()``, remembering an idle look at simulated time ``t``."""
+        return self.idle.look(t, self.active())
 
     def idle_due(self, rate, due):
         """A hook's due time ``due`` (on ``rate``'s grid), or while idle the next look's."""
-        return due if self.idle_until is None else _on_grid_from(rate, self.idle_until)
+        return due if self.idle.until is None else _on_grid_from(rate, self.idle.until)
 
     def shutdown(self):
         for p in self.pubs:
@@ -244,12 +238,12 @@ class ImuSensorPlugin(_Publishing, SensorPlugin):
     def reset(self):
         SensorPlugin.reset(self)
         self.imu.reset(_reseed(self.context))
-        self.idle_until = None
+        self.idle.reset()
 
     def after_step(self, t, dt):
         imu = self.imu
-        if self.idle_until is not None:
-            if t + 1e-9 < self.idle_until or t + 1e-9 < imu.sensor_rate.next_time:
+        if self.idle.until is not None:
+            if not is_due(t, self.idle.until) or not is_due(t, imu.sensor_rate.next_time):
                 return          # idle, or (called early) not an update time of the sensor
             if not self.look(t):
                 imu.sensor_rate.due(t)          # the update times go on
