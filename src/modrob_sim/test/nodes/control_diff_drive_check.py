@@ -3,6 +3,7 @@
 /diffbot_velocity_controller/cmd_vel."""
 import math
 import os
+import re
 import sys
 import unittest
 
@@ -15,12 +16,14 @@ from geometry_msgs.msg import Twist, TwistStamped
 from nav_msgs.msg import Odometry
 
 from modrob_sim import waits
+from modrob_sim.physics.due import IDLE_LOOK
 from modrob_sim.waits import sim_sleep, wait_running, wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from control_common import Latest, RosoutCollector  # noqa: E402
 
 NS = "/diffbot_velocity_controller"
+STOPS = re.compile(r"hooks in Python at (\d+) steps per simulated s")
 
 
 class Truth(object):
@@ -124,6 +127,41 @@ class DiffDrive(unittest.TestCase):
         wait_until(lambda: len(self.odom.history) >= n + 8, 60, "odometry after the change")
         self.assert_rate(self.odom.history[-6:], 0.1)
         client.update_configuration({"publish_rate": 50.0})
+
+    def stops_per_second(self, lines):
+        """The node's figure of hooks in Python per simulated second from the line that comes
+        after ``lines`` more (the first of them may cover time before the caller's change)."""
+        n = len(self.log.find("hooks in Python at"))
+        wait_until(lambda: len(self.log.find("hooks in Python at")) >= n + lines, 60,
+                   "%d lines of the node's real-time factor" % lines)
+        return int(STOPS.search(self.log.find("hooks in Python at")[n + lines - 1]).group(1))
+
+    def test_6_cmd_vel_out_costs_updates_in_python_only_while_subscribed(self):
+        """publish_cmd: cmd_vel_out at every update (1 ms steps) while someone subscribes; with
+        nobody subscribed the World stops for Python only for the odometry (its 50 Hz with the
+        window's 2 + 1 updates before each), the joint states and the model states, not at every
+        step; a new subscriber gets every update's message from at most IDLE_LOOK after it came."""
+        self.cmd_out.wait_connected()
+        self.cmd_out.clear()
+        sim_sleep(0.5)
+        stamps = [m.header.stamp.to_sec() for m in self.cmd_out.history]
+        steps = [round((b - a) / 0.001) for a, b in zip(stamps, stamps[1:])]
+        self.assertGreater(len(stamps), 400)
+        self.assertTrue(all(k >= 1 for k in steps) and steps.count(1) > 0.9 * len(steps), steps)
+        busy = self.stops_per_second(2)
+        self.cmd_out.sub.unregister()
+        idle = self.stops_per_second(3)
+        self.assertGreater(busy, 900)
+        self.assertLess(idle, 400, "hooks in Python at %d steps per simulated s without a subscriber "
+                                   "(%d with one)" % (idle, busy))
+        again = Latest(NS + "/cmd_vel_out", TwistStamped).wait_connected()
+        came = rospy.get_time()
+        wait_until(lambda: len(again.history) > 300, 60, "cmd_vel_out again")
+        stamps = [m.header.stamp.to_sec() for m in again.history]
+        self.assertLess(stamps[0], came + IDLE_LOOK + 0.05)
+        steps = [round((b - a) / 0.001) for a, b in zip(stamps, stamps[1:])]
+        self.assertTrue(all(k >= 1 for k in steps) and steps.count(1) > 0.9 * len(steps), steps)
+        again.sub.unregister()
 
     def test_4_nan_is_ignored_with_a_warning(self):
         bad = Twist()

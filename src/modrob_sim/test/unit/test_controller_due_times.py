@@ -10,6 +10,7 @@ import os
 import pytest
 
 from modrob_sim.gazebo_ros.testing import ControlRig
+from modrob_sim.physics.due import IDLE_LOOK
 from modrob_sim.physics import native as native_mod
 from modrob_sim.ros_control.manager import STRICT
 
@@ -149,17 +150,24 @@ def test_gripper_action_steps_natively_and_equals_every_update_bit_for_bit(posit
 
 class DiffBot(ControlRig):
     """diffbot on a DiffDriveController (velocity wheels: ODE motors) with acceleration limits,
-    a 0.25 s command timeout and a rolling window of 4; its odometry messages go to ``log``."""
+    a 0.25 s command timeout and a rolling window of 4; its odometry messages go to ``log``.
+    ``per_update``: with ``publish_cmd`` and ``publish_wheel_joint_controller_state``, whose
+    messages go to ``sent`` while ``listening[0]`` (as the adapter publishes them while its topics
+    have subscribers; the controller is told by ``per_update_wanted``)."""
 
-    def __init__(self, fast, window=4):
+    def __init__(self, fast, window=4, per_update=False):
         super(DiffBot, self).__init__(fixture("diffbot.urdf"), name="diffbot")
         self.c = self.mgr.load("base", {
             "type": "diff_drive_controller/DiffDriveController", "left_wheel": ["left_wheel"],
             "right_wheel": "right_wheel", "publish_rate": 50, "cmd_vel_timeout": 0.25,
-            "velocity_rolling_window_size": window,
+            "velocity_rolling_window_size": window, "publish_cmd": per_update,
+            "publish_wheel_joint_controller_state": per_update,
             "pose_covariance_diagonal": [0.001] * 6, "twist_covariance_diagonal": [0.001] * 6,
             "linear": {"x": {"has_acceleration_limits": True, "max_acceleration": 3.0}},
             "angular": {"z": {"has_acceleration_limits": True, "max_acceleration": 6.0}}})
+        self.listening = [True]
+        self.sent = []
+        self.c.per_update_wanted = lambda: self.listening[0]
         self.adapter("base", after_update=self._odom)
         assert self.mgr.switch(["base"], [], STRICT)[0]
         self.start(fast)
@@ -168,6 +176,10 @@ class DiffBot(ControlRig):
         data, self.c.pending = self.c.pending, None
         if data is not None:
             self.log.append(data)
+        out, wheels = self.c.cmd_out, self.c.wheel_state
+        self.c.cmd_out = self.c.wheel_state = None
+        if self.listening[0] and out is not None:
+            self.sent.append((out, wheels))
 
 
 DRIVE_EVENTS = {
@@ -200,6 +212,67 @@ def test_diff_drive_controller_steps_natively_and_equals_every_update():
     steady = fast.world.native_steps
     fast.step(200)                            # standing: only the odometry's updates
     assert fast.world.native_steps - steady >= 200 * 14 // 20 - 1, fast.world.native_steps - steady
+
+
+def _listen(on):
+    def event(rig):
+        rig.listening[0] = on
+    return event
+
+
+@needs_c
+def test_diff_drive_per_update_messages_are_due_at_every_step_only_while_listened():
+    """publish_cmd and publish_wheel_joint_controller_state (Husky's and Jackal's control.yaml): an
+    update at every step while someone listens to their topics; while nobody does, a look for a
+    listener every IDLE_LOOK of simulated time, and the World steps natively in between."""
+    rig = DiffBot(True, per_update=True)
+    w, c, dt = rig.world, rig.c, rig.world.time_step
+    rig.step(300)                               # standing, listened to
+    assert c.update_due(w.time, w.iterations, dt) == w.time
+    native = w.native_steps
+    rig.step(100)
+    assert w.native_steps == native             # every step's update in Python
+    rig.listening[0] = False
+    rig.step(1)                                 # the update of this step looks: nobody
+    looked = w.time - dt
+    due = c.update_due(w.time, w.iterations, dt)
+    assert w.time < due <= looked + IDLE_LOOK + 1e-9, (w.time, due)
+    native = w.native_steps
+    rig.step(1000)
+    # only the odometry's updates (4 + 2 of every 20 steps) and the looks in Python
+    assert w.native_steps - native >= 1000 * 14 // 20 - 1, w.native_steps - native
+    assert all(out[0] <= looked + 1e-9 for out, _ in rig.sent), "a message while nobody listened"
+    rig.listening[0] = True
+    came = w.time
+    rig.step(200)
+    first = next(out[0] for out, _ in rig.sent if out[0] > came)
+    assert first <= came + IDLE_LOOK + 1e-9, (came, first)
+    assert c.update_due(w.time, w.iterations, dt) == w.time
+
+
+LISTEN_EVENTS = dict(DRIVE_EVENTS)
+LISTEN_EVENTS.update({0: _listen(False), 320: _listen(True), 700: _listen(False), 1250: _listen(True)})
+
+
+@needs_c
+def test_diff_drive_per_update_messages_once_listened_are_those_of_every_update():
+    """Stepped natively while nobody listens, the robot drives as at every update, and from the
+    update that finds a listener (at most IDLE_LOOK after it came) the messages are those of an
+    update at every step, one per step, the same stamps and values bit for bit (the wheels'
+    desired positions integrate the speeds of the updates made natively as those updates would
+    have)."""
+    ref = run(DiffBot(False, per_update=True), 1600, DRIVE_EVENTS)
+    fast = run(DiffBot(True, per_update=True), 1600, LISTEN_EVENTS)
+    assert snapshot(ref) == snapshot(fast)
+    assert len(ref.sent) == 1600
+    for came, left in ((0.320, 0.700), (1.250, 1.600)):
+        got = [m for m in fast.sent if came - 1e-9 <= m[0][0] <= left + 1e-9]
+        assert got and got[0][0][0] <= came + IDLE_LOOK + 1e-9, (came, got[:1])
+        last = got[-1][0][0]
+        assert last >= left - 2e-3, (left, last)
+        assert got == [m for m in ref.sent if got[0][0][0] - 1e-9 <= m[0][0] <= last + 1e-9], came
+        assert any(m[0][1] != 0.0 for m in got) or came > 1.0, "the robot did not drive"
+    assert fast.world.native_steps > 0.2 * fast.world.iterations, fast.world.native_steps
 
 
 class PidGainsArm(ControlRig):

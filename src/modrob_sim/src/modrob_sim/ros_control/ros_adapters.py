@@ -480,10 +480,13 @@ class MobileBaseAdapter(Adapter):
         if controller.publish_cmd:
             self.cmd_out_pub = publisher(self.ns + "/cmd_vel_out", TwistStamped, queue_size=100)
             self.handles.append(self.cmd_out_pub)
-        if getattr(controller, "publish_wheel_state", False):
+        if controller.publish_wheel_state:
             self.wheel_pub = publisher(self.ns + "/wheel_joint_controller_state",
                                        JointTrajectoryControllerState, queue_size=100)
             self.handles.append(self.wheel_pub)
+        # nobody listens to either: the controller makes no update in Python for them
+        per_update = [p for p in (self.cmd_out_pub, self.wheel_pub) if p is not None]
+        controller.per_update_wanted = lambda: any(p.get_num_connections() > 0 for p in per_update)
         self.sub = rospy.Subscriber(self.ns + "/cmd_vel", Twist, self._on_cmd_vel, queue_size=1)
         self.handles.append(self.sub)
         self.reconfigure = None
@@ -530,7 +533,7 @@ class MobileBaseAdapter(Adapter):
             msg.header.stamp = _stamp(out[0])
             msg.twist.linear.x, msg.twist.angular.z = out[1], out[2]
             self.cmd_out_pub.publish(msg)
-        wheels, c.wheel_state = getattr(c, "wheel_state", None), None
+        wheels, c.wheel_state = c.wheel_state, None
         if wheels is not None and self.wheel_pub is not None and self.wheel_pub.get_num_connections() > 0:
             self._publish_wheels(wheels)
         data, c.pending = c.pending, None

@@ -95,11 +95,9 @@ class DiffDriveController(MobileBaseController):
         else:
             self.wheel_radius = wheel_radius_of(self.left[0], name)
         self.publish_wheel_state = params.get("publish_wheel_joint_controller_state", False, kind=bool)
-        #: with publish_wheel_joint_controller_state, after each update: dict(stamp, desired
-        #: positions (the commanded speeds integrated), desired velocities, desired accelerations)
-        self.wheel_state = None
         self._desired = [0.0] * len(self.joint_names)
         self._desired_pos = None
+        self._desired_time = None       # the update that last integrated the desired positions
         self._last_sides = None
 
     # dimensions with the (live) multipliers
@@ -125,6 +123,7 @@ class DiffDriveController(MobileBaseController):
 
     def starting(self, t):
         self._last_sides = self._sides()
+        self._desired_time = None       # no update while stopped: nothing to integrate for it
         super(DiffDriveController, self).starting(t)
 
     def measure(self):
@@ -159,7 +158,14 @@ class DiffDriveController(MobileBaseController):
         if self._desired_pos is None:
             self._desired_pos = [j.position for j in joints]
         else:
-            self._desired_pos = [p + v * dt for p, v in zip(self._desired_pos, self._desired)]
+            # the updates the World made natively since the last one (nobody listened) held the
+            # wheel speeds `before`: each integrates them as it would have, then this one its own
+            pos = self._desired_pos
+            if self._desired_time is not None:
+                for _ in range(int(round((t - self._desired_time) / dt)) - 1):
+                    pos = [p + v * dt for p, v in zip(pos, before)]
+            self._desired_pos = [p + v * dt for p, v in zip(pos, self._desired)]
+        self._desired_time = t
         acc = [(v - v0) / dt if dt > 0.0 else 0.0 for v, v0 in zip(self._desired, before)]
         self.wheel_state = dict(stamp=t, positions=list(self._desired_pos), velocities=list(self._desired),
                                 accelerations=acc)

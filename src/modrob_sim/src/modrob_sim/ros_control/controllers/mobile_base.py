@@ -26,6 +26,7 @@ import itertools
 import math
 
 from modrob_sim.errors import ControllerError
+from modrob_sim.physics.due import IdleLook
 from modrob_sim.ros_control.controllers.base import CommandBuffer, CommandResult, Controller
 from modrob_sim.ros_control.transmissions import CPP_NAMES
 
@@ -161,6 +162,8 @@ class MobileBaseController(Controller):
 
     ``pending`` after an update that publishes: dict(stamp, x, y, heading, linear, angular).
     ``cmd_out`` after every update: (stamp, linear, angular) the limited command that was sent.
+    ``per_update_wanted()``: whether someone listens to the messages of every update
+    (``publish_cmd``, ``publish_wheel_state``); the ROS layer sets it from its topics' subscribers.
     """
 
     def __init__(self, name, hw, params):
@@ -182,6 +185,14 @@ class MobileBaseController(Controller):
         self.limiter_linear = SpeedLimiter.from_params(params.child("linear").child("x"))
         self.limiter_angular = SpeedLimiter.from_params(params.child("angular").child("z"))
         self.publish_cmd = params.get("publish_cmd", False, kind=bool)
+        #: diff_drive_controller's publish_wheel_joint_controller_state (DiffDriveController's):
+        #: then after each update ``wheel_state`` = dict(stamp, desired positions (the commanded
+        #: speeds integrated), desired velocities, desired accelerations)
+        self.publish_wheel_state = False
+        self.wheel_state = None
+        self.per_update_wanted = lambda: True
+        #: while nobody listens to the per-update messages: the next look for a listener
+        self.listeners = IdleLook()
         # (linear, angular, sequence number); the update stamps a new command when it first sees it
         self._numbers = itertools.count(1)     # next() is atomic: ROS threads and the loop both write
         self.command = CommandBuffer((0.0, 0.0, 0))
@@ -237,6 +248,7 @@ class MobileBaseController(Controller):
         self.odometry.restart(t)
         self.drive(0.0, 0.0)
         self._fresh = True      # the first update writes the stopped wheels' commands
+        self.listeners.reset()
 
     def stopping(self, t):
         self.drive(0.0, 0.0)
@@ -261,22 +273,29 @@ class MobileBaseController(Controller):
 
         * a new command waits, or the limited command has not reached its target (the limiters
           work per update, so a ramp is made at every step), or ``publish_cmd`` /
-          ``publish_wheel_joint_controller_state`` (a message at every update);
+          ``publish_wheel_joint_controller_state`` while someone listens (a message at every
+          update);
+        * while nobody listens to those: a look for a listener every ``IDLE_LOOK`` (physics.due),
+          as the sensors look; the messages start at the update that finds one;
         * the command's timeout (``cmd_vel_timeout`` after it came): the brake;
         * the odometry: the update that publishes and the ``velocity_rolling_window_size`` + 1
           updates before it, at every step, so that the twist averages per-step speeds exactly
           as at every update (the pose integrates the travel since the last update along an arc,
           equal to the per-step sums to rounding)."""
-        if self._fresh or self.publish_cmd or getattr(self, "publish_wheel_state", False):
+        if self._fresh:
             return t
+        due = math.inf
+        if self.publish_cmd or self.publish_wheel_state:
+            if self.listeners.until is None:
+                return t
+            due = self.listeners.until
         if self.command.read()[2] != self._seen_seq:
             return t
         target = self._target(t)
         if self._last0 != target or self._last1 != target:
             return t
-        due = math.inf
         if target != (0.0, 0.0):
-            due = self._cmd_stamp + self.cmd_vel_timeout - 0.5 * dt
+            due = min(due, self._cmd_stamp + self.cmd_vel_timeout - 0.5 * dt)
         publish = self._publish_time()
         if publish < math.inf:
             # the first step starting after `publish`, less the window and one step of margin
@@ -286,6 +305,8 @@ class MobileBaseController(Controller):
 
     def update(self, t, dt):
         self._fresh = False
+        if self.publish_cmd or self.publish_wheel_state:
+            self.listeners.look(t, self.per_update_wanted())
         odo = self.odometry
         if self.open_loop:
             odo.update_open_loop(self._last0[0], self._open_loop_rate(*self._last0), t)
