@@ -326,6 +326,7 @@ class SensorPlugins(unittest.TestCase):
                         % [x.total_wrench for x in bumper.get().states])
         self.assertEqual(len(st.wrenches), len(st.contact_positions))
         self.assertAlmostEqual(sum(w.force.z for w in st.wrenches), st.total_wrench.force.z, places=9)
+
         # a contact only pushes: each contact's force along its normal has the sign of the whole
         # weight's along it (friction lies across the normal, so a normal tilted by 1e-8 rad gives
         # a contact's force a z of that order either way: the sign of z alone says nothing)
