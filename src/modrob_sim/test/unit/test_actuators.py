@@ -5,8 +5,9 @@ PID to a position with each error rule, PID to a velocity, PID along absolute, r
 trajectory segments with feed-forward, a wheel motor with an acceleration ramp), with gains and
 set-points changed mid-run, efforts given with set_effort added before the joint's clamp, and a
 continuous joint counting turns; the same for an output that drives the joint's ODE motor's velocity
-(OUT_VELOCITY: gazebo_ros_control's velocity joint) instead of its effort; bad requests are refused
-with messages that say what to do."""
+(OUT_VELOCITY: gazebo_ros_control's velocity joint) instead of its effort; a FOLLOW_PID's target
+velocity, bias and set-point relative to its own joint; actuators that follow each other step alike
+in either order; bad requests are refused with messages that say what to do."""
 import math
 import os
 
@@ -406,7 +407,8 @@ def follow_scenario(native):
     """A FOLLOW_PID actuator on the elbow following the yaw (a continuous joint spun through
     several turns: its turn count is in the master's position), then the shoulder; gains, the
     deadband and the master changed mid-run, an effort given with set_effort, a step without a
-    master; what was seen at every 20th step."""
+    master, the derivative against a target velocity with a bias effort, the elbow following
+    itself (a set-point a step ahead of where it is); what was seen at every 20th step."""
     w, m = arm(native)
     yaw, shoulder, elbow = (m.joints[n] for n in ("yaw", "shoulder", "elbow"))
     a_yaw = w.add_actuator(yaw, A.VELOCITY_PID, gains=A.PidGains(20.0))
@@ -431,12 +433,20 @@ def follow_scenario(native):
             a_el.follow(None)
         if k == 950:
             a_el.follow(shoulder, 1.0, 0.0, deadband=0.001)
+        if k == 1000:
+            a_el.follow(shoulder, 1.0, 0.0, velocity=0.0, bias=0.8)
+        if 1050 <= k < 1100:
+            a_el.follow(elbow, 1.0, 0.0004, velocity=0.4, bias=-0.2)
+        if k == 1100:
+            a_el.follow(shoulder, -1.0, 0.2, deadband=0.3, velocity=0.1, bias=0.3)
+        if k == 1150:
+            a_el.follow(shoulder, -1.0, 0.2, velocity=0.1, bias=0.3)
         if k == 1200:
             a_el.kind = A.POSITION_PID
             a_el.command = 0.5
         w.step(1)
         turns = max(turns, abs(yaw.turn_state[0]))
-        if k % 20 == 0 or 700 <= k < 706 or 298 <= k < 330:
+        if k % 20 == 0 or 700 <= k < 706 or 298 <= k < 330 or 998 <= k < 1010 or 1048 <= k < 1060:
             seen.append(sample(k, w, (yaw, shoulder, elbow)))
     assert turns >= 1, "the master should have turned"
     return w, seen
@@ -472,11 +482,63 @@ def test_a_follow_pid_holds_its_joint_on_the_master(native):
     assert a.last.output == 0.0 and a.last.set_point == a.last.position
 
 
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_a_follow_pid_with_a_target_velocity_and_a_bias(native):
+    """The derivative is velocity - dq (the PID's p_error_last untouched), the bias is added to
+    the output; following itself, the set-point is the offset away from where the joint is."""
+    w, m = arm(native)
+    shoulder, elbow = m.joints["shoulder"], m.joints["elbow"]
+    w.add_actuator(shoulder, A.POSITION_PID, gains=A.PidGains(150.0, 0.0, 8.0)).command = 0.4
+    a = w.add_actuator(elbow, A.FOLLOW_PID, gains=A.PidGains(30.0, 0.0, 2.0))
+    a.follow(shoulder, 1.0, 0.0, velocity=0.25, bias=1.5)
+    w.step(200)
+    before = (elbow.position, elbow.velocity, shoulder.position)
+    w.step(1)
+    s = a.last
+    assert (s.position, s.velocity) == before[:2] and s.set_point == 1.0 * before[2] + 0.0
+    assert s.desired_velocity == 0.25 and s.error_dot == 0.25 - before[1]
+    assert s.output == 30.0 * (before[2] - before[0]) + 2.0 * (0.25 - before[1]) + 1.5
+    assert a.pid_state()[0] == 0.0                  # no error difference taken
+    a.follow(elbow, 1.0, 0.01, velocity=-0.5)
+    q = elbow.position
+    w.step(1)
+    assert a.last.set_point == q + 0.01 and a.last.error == (q + 0.01) - q
+    a.follow(shoulder, 1.0, 0.0, deadband=10.0, bias=-2.0)      # inside the deadband: the bias only
+    w.step(1)
+    assert a.last.output == -2.0
+
+
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_two_follow_pids_that_follow_each_other_step_alike_in_either_order(native):
+    """Every actuator reads the step's start state before any acts: the shoulder and the elbow
+    following each other (as franka_gazebo's fingers do) give the same steps whichever is first."""
+    def run(order):
+        w, m = arm(native)
+        joints = {n: m.joints[n] for n in ("shoulder", "elbow")}
+        acts = {}
+        for n in order:
+            acts[n] = w.add_actuator(joints[n], A.FOLLOW_PID, gains=A.PidGains(40.0, 5.0, 1.0, 1.0, -1.0))
+        acts["shoulder"].follow(joints["elbow"], 1.0, 0.3, velocity=0.0, bias=0.5)
+        acts["elbow"].follow(joints["shoulder"], 1.0, -0.3, velocity=0.0, bias=-0.5)
+        seen = []
+        for k in range(400):
+            w.step(1)
+            seen.append([(acts[n].last, acts[n].pid_state()) for n in ("shoulder", "elbow")])
+        return w.state_digest(), seen
+    a, b = run(("shoulder", "elbow")), run(("elbow", "shoulder"))
+    assert a == b
+    assert a[1][-1][0][0].output != a[1][0][0][0].output, "nothing moved"
+
+
 def test_bad_follow_requests_say_what_to_do():
     w, m = arm(False)
     a = w.add_actuator(m.joints["elbow"], A.FOLLOW_PID, gains=A.PidGains(1.0))
-    with pytest.raises(InputError, match="a joint cannot follow itself"):
-        a.follow(m.joints["elbow"])
+    with pytest.raises(InputError, match="velocity nan and bias 0.0 must be finite"):
+        a.follow(m.joints["elbow"], velocity=float("nan"))
+    with pytest.raises(InputError, match="bias inf must be finite"):
+        a.follow(m.joints["yaw"], bias=float("inf"))
+    with pytest.raises(InputError, match="must be numbers"):
+        a.follow(m.joints["yaw"], velocity="fast")
     with pytest.raises(InputError, match="joint 'base_fixed' is fixed; only a revolute"):
         a.follow(m.joints["base_fixed"])
     other, om = arm(False)

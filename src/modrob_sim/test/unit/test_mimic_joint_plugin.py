@@ -88,6 +88,16 @@ def test_a_missing_joint_is_named_and_the_model_spawns(caplog):
     assert "no joint named 'left_fnger_joint'" in caplog.text and "left_finger_joint" in caplog.text
 
 
+@pytest.mark.parametrize("has_pid", ["", "<hasPID/>"])
+def test_a_joint_that_mimics_itself_is_named_and_the_model_spawns(caplog, monkeypatch, has_pid):
+    monkeypatch.setattr(mimic_joint.MimicJointPlugin, "read_gains", lambda self, ns: PidGains(1.0))
+    w, host, m, loaded, drive = fingers(None, has_pid, replace=[("<mimicJoint>left_finger_joint",
+                                                                 "<mimicJoint>right_finger_joint")])
+    assert loaded == []
+    assert "are both 'right_finger_joint': a joint cannot mimic itself" in caplog.text
+    assert m.joints["right_finger_joint"].actuator is drive
+
+
 def test_a_negative_max_effort_is_named_and_its_size_used(caplog, monkeypatch):
     monkeypatch.setattr(mimic_joint.MimicJointPlugin, "read_gains", lambda self, ns: PidGains(50.0))
     negative = ("<maxEffort>5.0</maxEffort>", "<maxEffort>-5.0</maxEffort>")

@@ -66,6 +66,9 @@ class MimicJointPlugin(ModelPlugin):
             if n not in model.joints:
                 raise PluginError("%s: no joint named '%s' (joints: %s)"
                                   % (self.name, n, ", ".join(model.joints)))
+        if names[0] == names[1]:
+            raise PluginError("%s: <joint> and <mimicJoint> are both '%s': a joint cannot mimic itself; "
+                              "<joint> names the joint to follow" % (self.name, names[0]))
         self.master, self.joint = model.joints[names[0]], model.joints[names[1]]
         self.multiplier = self.param("multiplier", 1.0, float)
         self.offset = self.param("offset", 0.0, float)

@@ -16,12 +16,19 @@ VELOCITY_PID    out = PID(command - dq)
 SEGMENT_PID     desired (p, v) from the segment; out = PID(error(p, q), v - dq) + ff * v
 MOTOR           ODE joint motor: velocity ramped towards command by at most accel * dt,
                 force at most max_force (a wheel's motor); out = 0
-FOLLOW_PID      set-point multiplier * q_master + offset (``follow``: another joint of the
-                model, its position as Joint.position gives it); out = PID(set-point - q)
-                when |set-point - q| >= deadband, else 0 and the PID not advanced (a mimic
-                joint held by a PID: roboticsgroup's mimic joint plugin with <hasPID>);
-                no master: out = 0
+FOLLOW_PID      set-point multiplier * q_master + offset (``follow``: a joint of the model,
+                its position as Joint.position gives it; the joint itself: a set-point
+                relative to where it is); out = PID(set-point - q) + bias when
+                |set-point - q| >= deadband, else bias and the PID not advanced. The PID's
+                derivative: the error's change (a mimic joint held by a PID: roboticsgroup's
+                mimic joint plugin with <hasPID>), or, with a target ``velocity``, velocity
+                - dq (franka_gazebo's gripper fingers, each following the other); no
+                master: out = 0
 ==============  ========================================================================
+
+Every actuator of a step reads its joint's state (and a FOLLOW_PID its master's position) before
+any of them acts, so that the order in which they are applied changes nothing (an OUT_POSITION
+actuator moves links within the step; two FOLLOW_PID actuators may follow each other).
 
 then what the joint gets depends on the actuator's OUTPUT:
 
@@ -195,7 +202,8 @@ class PyRecord(object):
                  "traj_kind", "coef", "seg_t0", "seg_t1", "rel_base", "offset", "has_offset", "ff",
                  "abs_until", "rel_until", "max_force", "accel", "motor_vel", "out_kind", "vel_limit",
                  "bodies", "pos_prev", "watch", "watch_target", "watch_tol", "watch_vel", "watch_timeout",
-                 "moved_at", "master", "mult", "follow_offset", "deadband", "pid")
+                 "moved_at", "master", "mult", "follow_offset", "deadband", "has_follow_vel", "follow_vel",
+                 "bias", "master_position", "pid")
 
     def __init__(self, kind):
         self.kind = kind
@@ -220,6 +228,9 @@ class PyRecord(object):
         self.watch_target = self.watch_tol = self.watch_vel = self.watch_timeout = self.moved_at = 0.0
         self.master = None          # FOLLOW_PID: the Joint followed (the C record: its ODE joint)
         self.mult, self.follow_offset, self.deadband = 1.0, 0.0, 0.0
+        self.has_follow_vel = 0     # FOLLOW_PID: the derivative is follow_vel - dq (else the error's change)
+        self.follow_vel = self.bias = 0.0
+        self.master_position = 0.0  # FOLLOW_PID: the master's position at the step's start
         self.pid = Pid(PidGains(0.0))
 
 
@@ -289,14 +300,30 @@ def place_subtree(joint, bodies, delta):
             b.setAngularVel(pw)
 
 
-def step_python(r, joint, t, dt, limit):
+def apply_python(actuated, t, dt):
+    """One step of every actuator in ``actuated``, pairs (record, physics Joint): each reads its
+    joint's state (:func:`read_python`), then each acts (:func:`step_python`), so that no actuator
+    sees what another did in the step."""
+    for r, joint in actuated:
+        read_python(r, joint, t)
+    for r, joint in actuated:
+        step_python(r, joint, dt, joint.limit_effort)
+
+
+def read_python(r, joint, t):
+    """The state the actuator ``r`` (a PyRecord) works from in the step that starts at ``t``: its
+    joint's position and velocity, a FOLLOW_PID's master's position."""
+    r.t, r.position, r.velocity = t, joint.position, joint.velocity
+    if r.kind == FOLLOW_PID and r.master is not None:
+        r.master_position = r.master.position
+
+
+def step_python(r, joint, dt, limit):
     """One step of the actuator ``r`` (a PyRecord) on the physics Joint ``joint``: its output from
-    the joint's state now, applied through the joint's ODE joint (an effort, or the motor's
-    velocity); ``limit(f)`` is the joint's own clamp (Joint.limit_effort). Returns the effort
-    applied (MOTOR: None, the motor acts)."""
-    q = joint.position
-    v = joint.velocity
-    r.t, r.position, r.velocity = t, q, v
+    the state :func:`read_python` read, applied through the joint's ODE joint (an effort, or the
+    motor's velocity); ``limit(f)`` is the joint's own clamp (Joint.limit_effort). Returns the
+    effort applied (MOTOR: None, the motor acts)."""
+    t, q, v = r.t, r.position, r.velocity
     kind = r.kind
     pid = r.pid
     if r.out_kind == OUT_POSITION:
@@ -337,15 +364,20 @@ def step_python(r, joint, t, dt, limit):
         joint.drive_motor(target, r.max_force)
         return None
     elif kind == FOLLOW_PID:
-        r.desired_velocity = 0.0
-        master = r.master
-        if master is None:
+        r.desired_velocity = r.follow_vel if r.has_follow_vel else 0.0
+        if r.master is None:
             r.set_point = q
             f = 0.0
         else:
-            r.set_point = target = r.mult * master.position + r.follow_offset
+            r.set_point = target = r.mult * r.master_position + r.follow_offset
             error = target - q
-            f = 0.0 if abs(error) < r.deadband else pid.compute(error, dt)
+            if abs(error) < r.deadband:
+                f = 0.0
+            elif r.has_follow_vel:
+                f = pid.compute(error, dt, r.follow_vel - v)
+            else:
+                f = pid.compute(error, dt)
+            f += r.bias
     else:
         f = r.set_point = r.command
         r.desired_velocity = 0.0
@@ -483,29 +515,34 @@ class Actuator(object):
         if was == OUT_VELOCITY and output != OUT_VELOCITY and self._kind != MOTOR:
             self.joint.release_motor()
 
-    def follow(self, master, multiplier=1.0, offset=0.0, deadband=0.0):
+    def follow(self, master, multiplier=1.0, offset=0.0, deadband=0.0, velocity=None, bias=0.0):
         """FOLLOW_PID: the set-point is ``multiplier * master.position + offset`` at every step
-        (``master``: a revolute, continuous or prismatic joint of the same model; None: none, no
-        effort); an error below ``deadband`` gives no effort and leaves the PID as it is."""
+        (``master``: a revolute, continuous or prismatic joint of the same model, or the actuator's
+        own joint: a set-point ``offset`` away from where it is; None: none, no effort); an error
+        below ``deadband`` gives no PID effort and leaves the PID as it is. The PID's derivative is
+        the error's change, or with ``velocity`` (a number) ``velocity`` - the joint's velocity;
+        ``bias`` is an effort added to the PID's (before the clamps)."""
         j = self.joint
         what = "%r: follow(%r)" % (self, master)
         if master is not None:
             if getattr(master, "model", None) is not j.model:
                 raise InputError("%s: the master must be a joint of model '%s'" % (what, j.model.name))
-            if master is j:
-                raise InputError("%s: a joint cannot follow itself" % what)
             if master.ode_joint is None or master.type not in ("revolute", "continuous", "prismatic"):
                 raise InputError("%s: joint '%s' is %s; only a revolute, continuous or prismatic joint "
                                  "can be followed" % (what, master.name, master.type))
         try:
-            m, o, d = float(multiplier), float(offset), float(deadband)
+            m, o, d, b = float(multiplier), float(offset), float(deadband), float(bias)
+            v = None if velocity is None else float(velocity)
         except (TypeError, ValueError):
-            raise InputError("%s: multiplier, offset and deadband must be numbers" % what)
-        if not (math.isfinite(m) and math.isfinite(o) and d >= 0.0):
-            raise InputError("%s: multiplier %r and offset %r must be finite, deadband %r >= 0"
-                             % (what, multiplier, offset, deadband))
+            raise InputError("%s: multiplier, offset, deadband, velocity and bias must be numbers" % what)
+        if not (math.isfinite(m) and math.isfinite(o) and math.isfinite(b) and d >= 0.0
+                and (v is None or math.isfinite(v))):
+            raise InputError("%s: multiplier %r, offset %r, velocity %r and bias %r must be finite, "
+                             "deadband %r >= 0" % (what, multiplier, offset, velocity, bias, deadband))
         r = self._r
-        r.mult, r.follow_offset, r.deadband = m, o, d
+        r.mult, r.follow_offset, r.deadband, r.bias = m, o, d, b
+        r.has_follow_vel = 0 if v is None else 1
+        r.follow_vel = 0.0 if v is None else v
         self._master = master
         self._be.set_actuator_master(r, master)
 

@@ -121,7 +121,9 @@ class MrActuator(ctypes.Structure):
          for n in ("watch_target", "watch_tol", "watch_vel", "watch_timeout", "moved_at")] + \
         [("master", ctypes.c_void_p), ("master_turn", ctypes.POINTER(MrTurn)),
          ("master_slider", ctypes.c_int)] + \
-        [(n, ctypes.c_double) for n in ("mult", "follow_offset", "deadband")]
+        [(n, ctypes.c_double) for n in ("mult", "follow_offset", "deadband")] + \
+        [("has_follow_vel", ctypes.c_int)] + \
+        [(n, ctypes.c_double) for n in ("follow_vel", "bias", "master_position")]
 
 
 class MrModelActuator(ctypes.Structure):
@@ -205,9 +207,7 @@ class PureBackend(object):
 
     @staticmethod
     def apply_actuators(actuators, t, dt):
-        for a in actuators:
-            j = a.joint
-            act.step_python(a.record, j, t, dt, j.limit_effort)
+        act.apply_python([(a.record, a.joint) for a in actuators], t, dt)
 
     @staticmethod
     def new_model_actuator(model, kind):

@@ -478,11 +478,9 @@ class RobotHWSim(object):
                     cmd = min(max(cmd, -res.velocity_limit), res.velocity_limit)
                 res.actuator.command = cmd
         if self.world is None:      # no World to run the actuators: this update does
-            for name in self.order:
-                res = self.joints[name]
-                a = res.actuator
-                if a is not None:
-                    actuators.step_python(a.record, res.sim, t, dt, res.sim.limit_effort)
+            actuated = [(res.actuator.record, res.sim) for res in (self.joints[n] for n in self.order)
+                        if res.actuator is not None]
+            actuators.apply_python(actuated, t, dt)
 
     def remove_actuators(self):
         """The hardware goes (its model's plugin shuts down): its joints are free again."""

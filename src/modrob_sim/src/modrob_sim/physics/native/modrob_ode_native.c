@@ -1145,8 +1145,10 @@ void mr_link_poses(const MrLinkEntry *e, int n, void *poses, void *twists)
  * this C memory): at every step, from the joint's state at the step's start, an output (EFFORT: the
  * command; POSITION_PID: PID on the position error; VELOCITY_PID: PID on the velocity error;
  * SEGMENT_PID: PID along a trajectory segment plus velocity feed-forward; FOLLOW_PID: PID on the
- * error to multiplier * another joint's position + offset, none inside a deadband) or an ODE joint
- * motor (MOTOR); the output is an effort (OUT_EFFORT: the hardware clamp) or the ODE motor's velocity
+ * error to multiplier * a joint's position + offset, none inside a deadband, plus a bias effort) or
+ * an ODE joint motor (MOTOR); every actuator reads its joint's state (a FOLLOW_PID also its
+ * master's position) before any of them acts, so that their order changes nothing; the output is
+ * an effort (OUT_EFFORT: the hardware clamp) or the ODE motor's velocity
  * (OUT_VELOCITY), then the efforts given with set_effort in that step, the joint's own clamp
  * (Joint.limit_effort) and FORCE_CAP. The pure-Python backend does the same in
  * actuators.step_python; test_actuators.py runs both on the same worlds. */
@@ -1190,12 +1192,16 @@ typedef struct {
     int watch;
     double watch_target, watch_tol, watch_vel, watch_timeout, moved_at;
     /* FOLLOW_PID (Actuator.follow): the set-point is mult * the master's position (as
-     * Joint.position: its turn count too) + follow_offset; an error below deadband gives no
-     * effort and leaves the PID as it is; no master (NULL): no effort */
+     * Joint.position: its turn count too; master_position, read at the step's start) +
+     * follow_offset; an error below deadband gives no PID effort and leaves the PID as it is;
+     * the PID's derivative is the error's change, or follow_vel - dq (has_follow_vel); bias is
+     * added to the output; no master (NULL): no effort */
     dJointID master;
     MrTurn *master_turn;
     int master_slider;
     double mult, follow_offset, deadband;
+    int has_follow_vel;
+    double follow_vel, bias, master_position;
 } MrActuator;
 
 #define MR_TWO_PI 6.283185307179586
@@ -1378,19 +1384,23 @@ static void mr_apply_effort(MrActuator *j, double f)
     j->applied = f;
 }
 
-/* every actuator's step at time t (actuators.step_python): dParamVel / dParamFMax are the running
- * libode's parameter numbers (odelib.PARAM_VEL, PARAM_FMAX) */
+/* every actuator's step at time t (actuators.apply_python: first every actuator's read_python,
+ * then every step_python): dParamVel / dParamFMax are the running libode's parameter numbers
+ * (odelib.PARAM_VEL, PARAM_FMAX) */
 void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param_vel, int param_fmax)
 {
     int k;
     for (k = 0; k < n; ++k) {
         MrActuator *j = acts[k];
-        double f, q, v;
-        q = mr_joint_position(j->joint, j->slider, j->turn);
-        v = j->slider ? dJointGetSliderPositionRate(j->joint) : dJointGetHingeAngleRate(j->joint);
         j->t = t;
-        j->position = q;
-        j->velocity = v;
+        j->position = mr_joint_position(j->joint, j->slider, j->turn);
+        j->velocity = j->slider ? dJointGetSliderPositionRate(j->joint) : dJointGetHingeAngleRate(j->joint);
+        if (j->kind == 5 && j->master)
+            j->master_position = mr_joint_position(j->master, j->master_slider, j->master_turn);
+    }
+    for (k = 0; k < n; ++k) {
+        MrActuator *j = acts[k];
+        double f, q = j->position, v = j->velocity;
         if (j->out_kind == 2) {
             double target, dvel = 0.0;
             if (j->kind == 2) mr_segment_sample(j, t, &target, &dvel);
@@ -1441,16 +1451,18 @@ void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param
             mr_set_param(j->joint, j->slider, param_fmax, j->max_force);
             continue;
         } else if (j->kind == 5) {
-            j->desired_velocity = 0.0;
+            j->desired_velocity = j->has_follow_vel ? j->follow_vel : 0.0;
             if (!j->master) {
                 j->set_point = q;
                 f = 0.0;
             } else {
-                double target = j->mult * mr_joint_position(j->master, j->master_slider, j->master_turn) +
-                                j->follow_offset;
+                double target = j->mult * j->master_position + j->follow_offset;
                 double error = target - q;
                 j->set_point = target;
-                f = fabs(error) < j->deadband ? 0.0 : mr_pid(j, error, dt);
+                if (fabs(error) < j->deadband) f = 0.0;
+                else if (j->has_follow_vel) f = mr_pid_dot(j, error, j->follow_vel - v, dt);
+                else f = mr_pid(j, error, dt);
+                f += j->bias;
             }
         } else {
             f = j->set_point = j->command;
