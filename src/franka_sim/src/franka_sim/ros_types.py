@@ -142,6 +142,7 @@ class FrankaGripperAdapter(Adapter):
         super(FrankaGripperAdapter, self).__init__(plugin, controller)
         self.pub = rospy.Publisher(self.ns + "/joint_states", JointState, queue_size=1)
         self.handles.append(self.pub)
+        controller.on_change = self.wake        # a command, stop or release: the next update at once
         self.servers = []
         actions = (("move", MoveAction, self._move), ("grasp", GraspAction, self._grasp),
                    ("homing", HomingAction, self._homing), ("stop", StopAction, self._stop),
@@ -168,9 +169,6 @@ class FrankaGripperAdapter(Adapter):
     def _run(self, server, state, width, speed, force=0.0, inner=None, outer=None):
         """Start a motion and wait (in this action thread) until the simulation ends it."""
         req = self.c.command(state, width, speed, force, inner, outer)
-        wake = getattr(self.plugin.context, "wake", None)
-        if wake is not None:
-            wake()
         while not req.done.wait(0.1):
             if rospy.is_shutdown():
                 self.c.stop()
