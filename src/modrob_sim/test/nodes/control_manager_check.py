@@ -131,20 +131,26 @@ class ControllerManagerRoundTrip(unittest.TestCase):
         m = self.arm
         self.assertTrue(m.load_controller("shoulder_controller").ok)
         self.assertTrue(m.switch(["shoulder_controller"], []))
-        js = rospy.wait_for_message("/gazebo/model_states", rospy.AnyMsg, timeout=30)
-        self.assertIsNotNone(js)
-        pub = waits.command_publisher("/arm1p/shoulder_controller/command", Float64, 20)
-        pub.publish(Float64(0.5))
-        sim_sleep(4.0)
-        # no joint_state_controller here: read the joint through a second controller manager query
-        self.assertTrue(m.load_controller("jsc").ok is False)
+        # no joint_state_controller here: one loaded through the manager reads the joint
+        self.assertFalse(m.load_controller("jsc").ok)                   # not on the parameter server yet
         rospy.set_param("/arm1p/jsc", {"type": "joint_state_controller/JointStateController",
                                        "publish_rate": 50})
         self.assertTrue(m.load_controller("jsc").ok)
         self.assertTrue(m.switch(["jsc"], []))
-        msg = rospy.wait_for_message("/arm1p/joint_states", JointState, timeout=30)
-        q = msg.position[msg.name.index("shoulder")]
-        self.assertLess(abs(q - 0.5), 0.01, "shoulder at %.4f" % q)
+        joints = Latest("/arm1p/joint_states", JointState)
+
+        def shoulder(msg):
+            return msg.position[msg.name.index("shoulder")]
+        q0 = shoulder(joints.wait(timeout=30, what="the shoulder's state"))
+        pub = waits.command_publisher("/arm1p/shoulder_controller/command", Float64, 20)
+        pub.publish(Float64(0.5))
+        # the simulated time counts from the command's arrival (the joint's first move), not from its
+        # publication: at real_time_factor 0 its delivery can take seconds of simulated time
+        joints.wait(lambda msg: abs(shoulder(msg) - q0) > 1e-3, 30, "the shoulder moving to 0.5")
+        moved = next(msg for msg in joints.history if abs(shoulder(msg) - q0) > 1e-3)
+        q = shoulder(joints.after(moved.header.stamp.to_sec() + 4.0))
+        self.assertLess(abs(q - 0.5), 0.01, "shoulder at %.4f 4 s after it left %.4f" % (q, q0))
+        pub.unregister()
 
 
 if __name__ == "__main__":
