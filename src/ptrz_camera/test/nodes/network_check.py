@@ -12,10 +12,11 @@ import cv2
 import numpy as np
 import rospy
 import rostest
+from rosgraph_msgs.msg import Log
 from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Float64
 
-from modrob_sim.waits import Latest, sim_sleep, wait_running, wait_until
+from modrob_sim.waits import Latest, wait_running, wait_until
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ptrz_test_common import CONTROLLERS, Joints  # noqa: E402
@@ -54,6 +55,7 @@ class Network(unittest.TestCase):
                                             latch=True) for ns in CAMS for j in ("pan", "tilt")}
         cls.zoom = rospy.Publisher("/ptrz1/zoom", Float64, queue_size=1, latch=True)
         cls.zoom_fov = Latest("/ptrz1/zoom_fov", Float64)
+        cls.rosout = Latest("/rosout", Log, keep=True)      # connected to every node's long before test_3
 
     def test_1_every_camera_publishes_images(self):
         wait_until(lambda: all(self.images[ns].msg is not None for ns in CAMS), 80,
@@ -72,7 +74,10 @@ class Network(unittest.TestCase):
         wait_until(lambda: self.zoom_fov.msg is not None, 30, "/ptrz1/zoom_fov")
         start = self.zoom_fov.msg.data
         self.zoom.publish(Float64(3.05))                 # wider than the camera's 2.79 rad
-        sim_sleep(1.0)
+        # the zoom node has taken it (its warning), and its field of view stays
+        wait_until(lambda: [m for m in self.rosout.history if m.msg.startswith("/ptrz1/zoom: ")
+                            and "3.05" in m.msg and "; keeping %.4f rad" % start in m.msg],
+                   30, "the zoom node's warning that refuses 3.05 rad")
         self.assertEqual(self.zoom_fov.msg.data, start)
 
     def test_4_halving_the_field_of_view_doubles_the_size(self):
