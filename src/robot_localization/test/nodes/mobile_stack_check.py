@@ -8,13 +8,16 @@ import rospy
 import rostest
 import tf2_ros
 from controller_manager_msgs.srv import ListControllers
+from diagnostic_msgs.msg import DiagnosticArray
 from gazebo_msgs.msg import ModelStates
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool
 from visualization_msgs.msg import InteractiveMarkerFeedback
 
-from modrob_sim.waits import sim_sleep, wait_until
+from modrob_sim.waits import Latest, sim_sleep, wait_until
+
+REST = 0.005        # m/s and rad/s: below both the robot stands
 
 
 def yaw_of(q):
@@ -26,9 +29,10 @@ class MobileStack(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node("mobile_stack_check")
         cls.lock = threading.Lock()
-        cls.truth = cls.ekf = None
+        cls.truth = cls.ekf = cls.speed = None
         rospy.Subscriber("/gazebo/model_states", ModelStates, cls._on_states, queue_size=1)
         rospy.Subscriber("/odometry/filtered", Odometry, cls._on_ekf, queue_size=1)
+        cls.diagnostics = Latest("/diagnostics", DiagnosticArray, keep=True)
         cls.tf = tf2_ros.Buffer()
         cls.tf_listener = tf2_ros.TransformListener(cls.tf)
         cls.cmd = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
@@ -47,8 +51,10 @@ class MobileStack(unittest.TestCase):
     @classmethod
     def _on_states(cls, msg):
         if "diffbot" in msg.name:
-            p = msg.pose[msg.name.index("diffbot")]
+            i = msg.name.index("diffbot")
+            p, v = msg.pose[i], msg.twist[i]
             cls.truth = (p.position.x, p.position.y, yaw_of(p.orientation))
+            cls.speed = (math.hypot(v.linear.x, v.linear.y), abs(v.angular.z))
 
     @classmethod
     def _on_ekf(cls, msg):
@@ -56,12 +62,18 @@ class MobileStack(unittest.TestCase):
         cls.ekf = (p.position.x, p.position.y, yaw_of(p.orientation))
 
     def drive(self, publish, seconds):
-        """``publish()`` at 20 Hz of simulated time for ``seconds``, then 1 s to stop."""
+        """``publish()`` at 20 Hz of simulated time for ``seconds``; returns once the robot stands (the
+        controller's cmd_vel_timeout after the last command that reached it, then braking)."""
         publish()
         timer = rospy.Timer(rospy.Duration(0.05), lambda event: publish())
         sim_sleep(seconds, 120)
         timer.shutdown()
-        sim_sleep(1.0)
+        wait_until(lambda: max(self.speed) < REST, 60, "diffbot standing after the drive")
+
+    def locked(self, lock):
+        """twist_mux's /diagnostics has reported ``lock`` locked (it has taken the lock's message)."""
+        return any(kv.key == "lock " + lock and kv.value.startswith("locked")
+                   for m in self.diagnostics.history for s in m.status for kv in s.values)
 
     def twist(self, linear, angular):
         t = Twist()
@@ -113,7 +125,7 @@ class MobileStack(unittest.TestCase):
 
     def test_3_e_stop_stops_everything(self):
         self.estop.publish(Bool(True))
-        sim_sleep(0.5)
+        wait_until(lambda: self.locked("e_stop"), 30, "twist_mux's /diagnostics reporting e_stop locked")
         start = self.truth
         self.drive(self.twist(0.4, 0.0), 2.0)
         self.assertLess(math.hypot(self.truth[0] - start[0], self.truth[1] - start[1]), 0.005)
