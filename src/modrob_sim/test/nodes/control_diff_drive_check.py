@@ -27,18 +27,26 @@ STOPS = re.compile(r"hooks in Python at (\d+) steps per simulated s")
 
 
 class Truth(object):
-    """diffbot's pose from /gazebo/model_states: (x, y, yaw)."""
+    """diffbot's pose from /gazebo/model_states: (x, y, yaw), and its speeds (linear, angular)."""
+    REST = 0.005        # m/s and rad/s: below both the robot stands
 
     def __init__(self):
-        self.pose = None
+        self.pose = self.speed = None
         self.sub = rospy.Subscriber("/gazebo/model_states", ModelStates, self._cb, queue_size=1)
 
     def _cb(self, msg):
         if "diffbot" in msg.name:
-            p = msg.pose[msg.name.index("diffbot")]
+            i = msg.name.index("diffbot")
+            p, v = msg.pose[i], msg.twist[i]
             q = p.orientation
             self.pose = (p.position.x, p.position.y,
                          math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z)))
+            self.speed = (math.hypot(v.linear.x, v.linear.y), abs(v.angular.z))
+
+    def wait_standing(self):
+        """Until the robot stands: after its last command the controller's cmd_vel_timeout (0.25 s of
+        simulated time from that command's arrival), then braking."""
+        wait_until(lambda: max(self.speed) < self.REST, 60, "diffbot standing")
 
 
 class Driver(object):
@@ -94,7 +102,7 @@ class DiffDrive(unittest.TestCase):
         drive = Driver(self.cmd, 0.3, 0.0)
         sim_sleep(3.0)
         drive.halt()
-        sim_sleep(1.0)                          # cmd_vel_timeout 0.25 s, then braking
+        self.truth.wait_standing()
         x1, y1, _ = self.truth.pose
         o1 = self.odom.fresh().pose.pose.position
         moved = math.hypot(x1 - x0, y1 - y0)
@@ -111,7 +119,7 @@ class DiffDrive(unittest.TestCase):
         drive = Driver(self.cmd, 0.0, 1.0)
         sim_sleep(1.5)
         drive.halt()
-        sim_sleep(1.0)
+        self.truth.wait_standing()
         turned = math.atan2(math.sin(self.truth.pose[2] - yaw0), math.cos(self.truth.pose[2] - yaw0))
         self.assertGreater(turned, 1.0)
         o = self.odom.msg
