@@ -10,7 +10,6 @@ import shutil
 import signal
 import subprocess
 import tempfile
-import time
 import unittest
 
 import rosbag
@@ -22,7 +21,7 @@ from std_msgs.msg import Float64
 
 from rqt_plot.series import read_csv
 
-from modrob_sim.waits import GraphWait
+from modrob_sim.waits import GraphWait, command_publisher, wait_until
 from modrob_viz.render.xvfb import Xvfb
 
 CTRL = "/ptrz/pan_position_controller"
@@ -41,18 +40,11 @@ def connected_to(topic):
     return graph.connected_subscribers(topic)
 
 
-def wait(pred, timeout, what):
-    deadline = time.monotonic() + timeout
-    while not pred():
-        if time.monotonic() > deadline or rospy.is_shutdown():
-            raise AssertionError("timed out after %.0f s waiting for %s" % (timeout, what))
-        time.sleep(0.05)
-
-
 class PlotMatchesBag(unittest.TestCase):
     def test_plot_of_a_step_matches_rosbag(self):
         rospy.init_node("plot_step_check")
-        cmd = rospy.Publisher(CTRL + "/command", Float64, queue_size=1, latch=True)
+        # connected before the step is published: the step lands where the plot expects it
+        cmd = command_publisher(CTRL + "/command", Float64, 60)
         tmp = tempfile.mkdtemp(prefix="plot_step_")
         self.addCleanup(shutil.rmtree, tmp, ignore_errors=True)
         bag_path, csv_path, png_path = (os.path.join(tmp, n) for n in ("state.bag", "plot.csv", "plot.png"))
@@ -65,9 +57,9 @@ class PlotMatchesBag(unittest.TestCase):
                                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
             try:        # both start while the simulator does: they wait for the topic themselves
                 rospy.wait_for_message(STATE, JointControllerState, timeout=60)
-                wait(lambda: "/plot_bag" in connected_to(STATE) and
-                     any(n.startswith("/rqt_plot") for n in connected_to(STATE)), 60,
-                     "rosbag and rqt_plot connected to " + STATE)
+                wait_until(lambda: "/plot_bag" in connected_to(STATE) and
+                           any(n.startswith("/rqt_plot") for n in connected_to(STATE)), 60,
+                           "rosbag and rqt_plot connected to " + STATE, period=0.2)   # master queries
                 rospy.sleep(0.5)                   # sim time: half a second before the step
                 cmd.publish(Float64(1.0))
                 out, err = plot.communicate(timeout=70)
@@ -78,8 +70,8 @@ class PlotMatchesBag(unittest.TestCase):
                 bag.wait(30)
         # the rosbag script passes SIGINT on to its recorder and leaves without waiting for it:
         # the recorder closes the bag (state.bag.active -> state.bag) after that
-        wait(lambda: os.path.exists(bag_path) and not os.path.exists(bag_path + ".active"), 30,
-             "rosbag record to close " + bag_path)
+        wait_until(lambda: os.path.exists(bag_path) and not os.path.exists(bag_path + ".active"), 30,
+                   "rosbag record to close " + bag_path)
         self.assertEqual(plot.returncode, 0, "rqt_plot failed: %s %s" % (out, err))
         plotted = read_csv(csv_path)
         pv, sp = plotted[STATE + "/process_value"], plotted[STATE + "/set_point"]
