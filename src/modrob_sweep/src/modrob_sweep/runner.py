@@ -14,7 +14,9 @@ finished, and stops the Ray it started.
 
 A Ray started here keeps its session (logs, sockets) in a directory of its own (``ray-*`` in
 RAY_TMPDIR or the system's temporary directory), which shutdown() removes: when the sweep ends, on
-an error and after Ctrl-C or SIGTERM. A cluster's Ray keeps its sessions where its nodes were started.
+an error and after Ctrl-C or SIGTERM. A process that could not (killed with SIGKILL) leaves it; the
+next one that makes such a directory there removes it (remove_stale_ray_temp_dirs). A cluster's Ray
+keeps its sessions where its nodes were started.
 """
 import os
 import shutil
@@ -25,6 +27,7 @@ import tempfile
 import time
 import uuid
 
+from modrob_sim.procs import start_time
 from modrob_sweep import InfraError, SweepError
 from modrob_sweep.trial import run_trial
 
@@ -40,8 +43,12 @@ CANCEL_GRACE_S = 30.0
 SOCKET_PATH_MAX = 107
 RAY_SOCKET_TAIL = len("/session_2026-01-01_00-00-00_000000_1234567/sockets/plasma_store")
 RAY_TEMP_PREFIX = "ray-"
+# the longest directory in which Ray's own (RAY_TEMP_PREFIX + 8 characters) leaves room for its sockets
+RAY_TEMP_BASE_MAX = SOCKET_PATH_MAX - RAY_SOCKET_TAIL - len("/%sxxxxxxxx" % RAY_TEMP_PREFIX)
 SHORT_TEMP = "/tmp"          # where Ray's directory goes when the temporary directory's path is too long
 NO_CRASH_HANDLER = "RAY_DISABLE_FAILURE_SIGNAL_HANDLER"
+# in each such directory: "<pid> <start time>" of the process that made it (remove_stale_ray_temp_dirs)
+OWNER_FILE = "modrob_sweep.owner"
 # (path, RAY_TMPDIR before) of the Ray this process started, until shutdown()
 _ray_temp_dirs = []
 
@@ -144,19 +151,58 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
 def new_ray_temp_dir():
     """A fresh directory for the session of a Ray started here (ray.init's _temp_dir, `ray start
     --temp-dir`), in RAY_TMPDIR or the system's temporary directory, /tmp when that path is too long for
-    Ray's socket paths. RAY_TMPDIR is set to it until shutdown() removes it."""
+    Ray's socket paths. RAY_TMPDIR is set to it until shutdown() removes it. Those that processes which
+    ended without removing theirs left in the same place are removed first."""
     base = os.path.abspath(os.environ.get("RAY_TMPDIR") or tempfile.gettempdir())
-    longest = SOCKET_PATH_MAX - RAY_SOCKET_TAIL - len("/%sxxxxxxxx" % RAY_TEMP_PREFIX)
-    if len(base) > longest:
+    if len(base) > RAY_TEMP_BASE_MAX:
         print("sweep: the temporary directory %s is too long for Ray's socket paths in it (%d bytes at "
-              "most): Ray's session goes to %s" % (base, longest, SHORT_TEMP), file=sys.stderr, flush=True)
+              "most): Ray's session goes to %s" % (base, RAY_TEMP_BASE_MAX, SHORT_TEMP), file=sys.stderr,
+              flush=True)
         base = SHORT_TEMP
+    remove_stale_ray_temp_dirs(base)
     path = tempfile.mkdtemp(prefix=RAY_TEMP_PREFIX, dir=base)
+    with open(os.path.join(path, OWNER_FILE), "w") as fh:
+        fh.write("%d %d\n" % (os.getpid(), start_time(os.getpid())))
     _ray_temp_dirs.append((path, os.environ.get("RAY_TMPDIR")))
     # Ray's other temporary files (Ray Tune's lock files) go there too, in this process and in the
     # Ray processes, which inherit the environment
     os.environ["RAY_TMPDIR"] = path
     return path
+
+
+def remove_stale_ray_temp_dirs(base):
+    """Remove the ``ray-*`` directories in ``base`` that new_ray_temp_dir made for a process that has
+    ended (killed with SIGKILL: its clean-up never ran), after stopping the Ray processes still using
+    one (Ray's agents outlive their raylet for a minute). Those of running processes, and directories
+    without an owner file (not made here), are left alone. Returns the paths removed."""
+    removed = []
+    try:
+        names = sorted(os.listdir(base))
+    except OSError:
+        return removed
+    for name in names:
+        path = os.path.join(base, name)
+        if not name.startswith(RAY_TEMP_PREFIX):
+            continue
+        try:
+            with open(os.path.join(path, OWNER_FILE)) as fh:
+                pid, started = (int(v) for v in fh.read().split())
+        except (OSError, ValueError):
+            continue
+        if start_time(pid) == started:
+            continue
+        for left in _with_var("RAY_TMPDIR", path):
+            if left == os.getpid():
+                continue
+            try:
+                os.kill(left, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+        shutil.rmtree(path, ignore_errors=True)
+        print("sweep: removed %s, the Ray directory of process %d, which ended without removing it (killed?)"
+              % (path, pid), file=sys.stderr, flush=True)
+        removed.append(path)
+    return removed
 
 
 def _remove_ray_temp_dirs():

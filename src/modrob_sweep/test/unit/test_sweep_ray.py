@@ -206,3 +206,86 @@ def test_ray_temp_dir_is_short_enough_for_its_sockets(monkeypatch, capsys):
     finally:
         os.rmdir(long_base)
     assert not os.path.exists(path) and os.environ["RAY_TMPDIR"] == long_base
+
+
+@pytest.fixture
+def ray_tmpdir():
+    """A RAY_TMPDIR of the test's own, short enough for Ray's socket paths (the sweep's Ray makes its
+    ``ray-*`` directory in it, not in SHORT_TEMP); the tests assert what is left in it."""
+    import tempfile
+    from modrob_sweep import runner
+    path = tempfile.mkdtemp(prefix="rt", dir=tempfile.gettempdir())
+    if len(path) > runner.RAY_TEMP_BASE_MAX:
+        os.rmdir(path)
+        path = tempfile.mkdtemp(prefix="rt", dir=runner.SHORT_TEMP)
+    assert len(path) <= runner.RAY_TEMP_BASE_MAX, path
+    yield path
+    import shutil
+    shutil.rmtree(path, ignore_errors=True)
+
+
+def start_sweep(tmp_path, name, ray_tmpdir):
+    """A one-trial sweep in a subprocess whose Ray goes to ``ray_tmpdir``."""
+    path = write_sweep(str(tmp_path), name, [{"mu": 0.2, "fault": "none"}], timeout_s=120)
+    env = dict(os.environ, RAY_TMPDIR=ray_tmpdir)
+    return subprocess.Popen([sys.executable] + SWEEP + [path, "--workers", "1", "--out", str(tmp_path / "o")],
+                            env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+
+
+def ray_started(proc, name):
+    """The sweep's Ray has started processes (ray.init is under way, or done); fails the test when
+    the sweep has ended instead."""
+    assert proc.poll() is None, proc.stdout.read()
+    return processes_of(name)
+
+
+def test_the_ray_directory_of_a_sweep_killed_with_sigkill_is_removed_by_the_next(tmp_path, ray_tmpdir,
+                                                                                 monkeypatch, capsys):
+    """SIGKILL leaves no chance to clean up: the Ray directory stays (and some of Ray's agents, for a
+    minute); the next sweep that makes its Ray directory in the same place removes it and stops them."""
+    from modrob_sim.waits import wait_until
+    from modrob_sweep import runner
+    name = "test_sweep_kill_%s" % uuid.uuid4().hex[:8]
+    proc = start_sweep(tmp_path, name, ray_tmpdir)
+    try:
+        wait_until(lambda: ray_started(proc, name), 120, "the first process of the sweep's Ray")
+        proc.kill()
+        proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    left = os.listdir(ray_tmpdir)
+    assert len(left) == 1 and left[0].startswith(runner.RAY_TEMP_PREFIX), left
+    stale = os.path.join(ray_tmpdir, left[0])
+    monkeypatch.setenv("RAY_TMPDIR", ray_tmpdir)
+    path = runner.new_ray_temp_dir()            # what the next sweep does before its ray.init
+    try:
+        assert os.listdir(ray_tmpdir) == [os.path.basename(path)]
+        assert "removed %s, the Ray directory of process %d" % (stale, proc.pid) in capsys.readouterr().err
+        wait_until(lambda: not processes_of(name), 30, "no process of the killed sweep left")
+    finally:
+        runner.shutdown()
+    assert os.listdir(ray_tmpdir) == []
+
+
+def test_only_ray_directories_of_ended_processes_are_removed(tmp_path):
+    from modrob_sim.procs import start_time
+    from modrob_sweep import runner
+    ended = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(30)"])
+    ended_start = start_time(ended.pid)
+    ended.kill()
+    ended.wait()
+
+    def ray_dir(name, owner):
+        path = tmp_path / name
+        (path / "session_latest").mkdir(parents=True)
+        if owner:
+            (path / runner.OWNER_FILE).write_text("%d %d\n" % owner)
+        return path
+    stale = ray_dir("ray-stale", (ended.pid, ended_start))
+    reused = ray_dir("ray-reused", (os.getpid(), start_time(os.getpid()) - 1))  # a pid since reused
+    mine = ray_dir("ray-mine", (os.getpid(), start_time(os.getpid())))
+    foreign = ray_dir("ray-foreign", None)                  # not made by a sweep: not ours to judge
+    other = ray_dir("other", (ended.pid, ended_start))
+    assert sorted(runner.remove_stale_ray_temp_dirs(str(tmp_path))) == sorted([str(stale), str(reused)])
+    assert sorted(os.listdir(tmp_path)) == sorted(p.name for p in (mine, foreign, other))
