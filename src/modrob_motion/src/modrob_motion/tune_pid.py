@@ -332,12 +332,13 @@ def main_search(args):
     """--search ray: Ray Tune over each joint's gains (modrob_sweep.tune_search); YAML, plots, table."""
     from modrob_sim.tuning.autotune import measure
     from modrob_sweep import tune_search
-    from modrob_sweep.runner import connect, shutdown
+    from modrob_sweep.runner import connect, interrupt_on_sigterm, shutdown
 
     def log(msg):
         print("  " + msg)
         sys.stdout.flush()
     token = "tune_pid-%d" % os.getpid()     # marks the Ray processes of this search (runner.shutdown)
+    interrupt_on_sigterm()                  # SIGTERM, like Ctrl-C, stops Ray and removes its directory
     try:
         urdf, gains, ns, key = load_robot(args)
         at = parse_at(args.at)
@@ -370,6 +371,9 @@ def main_search(args):
     except (ModrobError, OSError, yaml.YAMLError) as exc:
         print("tune_pid: %s" % exc, file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("tune_pid: interrupted; nothing written", file=sys.stderr)
+        return 130
     finally:
         shutdown(token)     # and its temporary directory
     os.makedirs(args.out, exist_ok=True)

@@ -12,18 +12,23 @@ each trial's reaper sees its parent die and stops the trial's processes; the dri
 until no process carrying the sweep's token is left on this machine, writes the trials that
 finished, and stops the Ray it started.
 
+Ctrl-C or SIGTERM while a local Ray starts (ray.init) stops what of it has started, at once, and ends
+the process with 130 (see _signals_during_start).
+
 A Ray started here keeps its session (logs, sockets) in a directory of its own (``ray-*`` in
 RAY_TMPDIR or the system's temporary directory), which shutdown() removes: when the sweep ends, on
 an error and after Ctrl-C or SIGTERM. A process that could not (killed with SIGKILL) leaves it; the
 next one that makes such a directory there removes it (remove_stale_ray_temp_dirs). A cluster's Ray
 keeps its sessions where its nodes were started.
 """
+import contextlib
 import os
 import shutil
 import signal
 import socket
 import sys
 import tempfile
+import threading
 import time
 import uuid
 
@@ -46,9 +51,10 @@ RAY_TEMP_PREFIX = "ray-"
 # the longest directory in which Ray's own (RAY_TEMP_PREFIX + 8 characters) leaves room for its sockets
 RAY_TEMP_BASE_MAX = SOCKET_PATH_MAX - RAY_SOCKET_TAIL - len("/%sxxxxxxxx" % RAY_TEMP_PREFIX)
 SHORT_TEMP = "/tmp"          # where Ray's directory goes when the temporary directory's path is too long
-NO_CRASH_HANDLER = "RAY_DISABLE_FAILURE_SIGNAL_HANDLER"
 # in each such directory: "<pid> <start time>" of the process that made it (remove_stale_ray_temp_dirs)
 OWNER_FILE = "modrob_sweep.owner"
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+EXIT_INTERRUPTED = 130
 # (path, RAY_TMPDIR before) of the Ray this process started, until shutdown()
 _ray_temp_dirs = []
 
@@ -106,12 +112,9 @@ def _remote_trial():
 
 def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=True):
     """ray.init on this machine (a private instance with ``workers`` x ``cpus_per_trial`` CPUs) or
-    on the cluster at ``address``. Returns the number of CPUs the trials can use."""
-    # Ray's C++ crash handler (read at `import ray`, installed by ray.init) ends this process on a
-    # SIGTERM during ray.init, before the sweep's own handler is back: Ray's processes and temporary
-    # directory would be left behind. Off; the Ray processes started here inherit that (no C++ stack
-    # trace in their logs on a crash).
-    os.environ.setdefault(NO_CRASH_HANDLER, "1")
+    on the cluster at ``address``. Returns the number of CPUs the trials can use. SIGINT and SIGTERM
+    keep the handlers they had (ray.init puts its own in place for SIGTERM); one that comes while Ray
+    starts ends the process (_signals_during_start)."""
     try:
         import ray
     except ImportError as exc:
@@ -123,7 +126,8 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
     kw = {"include_dashboard": False, "log_to_driver": not quiet, "logging_level": "warning"}
     if address:
         try:
-            ray.init(address=address, **kw)
+            with _signals_during_start(token):
+                ray.init(address=address, **kw)
         except (ConnectionError, RuntimeError, ValueError) as exc:
             raise SweepError("cannot join the Ray cluster at %s: %s. Start it first (`ray start --head` on "
                              "the head, `ray start --address=<head>:6379` on each node, docs/sweeps.md)"
@@ -133,7 +137,8 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
         kw["_temp_dir"] = new_ray_temp_dir()
         for attempt in (1, 2):
             try:
-                ray.init(address="local", num_cpus=max(1, int(round(n * cpus_per_trial))), **kw)
+                with _signals_during_start(token):
+                    ray.init(address="local", num_cpus=max(1, int(round(n * cpus_per_trial))), **kw)
                 break
             except Exception as exc:     # noqa: B902 Ray raises a bare Exception when its node does not start
                 ray.shutdown()           # what did start of it
@@ -146,6 +151,60 @@ def connect(address=None, workers=None, cpus_per_trial=1.0, token=None, quiet=Tr
                 raise SweepError("Ray did not start on this machine, twice: %s. On an overloaded machine its "
                                  "start-up times out: run the sweep again (or with fewer --workers)" % reason)
     return ray.cluster_resources().get("CPU", 0)
+
+
+@contextlib.contextmanager
+def _signals_during_start(token):
+    """Around ray.init: SIGINT or SIGTERM during it stops what of Ray has started (its processes carry
+    ``token`` in their environment), removes its directory and ends this process with 130, at once.
+
+    The signals' handlers cannot do that: Python runs a handler only between two bytecodes of the main
+    thread, and ray.init spends seconds inside Ray's C++ start-up (its core worker waits for the
+    raylet), where none runs; and Ray's crash handler, installed during that start-up, ends the process
+    on a SIGTERM, leaving Ray's processes and directory behind. So the two signals are blocked during
+    the start (also in the threads Ray starts, which inherit that) and a thread waits for them. After
+    the start the handlers in place before are put back and the signals unblocked: one that came in
+    between goes to them."""
+    if threading.current_thread() is not threading.main_thread():   # signals go to the main thread's
+        yield                                                         # handlers, set by its caller
+        return
+    handlers = {s: signal.getsignal(s) for s in STOP_SIGNALS}
+    signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
+    started = threading.Event()
+
+    def wait_for_signal():
+        while not started.is_set():
+            info = signal.sigtimedwait(STOP_SIGNALS, 0.05)
+            if info is not None:
+                _abandon_start(token, info.si_signo)
+    waiter = threading.Thread(target=wait_for_signal, name="ray_start_signals", daemon=True)
+    waiter.start()
+    try:
+        yield
+    finally:
+        started.set()
+        waiter.join()
+        for sig, handler in handlers.items():
+            if handler is not None:
+                signal.signal(sig, handler)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
+
+
+def _abandon_start(token, signum):
+    """A signal while Ray starts: stop Ray's processes, remove its directory, end the process."""
+    print("\n[sweep] %s while Ray was starting: stopping it" % signal.Signals(signum).name, file=sys.stderr,
+          flush=True)
+    if token:
+        _wait_local_trials(token, kill=True, timeout=0.0)
+    _remove_ray_temp_dirs()
+    sys.stdout.flush()
+    os._exit(EXIT_INTERRUPTED)
+
+
+def interrupt_on_sigterm():
+    """SIGTERM raises KeyboardInterrupt from now on, as Ctrl-C does (a driver's clean-up runs on
+    either); returns the handler it had."""
+    return signal.signal(signal.SIGTERM, _raise_interrupt)
 
 
 def new_ray_temp_dir():
@@ -240,15 +299,13 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
     pending = {}
     rows = []
     interrupted = False
-    old_term = signal.signal(signal.SIGTERM, _raise_interrupt)
+    old_term = interrupt_on_sigterm()
     # Ctrl-C stops the sweep even when it was started with SIGINT ignored (a background job of a
     # script inherits that): the trials must never be left to run on
     old_int = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         total_cpus = connect(address, workers, sweep.cpus, token)
         import ray
-        # ray.init puts a SIGTERM handler of its own in place (sys.exit: the trials would not be cancelled)
-        signal.signal(signal.SIGTERM, _raise_interrupt)
         if total_cpus < sweep.cpus:
             raise SweepError("one trial of %s needs %g CPUs but the Ray cluster has %g: lower `cpus` in the "
                              "sweep file or add nodes" % (sweep.name, sweep.cpus, total_cpus))

@@ -239,6 +239,29 @@ def ray_started(proc, name):
     return processes_of(name)
 
 
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT])
+def test_a_signal_while_ray_starts_stops_it(tmp_path, ray_tmpdir, signum):
+    """ray.init spends seconds in Ray's C++ start-up, where Python runs no signal handler (and Ray's
+    crash handler ended the process on SIGTERM): the signal stops the start, its processes and its
+    directory there and then, and the sweep ends with 130."""
+    from modrob_sim.waits import wait_until
+    name = "test_sweep_start_%s" % uuid.uuid4().hex[:8]
+    proc = start_sweep(tmp_path, name, ray_tmpdir)
+    try:
+        wait_until(lambda: ray_started(proc, name), 120, "the first process of the sweep's Ray")
+        assert len(os.listdir(ray_tmpdir)) == 1         # its directory, which is to go
+        proc.send_signal(signum)
+        out, _ = proc.communicate(timeout=60)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 130, out[-3000:]
+    assert "[sweep] %s while Ray was starting: stopping it" % signum.name in out, out[-3000:]
+    assert "[sweep] test_sweep_start_" not in out          # no trial was submitted
+    wait_until(lambda: not processes_of(name), 30, "no process of the sweep left")
+    assert os.listdir(ray_tmpdir) == []
+
+
 def test_the_ray_directory_of_a_sweep_killed_with_sigkill_is_removed_by_the_next(tmp_path, ray_tmpdir,
                                                                                  monkeypatch, capsys):
     """SIGKILL leaves no chance to clean up: the Ray directory stays (and some of Ray's agents, for a
