@@ -22,6 +22,7 @@ next one that makes such a directory there removes it (remove_stale_ray_temp_dir
 keeps its sessions where its nodes were started.
 """
 import contextlib
+import glob
 import os
 import shutil
 import signal
@@ -54,6 +55,8 @@ SHORT_TEMP = "/tmp"          # where Ray's directory goes when the temporary dir
 # in each such directory: "<pid> <start time>" of the process that made it (remove_stale_ray_temp_dirs)
 OWNER_FILE = "modrob_sweep.owner"
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+CRASH_MARK = b" received at time="       # Ray's crash handler: "*** SIGSEGV received at time=... ***"
+CRASH_LOGS = "ray_crash_logs"
 EXIT_INTERRUPTED = 130
 # (path, RAY_TMPDIR before) of the Ray this process started, until shutdown()
 _ray_temp_dirs = []
@@ -264,6 +267,30 @@ def remove_stale_ray_temp_dirs(base):
     return removed
 
 
+def keep_crash_logs(out_root, stream=None):
+    """Copy the logs of the local Ray's processes that crashed (a worker under a trial, the raylet: Ray's
+    crash handler writes "*** SIGSEGV received at time=..." and the stack into the process's .err log)
+    to ``<out_root>/ray_crash_logs/`` and name them on ``stream``: shutdown() removes the session's
+    directory, and a lost trial's row only says that its worker died. Returns the copies' paths."""
+    kept = []
+    for temp_dir, _before in _ray_temp_dirs:
+        for logs in sorted(glob.glob(os.path.join(temp_dir, "session_*", "logs"))):
+            if os.path.islink(os.path.dirname(logs)):          # session_latest, the same session again
+                continue
+            for path in sorted(glob.glob(os.path.join(logs, "*.err"))):
+                try:
+                    with open(path, "rb") as fh:
+                        crashed = CRASH_MARK in fh.read()
+                except OSError:
+                    continue
+                if crashed:
+                    os.makedirs(os.path.join(out_root, CRASH_LOGS), exist_ok=True)
+                    kept.append(shutil.copy(path, os.path.join(out_root, CRASH_LOGS)))
+                    print("[sweep] a Ray process crashed: its log with the stack trace is in %s" % kept[-1],
+                          file=stream or sys.stderr, flush=True)
+    return kept
+
+
 def _remove_ray_temp_dirs():
     while _ray_temp_dirs:
         path, before = _ray_temp_dirs.pop()
@@ -347,6 +374,7 @@ def run(sweep, out_root, address=None, workers=None, progress_stream=None, on_ro
         signal.signal(signal.SIGINT, signal.SIG_IGN)    # a second Ctrl-C must not cut the clean-up short
         try:
             _wait_local_trials(token)
+            keep_crash_logs(out_root, stream)
             shutdown(token)
         finally:
             signal.signal(signal.SIGINT, old_int)

@@ -312,3 +312,41 @@ def test_only_ray_directories_of_ended_processes_are_removed(tmp_path):
     other = ray_dir("other", (ended.pid, ended_start))
     assert sorted(runner.remove_stale_ray_temp_dirs(str(tmp_path))) == sorted([str(stale), str(reused)])
     assert sorted(os.listdir(tmp_path)) == sorted(p.name for p in (mine, foreign, other))
+
+
+CRASHING_DRIVER = """
+import os, signal, sys
+import ray
+from modrob_sweep import runner
+token = sys.argv[2]
+runner.connect(workers=1, token=token)
+
+@ray.remote(max_retries=0)
+def crash():
+    os.kill(os.getpid(), signal.SIGSEGV)
+try:
+    ray.get(crash.remote())
+except ray.exceptions.WorkerCrashedError as exc:
+    print("lost:", type(exc).__name__)
+runner._wait_local_trials(token)
+runner.keep_crash_logs(sys.argv[1], sys.stdout)
+runner.shutdown(token)
+"""
+
+
+def test_a_crashed_ray_worker_leaves_its_stack_trace_in_the_results(tmp_path, ray_tmpdir):
+    """Ray's crash handler is on (it was switched off once, and a worker's segmentation fault then left
+    no trace anywhere): the dead worker's log, with the stack, is kept beside the results."""
+    token = "test_crash_%s" % uuid.uuid4().hex[:8]
+    proc = subprocess.run([sys.executable, "-c", CRASHING_DRIVER, str(tmp_path / "results"), token],
+                          env=dict(os.environ, RAY_TMPDIR=ray_tmpdir), capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-3000:]
+    assert "lost: WorkerCrashedError" in proc.stdout
+    kept = os.listdir(tmp_path / "results" / "ray_crash_logs")
+    assert len(kept) == 1 and kept[0].startswith("worker-") and kept[0].endswith(".err"), kept
+    log = (tmp_path / "results" / "ray_crash_logs" / kept[0]).read_text()
+    assert "*** SIGSEGV received at time=" in log and "in crash" in log, log[-2000:]
+    assert proc.stdout.count("a Ray process crashed: its log with the stack trace is in %s" % (
+        tmp_path / "results" / "ray_crash_logs" / kept[0])) == 1, proc.stdout
+    assert os.listdir(ray_tmpdir) == []
