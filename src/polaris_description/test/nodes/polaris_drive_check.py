@@ -12,7 +12,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 
-from modrob_sim.waits import wait_until
+from modrob_sim.waits import command_publisher, wait_until
 
 
 class PolarisDrive(unittest.TestCase):
@@ -25,12 +25,13 @@ class PolarisDrive(unittest.TestCase):
         rospy.Subscriber("/odom", Odometry, lambda m: odom.__setitem__("m", m))
         rospy.Subscriber("/gazebo/model_states", ModelStates,
                          lambda m: states.append(m))
-        pub = rospy.Publisher("/cmd_vel", Twist, queue_size=1)
         buf = tf2_ros.Buffer(rospy.Duration(60.0))
         self.listener = tf2_ros.TransformListener(buf)
         rospy.wait_for_message("/odom", Odometry, timeout=90)
         # the controllers are up when the joint states arrive
         rospy.wait_for_message("/joint_states", JointState, timeout=90)
+        # connected before the 6 s are counted: a command sent earlier waits for the connection
+        pub = command_publisher("/cmd_vel", Twist, 60)
         x0 = odom["m"].pose.pose.position.x
         t0 = rospy.Time.now()
         cmd = Twist()
@@ -55,11 +56,13 @@ class PolarisDrive(unittest.TestCase):
             self.fail("/odom's pose is none of the model_states poses (%.3g m away)" % gap())
         tr = buf.lookup_transform("odom", "base_link_polaris", o.header.stamp, rospy.Duration(10.0))
         self.assertAlmostEqual(tr.transform.translation.x, o.pose.pose.position.x, delta=0.01)
-        # stale commands stop the vehicle (Ackermann node's timeout)
-        t1 = rospy.Time.now()
-        while rospy.Time.now() - t1 < rospy.Duration(4.0):
-            rospy.sleep(0.05)
-        self.assertLess(abs(odom["m"].twist.twist.linear.x), 0.05)
+        # stale commands stop the vehicle (Ackermann node's timeout): within 4 s of simulated time by
+        # the stamp of the first odometry that says so (waited for in wall time)
+        t1 = rospy.get_time()
+        stopped = wait_until(lambda: odom["m"] if abs(odom["m"].twist.twist.linear.x) < 0.05 else None, 60,
+                             "the vehicle stopped after its last command")
+        self.assertLessEqual(stopped.header.stamp.to_sec() - t1, 4.0, "stopped %.2f s after the last command"
+                             % (stopped.header.stamp.to_sec() - t1))
 
 
 if __name__ == "__main__":
