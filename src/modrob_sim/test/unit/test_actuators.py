@@ -7,7 +7,9 @@ set-points changed mid-run, efforts given with set_effort added before the joint
 continuous joint counting turns; the same for an output that drives the joint's ODE motor's velocity
 (OUT_VELOCITY: gazebo_ros_control's velocity joint) instead of its effort; a FOLLOW_PID's target
 velocity, bias and set-point relative to its own joint; actuators that follow each other step alike
-in either order; bad requests are refused with messages that say what to do."""
+in either order; a SEGMENT_PID actuator's tracking error is what its step computes, alike on both
+backends, and a band on it ends a native stretch exactly at the step whose start leaves it; bad
+requests are refused with messages that say what to do."""
 import math
 import os
 
@@ -549,3 +551,107 @@ def test_bad_follow_requests_say_what_to_do():
     with pytest.raises(ValueError, match="set-point from an EFFORT, POSITION_PID or SEGMENT_PID kind, "
                                          "not FOLLOW_PID"):
         a.output = A.OUT_POSITION
+
+
+def tracking_scenario(native):
+    """SEGMENT_PID actuators (the continuous yaw across +-pi by the short way, the shoulder on an
+    absolute, a relative segment with an offset and a hold, the elbow driving its motor's velocity):
+    before every step the tracking error each reports for that step's start, and after the step
+    what the step computed (its PID's error and error_dot)."""
+    w, m = arm(native)
+    yaw, shoulder, elbow = (m.joints[n] for n in ("yaw", "shoulder", "elbow"))
+    a_yaw = w.add_actuator(yaw, A.SEGMENT_PID, gains=A.PidGains(40.0, 0.0, 2.0), error=A.SHORTEST)
+    a_yaw.set_segment([2.5, 1.5], 0.0, 1.0)           # 2.5 -> 4.0 rad: through +pi
+    a_sh = w.add_actuator(shoulder, A.SEGMENT_PID, gains=A.PidGains(150.0, 10.0, 8.0, 2.0, -2.0))
+    a_sh.set_segment([0.0, 0.4, 0.0, -0.05], 0.0, 2.0, until=0.6)
+    a_el = w.add_actuator(elbow, A.SEGMENT_PID, gains=A.PidGains(8.0, 0.0, 0.1), output=A.OUT_VELOCITY)
+    a_el.max_force = 50.0
+    a_el.set_segment([0.2, -0.5], 0.0, 0.8)
+    acts = (a_yaw, a_sh, a_el)
+    seen = []
+    for k in range(1200):
+        t = w.time
+        if k == 600:
+            a_sh.set_segment([0.1, -0.3, 0.2], 0.0, 0.5, base=t, offset=0.25, rel_until=0.4)
+        if k == 1000:
+            a_sh.hold(-0.4)
+        before = [a.tracking_error(t) for a in acts]
+        w.step(1)
+        after = [(a.last.error, a.last.error_dot) for a in acts]
+        assert before == after, "step %d: the tracking errors differ from what the step computed" % k
+        seen.append((k, before))
+    return w, seen
+
+
+@needs_c
+def test_the_tracking_error_is_what_the_step_computes_alike_on_both_backends_bit_for_bit():
+    assert_backends_alike(tracking_scenario, 1000)
+
+
+def banded(native, band):
+    """The shoulder on a SEGMENT_PID too soft for its segment (its error grows to 0.32 rad, its
+    velocity error to 1.3 rad/s) with ``band`` (position, velocity) watched from the start; a
+    before-hook that is never due records the times at which it runs."""
+    w, m = arm(native)
+    a = w.add_actuator(m.joints["shoulder"], A.SEGMENT_PID, gains=A.PidGains(20.0, 0.0, 1.0))
+    a.set_segment([0.0, 0.0, 3.6, -2.4], 0.0, 1.0)     # from rest to 1.2 rad in 1 s
+    ran = []
+    w.add_step_hook(before=lambda t, dt: ran.append(t), before_due=lambda: math.inf)
+    a.watch_band(*band)
+    return w, a, ran
+
+
+@needs_c
+@pytest.mark.parametrize("band", [(0.05, 0.0), (0.0, 1.2), (0.25, 1.4)])
+def test_a_band_ends_the_native_stretch_at_the_step_whose_start_leaves_it(band):
+    """Stepped one step at a time, the first step whose start state has a tracking error beyond
+    the band; stepped in native stretches, the World stops for its hooks exactly there, and once
+    the band is gone it steps on natively."""
+    ref, a_ref, _ = banded(True, band)
+    first = None
+    for _ in range(1000):
+        e, edot = a_ref.tracking_error(ref.time)
+        if (band[0] > 0.0 and abs(e) > band[0]) or (band[1] > 0.0 and abs(edot) > band[1]):
+            first = ref.time
+            break
+        ref.step(1)
+    assert first is not None and first > 0.02, "the band was never (or at once) left"
+    w, a, ran = banded(True, band)
+    w.step(1000)
+    assert ran and ran[0] == first, (ran[:3], first)
+    assert w.native_steps >= round(first / 0.001), "the steps before it were not native"
+    # the hook would stop it at every step while the error stays out of the band: an owner whose
+    # update runs there takes the band away (or aborts), and the stretches go on
+    w2, a2, ran2 = banded(True, band)
+
+    def owner(t, dt):
+        if a2.band is not None and t >= first:
+            a2.unwatch_band()
+    w2.add_step_hook(before=owner, before_due=lambda: math.inf)
+    w2.step(1000)
+    assert ran2 == [first] and a2.band is None
+    assert w2.native_steps == 999 and w2.state_digest() == w.state_digest()
+
+
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_band_requests_say_what_to_do(native):
+    w, m = arm(native)
+    a = w.add_actuator(m.joints["shoulder"], A.SEGMENT_PID, gains=A.PidGains(20.0))
+    assert a.band is None
+    a.watch_band(0.1, 0.5)
+    assert a.band == (0.1, 0.5)
+    a.watch_band(0.0, 0.0)                          # nothing to check: no band
+    assert a.band is None
+    for bad in ((-0.1, 0.0), (0.1, float("nan")), (float("inf"), 0.0)):
+        with pytest.raises(InputError, match="finite and >= 0"):
+            a.watch_band(*bad)
+    with pytest.raises(InputError, match="must be numbers"):
+        a.watch_band("wide", 0.0)
+    a.watch_band(0.1)
+    a.kind = A.POSITION_PID                         # another owner's kind: the band ends
+    assert a.band is None
+    with pytest.raises(ValueError, match="a band watches a SEGMENT_PID actuator's tracking error; "
+                                         "this one is POSITION_PID"):
+        a.watch_band(0.1)
+    with pytest.raises(ValueError, match="only a SEGMENT_PID actuator has a tracking error"):
+        a.tracking_error(w.time)

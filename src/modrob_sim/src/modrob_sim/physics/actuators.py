@@ -13,7 +13,9 @@ Per step, from the joint's state at the step's start (what a controller's read s
 EFFORT          out = command (held until changed)
 POSITION_PID    out = PID(error(command, q))          error: PLAIN, CLAMPED or SHORTEST
 VELOCITY_PID    out = PID(command - dq)
-SEGMENT_PID     desired (p, v) from the segment; out = PID(error(p, q), v - dq) + ff * v
+SEGMENT_PID     desired (p, v) from the segment; out = PID(e, e_dot) + ff * v with the
+                tracking error (e, e_dot) = :func:`tracking_error`: (p - q or, SHORTEST, the
+                shortest angle from q to p; v - dq)
 MOTOR           ODE joint motor: velocity ramped towards command by at most accel * dt,
                 force at most max_force (a wheel's motor); out = 0
 FOLLOW_PID      set-point multiplier * q_master + offset (``follow``: a joint of the model,
@@ -49,6 +51,13 @@ OUT_POSITION    no PID: the kind's SET-POINT (EFFORT, POSITION_PID: the command;
                 moving with the joint's parent link (the joint's velocity 0); efforts given
                 with set_effort are applied as efforts (joint_limit, FORCE_CAP)
 ==============  ========================================================================
+
+A SEGMENT_PID actuator may watch a band (:meth:`Actuator.watch_band`: a trajectory goal's path
+tolerances): a native stretch ends before a step whose start state has |e| > position tolerance
+or |e_dot| > velocity tolerance, so that the owner's update in Python checks that step (the
+pure-Python backend runs every hook at every step; there the owner checks for itself). Both the
+watch and the owner's check read the error of the one function per backend
+(:func:`tracking_error` here, ``mr_tracking_error`` in C; :meth:`Actuator.tracking_error`).
 
 Model actuators (``World.add_model_actuator``: :class:`ModelActuator`) act on a whole model, before
 the joint actuators of each step: :func:`step_model_python` here, ``mr_apply_model_actuators`` in C.
@@ -203,7 +212,7 @@ class PyRecord(object):
                  "abs_until", "rel_until", "max_force", "accel", "motor_vel", "out_kind", "vel_limit",
                  "bodies", "pos_prev", "watch", "watch_target", "watch_tol", "watch_vel", "watch_timeout",
                  "moved_at", "master", "mult", "follow_offset", "deadband", "has_follow_vel", "follow_vel",
-                 "bias", "master_position", "pid")
+                 "bias", "master_position", "band", "band_pos", "band_vel", "pid")
 
     def __init__(self, kind):
         self.kind = kind
@@ -231,6 +240,8 @@ class PyRecord(object):
         self.has_follow_vel = 0     # FOLLOW_PID: the derivative is follow_vel - dq (else the error's change)
         self.follow_vel = self.bias = 0.0
         self.master_position = 0.0  # FOLLOW_PID: the master's position at the step's start
+        self.band = 0
+        self.band_pos = self.band_vel = 0.0
         self.pid = Pid(PidGains(0.0))
 
 
@@ -241,6 +252,14 @@ def segment_sample(r, t):
     tt = t - r.rel_base if r.traj_kind == RELATIVE else t
     pos, vel, _acc = eval_polynomial(r.coef, segment_time(tt, r.seg_t0, r.seg_t1))
     return (pos + r.offset if r.has_offset else pos), vel
+
+
+def tracking_error(rule, desired, desired_velocity, q, v):
+    """(position error, velocity error) of a joint at (q, v) against the desired (position,
+    velocity): desired - q (SHORTEST: the shortest angle from q to desired) and
+    desired_velocity - v (a SEGMENT_PID's PID input; a trajectory controller's state error)."""
+    e = shortest_angular_distance(q, desired) if rule == SHORTEST else desired - q
+    return e, desired_velocity - v
 
 
 def saturate_position(rule, prev, target, vel_limit, dt, lower, upper):
@@ -347,8 +366,8 @@ def step_python(r, joint, dt, limit):
     elif kind == SEGMENT_PID:
         dpos, dvel = segment_sample(r, t)
         r.set_point, r.desired_velocity = dpos, dvel
-        error = shortest_angular_distance(q, dpos) if r.err_kind == SHORTEST else dpos - q
-        f = pid.compute(error, dt, dvel - v) + r.ff * dvel
+        error, error_dot = tracking_error(r.err_kind, dpos, dvel, q, v)
+        f = pid.compute(error, dt, error_dot) + r.ff * dvel
     elif kind == VELOCITY_PID:
         r.set_point = r.command
         r.desired_velocity = r.command
@@ -450,6 +469,7 @@ class Actuator(object):
         motor = self.drives_motor
         self._kind = kind
         self._r.kind = kind
+        self._r.band = 0
         if self._r.out_kind == OUT_POSITION and kind not in (EFFORT, POSITION_PID, SEGMENT_PID):
             self._r.out_kind = OUT_EFFORT       # a kind without a set-point drives the effort
         if motor and not self.drives_motor:
@@ -574,6 +594,46 @@ class Actuator(object):
         """The last step start (of a native stretch) at which the watched joint moved faster than
         its still velocity."""
         return self._r.moved_at
+
+    def watch_band(self, position, velocity=0.0):
+        """SEGMENT_PID: a native stretch ends before a step whose start state has a tracking error
+        (:meth:`tracking_error`) with |error| > ``position`` or |error_dot| > ``velocity`` (a
+        tolerance of 0 is not checked; both 0: no band), so that the owner's update runs in Python
+        at that step (a trajectory goal's path tolerances, which ros_controllers checks at every
+        update). The pure-Python backend steps every hook at every step: there the owner checks
+        for itself. Switching the kind ends the band."""
+        if self._kind != SEGMENT_PID:
+            raise ValueError("%r: a band watches a SEGMENT_PID actuator's tracking error; this one is %s"
+                             % (self, KIND_NAMES[self._kind]))
+        try:
+            p, v = float(position), float(velocity)
+        except (TypeError, ValueError):
+            raise InputError("%r: watch_band(%r, %r): the tolerances must be numbers"
+                             % (self, position, velocity))
+        if not (p >= 0.0 and v >= 0.0 and math.isfinite(p) and math.isfinite(v)):
+            raise InputError("%r: watch_band(%r, %r): the tolerances must be finite and >= 0 (0: not checked)"
+                             % (self, position, velocity))
+        r = self._r
+        r.band_pos, r.band_vel = p, v
+        r.band = 1 if (p > 0.0 or v > 0.0) else 0
+
+    def unwatch_band(self):
+        self._r.band = 0
+
+    @property
+    def band(self):
+        """(position, velocity) tolerances of the band watched, or None."""
+        r = self._r
+        return (r.band_pos, r.band_vel) if r.band else None
+
+    def tracking_error(self, t):
+        """SEGMENT_PID: (error, error_dot) of the segment's desired state at ``t`` against the
+        joint's state now, computed by the backend as its step at ``t`` computes them (so a
+        controller's check and the band agree to the last bit)."""
+        if self._kind != SEGMENT_PID:
+            raise ValueError("%r: only a SEGMENT_PID actuator has a tracking error; this one is %s"
+                             % (self, KIND_NAMES[self._kind]))
+        return self._be.actuator_tracking_error(self._r, self.joint, float(t))
 
     def hold_position(self):
         """OUT_POSITION: the set-point saturation starts from the joint's position now (a

@@ -52,6 +52,10 @@ only the physics-side interface of Model, Link and Joint (model.py):
     actuator_terms(r), set_actuator_coeffs(r, coeffs)   an actuator's PID and segment
     set_actuator_bodies(r, bodies)  the bodies an OUT_POSITION actuator turns with its joint
     set_actuator_master(r, joint)   the joint a FOLLOW_PID actuator follows (None: none)
+    actuator_tracking_error(r, joint, t) -> (error, error_dot)   a SEGMENT_PID actuator's errors
+                                    at t from the joint's state now, as its step at t computes them
+                                    (the native stretches end before a step at which they leave
+                                    its band: Actuator.watch_band)
 """
 import ctypes
 import math
@@ -123,7 +127,8 @@ class MrActuator(ctypes.Structure):
          ("master_slider", ctypes.c_int)] + \
         [(n, ctypes.c_double) for n in ("mult", "follow_offset", "deadband")] + \
         [("has_follow_vel", ctypes.c_int)] + \
-        [(n, ctypes.c_double) for n in ("follow_vel", "bias", "master_position")]
+        [(n, ctypes.c_double) for n in ("follow_vel", "bias", "master_position")] + \
+        [("band", ctypes.c_int), ("band_pos", ctypes.c_double), ("band_vel", ctypes.c_double)]
 
 
 class MrModelActuator(ctypes.Structure):
@@ -258,6 +263,11 @@ class PureBackend(object):
     @staticmethod
     def set_actuator_master(r, joint):
         r.master = joint
+
+    @staticmethod
+    def actuator_tracking_error(r, joint, t):
+        dpos, dvel = act.segment_sample(r, t)
+        return act.tracking_error(r.err_kind, dpos, dvel, joint.position, joint.velocity)
 
     def set_seed(self, seed):
         self.seed = seed
@@ -739,6 +749,7 @@ class NativeBackend(object):
         self._macts = ()
         self._macts_array = (ctypes.POINTER(MrModelActuator) * 1)()
         self._body_lists = {}               # MrActuator address -> its OUT_POSITION body array
+        self._error_out = (ctypes.c_double * 2)()   # actuator_tracking_error's answer
         self._stretch = _Stretch()
         self._stretch_ref = ctypes.byref(self._stretch)
         self._wake = ctypes.c_int(0)        # World.wake, from any thread; mr_run_steps reads it
@@ -851,6 +862,11 @@ class NativeBackend(object):
         r.ncoef = len(coeffs)
         for k, c in enumerate(coeffs):
             r.coef[k] = c
+
+    def actuator_tracking_error(self, r, joint, t):
+        out = self._error_out
+        self.nat.mr_actuator_tracking_error(ctypes.byref(r), t, out)
+        return out[0], out[1]
 
     def set_actuator_bodies(self, r, bodies):
         arr = (ctypes.c_void_p * max(1, len(bodies)))(*[odelib.raw_pointer(b) for b in bodies])

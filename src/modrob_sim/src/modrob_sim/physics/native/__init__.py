@@ -121,6 +121,7 @@ def _declare(lib):
         "mr_geom_aabb": (None, [vp, vp]),
         "mr_max_depth": (d, [vp, vp]),
         "mr_apply_actuators": (None, [vp, i, d, d, i, i]),
+        "mr_actuator_tracking_error": (None, [vp, d, vp]),
         "mr_track_turns": (None, [vp, i]),
         "mr_apply_model_actuators": (None, [vp, i]),
         "mr_watch_new": (i, [vp]),

@@ -1202,6 +1202,11 @@ typedef struct {
     double mult, follow_offset, deadband;
     int has_follow_vel;
     double follow_vel, bias, master_position;
+    /* a band (Actuator.watch_band: a trajectory goal's path tolerances), SEGMENT_PID: a native
+     * stretch ends before a step whose start state has a tracking error (mr_tracking_error) with
+     * |error| > band_pos (when band_pos > 0) or |error_dot| > band_vel (when band_vel > 0) */
+    int band;
+    double band_pos, band_vel;
 } MrActuator;
 
 #define MR_TWO_PI 6.283185307179586
@@ -1282,6 +1287,17 @@ static void mr_segment_sample(const MrActuator *j, double t, double *pos, double
     *vel = v;
 }
 
+/* actuators.tracking_error of a SEGMENT_PID actuator at t for the joint at (q, v): the segment's
+ * desired (position, velocity) and the errors desired - q (err_kind 2: the shortest angle from q)
+ * and desired velocity - v */
+static void mr_tracking_error(const MrActuator *j, double t, double q, double v, double *dpos, double *dvel,
+                              double *error, double *error_dot)
+{
+    mr_segment_sample(j, t, dpos, dvel);
+    *error = j->err_kind == 2 ? mr_shortest_angle(q, *dpos) : *dpos - q;
+    *error_dot = *dvel - v;
+}
+
 /* actuators.saturate_position */
 static double mr_saturate_position(int rule, double prev, double target, double vel_limit, double dt,
                                    double lower, double upper)
@@ -1357,6 +1373,20 @@ static inline double mr_joint_position(dJointID joint, int slider, const MrTurn 
     return dJointGetHingeAngle(joint) + (turn ? MR_TWO_PI * (double)turn->turns : 0.0);
 }
 
+static inline double mr_joint_velocity(dJointID joint, int slider)
+{
+    return slider ? dJointGetSliderPositionRate(joint) : dJointGetHingeAngleRate(joint);
+}
+
+/* Actuator.tracking_error: out[0] the position error, out[1] the velocity error of a SEGMENT_PID
+ * actuator at t from its joint's state now (what its step at t would compute) */
+void mr_actuator_tracking_error(const MrActuator *j, double t, double *out)
+{
+    double dpos, dvel;
+    mr_tracking_error(j, t, mr_joint_position(j->joint, j->slider, j->turn), mr_joint_velocity(j->joint, j->slider),
+                      &dpos, &dvel, &out[0], &out[1]);
+}
+
 static void mr_set_param(dJointID j, int slider, int param, double v)
 {
     if (slider) dJointSetSliderParam(j, param, v);
@@ -1394,7 +1424,7 @@ void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param
         MrActuator *j = acts[k];
         j->t = t;
         j->position = mr_joint_position(j->joint, j->slider, j->turn);
-        j->velocity = j->slider ? dJointGetSliderPositionRate(j->joint) : dJointGetHingeAngleRate(j->joint);
+        j->velocity = mr_joint_velocity(j->joint, j->slider);
         if (j->kind == 5 && j->master)
             j->master_position = mr_joint_position(j->master, j->master_slider, j->master_turn);
     }
@@ -1428,12 +1458,11 @@ void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param
             else error = target - q;
             f = mr_pid(j, error, dt);
         } else if (j->kind == 2) {
-            double dpos, dvel, error;
-            mr_segment_sample(j, t, &dpos, &dvel);
+            double dpos, dvel, error, error_dot;
+            mr_tracking_error(j, t, q, v, &dpos, &dvel, &error, &error_dot);
             j->set_point = dpos;
             j->desired_velocity = dvel;
-            error = j->err_kind == 2 ? mr_shortest_angle(q, dpos) : dpos - q;
-            f = mr_pid_dot(j, error, dvel - v, dt) + j->ff * dvel;
+            f = mr_pid_dot(j, error, error_dot, dt) + j->ff * dvel;
         } else if (j->kind == 3) {
             j->set_point = j->command;
             j->desired_velocity = j->command;
@@ -1551,8 +1580,8 @@ void mr_apply_model_actuators(MrModelActuator **acts, int n)
  * the observer (a C function the World was given, e.g. gazebo_ros's /clock: physics knows nothing
  * of it). A step the guard must look at (a flagged step, a snapshot step) ends the stretch
  * (`guard` = 1: the World's Python guard runs for it); so does a step whose after-hooks are due
- * (`after` = 1), the end of a segment actuator's piece (before its step), an actuator's watch that
- * fires (before its step: mr_stretch_watches) and a wake-up (`*wake`, set by World.wake from any
+ * (`after` = 1), the end of a segment actuator's piece (before its step), an actuator's watch or
+ * band that fires (before its step: mr_stretch_watches) and a wake-up (`*wake`, set by World.wake from any
  * thread). */
 
 /* a mimic joint (Joint.drive_mimic) and its master; positions as Joint.position */
@@ -1681,17 +1710,27 @@ static int mr_stretch_pieces_end(const MrStretch *b, double t)
     return 0;
 }
 
-/* 1 when a watched actuator's check is due for a step starting at t (Actuator.watch; the checks
- * in GripperActionController's update, in its order); notes the steps at which the joint moves */
+/* 1 when a watched actuator's check is due for a step starting at t: a watch (Actuator.watch; the
+ * checks in GripperActionController's update, in its order; notes the steps at which the joint
+ * moves) or a band the tracking error leaves (Actuator.watch_band: the path tolerances of
+ * JointTrajectoryController's update) */
 static int mr_stretch_watches(MrStretch *b, double t)
 {
     int k;
     for (k = 0; k < b->nacts; ++k) {
         MrActuator *j = b->acts[k];
         double q, v;
-        if (!j->watch) continue;
+        int band = j->band && j->kind == 2;
+        if (!j->watch && !band) continue;
         q = mr_joint_position(j->joint, j->slider, j->turn);
-        v = j->slider ? dJointGetSliderPositionRate(j->joint) : dJointGetHingeAngleRate(j->joint);
+        v = mr_joint_velocity(j->joint, j->slider);
+        if (band) {
+            double dpos, dvel, e, edot;
+            mr_tracking_error(j, t, q, v, &dpos, &dvel, &e, &edot);
+            if ((j->band_pos > 0.0 && fabs(e) > j->band_pos) || (j->band_vel > 0.0 && fabs(edot) > j->band_vel))
+                return 1;
+        }
+        if (!j->watch) continue;
         if (fabs(j->watch_target - q) < j->watch_tol) return 1;
         if (fabs(v) > j->watch_vel) j->moved_at = t;
         else if (t - j->moved_at > j->watch_timeout) return 1;
