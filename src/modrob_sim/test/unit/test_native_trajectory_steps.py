@@ -2,10 +2,14 @@
 through the C loop's batches between its due updates (segment ends, state and feedback samples,
 goals): the steps, actuator internals, goal outcomes, state and feedback samples are those of
 updating at every step bit for bit, through goals of every spline order (linear, cubic, quintic),
-a continuous joint taking the short way, a partial goal, a goal with path tolerances (every update
-in Python), a preemption, a cancel that decelerates over stop_trajectory_duration and goals past
-their end (their goal checks in Python); and most steps do run in the batches. Also:
-Trajectory.piece describes sample() exactly over the times it claims."""
+a continuous joint taking the short way, a partial goal, a goal with path tolerances, a preemption,
+a cancel that decelerates over stop_trajectory_duration and goals past their end (their goal checks
+in Python); and most steps do run in the batches. A goal's path tolerances are watched by the
+actuators (bands on their tracking errors): a goal that exceeds one part of the way is aborted at
+the step of an update at every step (the effort, velocity and position types, both backends, and
+against the controller's own checks and PIDs in Python), one that keeps them stops the World as
+often as a goal without them. Also: Trajectory.piece describes sample() exactly over the times it
+claims."""
 import collections
 import math
 import os
@@ -36,7 +40,7 @@ class Rig(ControlRig):
     does where the joints cannot take its actuators (and the hardware sets position joints
     itself)."""
 
-    def __init__(self, fast, gripper=False, velocity=False, python_pids=False, position=False):
+    def __init__(self, fast, gripper=False, velocity=False, python_pids=False, position=False, native=None):
         iface = "VelocityJointInterface" if velocity else "EffortJointInterface"
         if position:
             iface = "PositionJointInterface"
@@ -48,7 +52,7 @@ class Rig(ControlRig):
             xml = xml.replace("</robot>", GRIPPER + "</robot>")
         else:
             xml = xml.replace('name="yaw" type="revolute"', 'name="yaw" type="continuous"')
-        super(Rig, self).__init__(xml)
+        super(Rig, self).__init__(xml, native=native)
         self.joint_state_controller(publish_rate=50)
         gains = {"yaw": {"p": 80.0, "i": 30.0, "d": 4.0, "i_clamp": 5.0, "antiwindup": True},
                  "shoulder": {"p": 200.0, "i": 50.0, "d": 10.0, "i_clamp": 8.0},
@@ -251,17 +255,94 @@ def test_position_trajectory_actuators_set_the_joints_as_the_hardware_did():
     assert abs(python.yaw_after_wrap - fast.yaw_after_wrap) < 1e-6
 
 
+#: per controller family: the path tolerances (joint: (position, velocity)) that a slow goal of 1 s
+#: exceeds part of the way (yaw's largest tracking error, 0.15 s in: effort 0.0114 rad, velocity
+#: 0.00042 rad; the position family's joints are set kinematically, at rest relative to their
+#: parents at each step's start: yaw's velocity error up to 1.2 rad/s half way), and tolerances it
+#: keeps (the shoulder's 0.020 rad under gravity with the effort type's gains included)
+PATH_TOLERANCES = {
+    "effort": ({"yaw": (0.008, 0.0)}, {j: (0.05, 0.5) for j in JOINTS}),
+    "velocity": ({"yaw": (0.0003, 0.0)}, {j: (0.01, 0.1) for j in JOINTS}),
+    "position": ({"yaw": (0.0, 1.0)}, {j: (0.01, 2.0) for j in JOINTS}),
+}
+
+
+def _tolerances(by_joint):
+    return [types.SimpleNamespace(name=j, position=p, velocity=v) for j, (p, v) in by_joint.items()]
+
+
+def run_path_goals(fast, family, native=None, python_pids=False, tolerances=True):
+    """A slow goal of 1 s that exceeds its path tolerances part of the way (aborted), then one back
+    that keeps them (succeeded); ``tolerances`` False: the same goals without path tolerances."""
+    rig = Rig(fast, velocity=family == "velocity", position=family == "position", native=native,
+              python_pids=python_pids)
+    exceeded, kept = PATH_TOLERANCES[family] if tolerances else ({}, {})
+    rig.goal_steps = None
+    for chunk in range(280):
+        if chunk == 30:
+            rig.inbox.append(("goal", (JOINTS, [TrajectoryPoint([0.8, -0.6, 0.9], [0.0] * 3, None, 1.0)],
+                                       dict(goal_id="exceeded", path_tolerance=_tolerances(exceeded)))))
+        if chunk == 150:
+            rig.inbox.append(("goal", (JOINTS, [TrajectoryPoint([-0.4, 0.3, -0.2], [0.0] * 3, None, 1.0)],
+                                       dict(goal_id="kept", path_tolerance=_tolerances(kept)))))
+            stops0 = rig.world.stops
+        if chunk == 250:        # the kept goal's second s: its trajectory (1 s) and the settling
+            rig.goal_stops = rig.world.stops - stops0
+        rig.step(10)
+    return rig
+
+
+@pytest.mark.parametrize("family", ["effort", "velocity", "position"])
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_path_tolerances_abort_at_the_step_of_an_update_at_every_step_bit_for_bit(family, native):
+    """The joints' actuators watch the goal's path tolerances as bands (Actuator.watch_band): the
+    World ends its native stretch at the step at which one is exceeded, where the update in Python
+    aborts the goal with PATH_TOLERANCE_VIOLATED, as the check at every update does (the
+    pure-Python backend updates at every step: its controller's check reads the actuators' errors
+    there too)."""
+    ref, fast = run_path_goals(False, family, native), run_path_goals(True, family, native)
+    assert fast.world.native is native
+    assert len(ref.log) == len(fast.log) > 100
+    for a, b in zip(ref.log, fast.log):
+        assert a == b
+    assert ref.snapshot() == fast.snapshot()
+    events = [e[1:] for e in fast.log if e[0] == "event"]
+    assert [e[1:4] for e in events] == [("exceeded", "aborted", -4), ("kept", "succeeded", 0)], events
+    # exceeded part of the way (0.057 - 0.086 s after the goal's arrival at 0.3 s, between the state
+    # samples), not at its arrival nor at the trajectory's end
+    assert 0.31 < events[0][0] < 1.3, events[0]
+    assert "path tolerance violated: joint '%s'" % list(PATH_TOLERANCES[family][0])[0] in events[0][4]
+    if native:
+        # the kept goal's second: the Python updates are a hold's (the state and joint_states samples
+        # at 25 and 50 Hz, with the feedback) and the piece's end, not the 1000 of a check at every step
+        assert fast.goal_stops < 100, fast.goal_stops
+
+
 @needs_c
-def test_a_goal_with_path_tolerances_runs_every_update_in_python():
-    rig = Rig(True)
-    rig.inbox.append(("goal", (JOINTS, _points(3, 0.3, n=8), dict(
-        goal_id="g", path_tolerance=[types.SimpleNamespace(name="yaw", position=3.0, velocity=0.0)]))))
-    rig.step(300)
-    assert rig.world.native_steps == 0 and rig.jtc.goal is not None
-    rig.step(700)               # the goal succeeds after 0.48 s of motion and some settling
-    done = [e for e in rig.log if e[0] == "event"]
-    assert rig.jtc.goal is None and done and done[-1][3] == "succeeded"
-    assert rig.world.native_steps > 0.9 * (1000 - 1000 * done[-1][1])
+@pytest.mark.parametrize("family", ["effort", "velocity"])
+def test_path_tolerance_bands_equal_the_controllers_python_checks_bit_for_bit(family):
+    """The same goals checked by the controller in Python at every update, with its own error rule
+    on the trajectory's sample and its PIDs in Python (no actuators, no bands): the same steps, the
+    same outcomes at the same steps, the same messages."""
+    python, fast = run_path_goals(False, family, python_pids=True), run_path_goals(True, family)
+    assert python.jtc.acts == [] and python.world.native_steps == 0    # the hardware's actuators only
+    assert len(fast.jtc.acts) == 3
+    assert len(python.log) == len(fast.log) > 100
+    for a, b in zip(python.log, fast.log):
+        assert a == b
+    assert python.world.state_digest() == fast.world.state_digest()
+
+
+@needs_c
+def test_a_goal_with_path_tolerances_stops_the_world_as_one_without():
+    """With its path tolerances watched by the actuators a goal makes the World stop for Python as
+    often as the same goal without path tolerances (the state and feedback samples, joint_states,
+    the pieces' ends), where a check at every update stopped it at every step."""
+    banded = run_path_goals(True, "effort")
+    free = run_path_goals(True, "effort", tolerances=False)
+    assert [e[3] for e in free.log if e[0] == "event"] == ["succeeded", "succeeded"]
+    assert banded.goal_stops <= free.goal_stops + 1 and banded.goal_stops < 100, (
+        banded.goal_stops, free.goal_stops)
 
 
 @needs_c

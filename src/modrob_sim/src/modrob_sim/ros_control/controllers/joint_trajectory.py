@@ -69,6 +69,8 @@ class ActiveGoal(object):
     def __init__(self, goal_id, path, goal, goal_time):
         self.goal_id, self.path, self.goal, self.goal_time = goal_id, path, goal, goal_time
         self.end_time = None
+        #: a path tolerance of some joint is checked (> 0)
+        self.checks_path = any(tol.position > 0.0 or tol.velocity > 0.0 for tol in path)
 
 
 def _merge(default, override):
@@ -129,12 +131,22 @@ class JointTrajectoryControllerBase(Controller):
     def _actual(self):
         return [j.position for j in self.joints], [j.velocity for j in self.joints]
 
-    def _errors(self, desired_pos, desired_vel):
+    @staticmethod
+    def _error_rule(joint):
+        """The position error of ``joint`` (ros_controllers': the shortest angle on a continuous
+        joint): an actuators rule."""
+        return actuators.SHORTEST if joint.type == "continuous" else actuators.PLAIN
+
+    def _errors(self, t, desired_pos, desired_vel):
+        """(position errors, velocity errors) at ``t``: the joints' actuators' tracking errors (what
+        their step at ``t`` computes, and what their band watches), else the same rule here."""
+        if self.acts:
+            errors = [a.tracking_error(t) for a in self.acts]
+            return [e[0] for e in errors], [e[1] for e in errors]
         pos, vel = self._actual()
-        ep = []
-        for j, d, a in zip(self.joints, desired_pos, pos):
-            ep.append(angles.shortest_angular_distance(a, d) if j.type == "continuous" else d - a)
-        return ep, [d - a for d, a in zip(desired_vel, vel)]
+        errors = [actuators.tracking_error(self._error_rule(j), d, dv, q, v)
+                  for j, d, dv, q, v in zip(self.joints, desired_pos, desired_vel, pos, vel)]
+        return [e[0] for e in errors], [e[1] for e in errors]
 
     def _current_desired(self, t):
         if self.trajectory is None:
@@ -334,10 +346,15 @@ class JointTrajectoryControllerBase(Controller):
             self._hold(t)
         dpos, dvel, dacc = self.trajectory.sample(t)
         self._desired = (dpos, dvel, dacc)
-        epos, evel = self._errors(dpos, dvel)
-        self._write(dpos, dvel, epos, evel, dt)
+        if self.acts:           # the piece that holds at t first: the errors are the actuators'
+            self._write_actuators()
+            epos, evel = self._errors(t, dpos, dvel)
+        else:
+            epos, evel = self._errors(t, dpos, dvel)
+            self._write(dpos, dvel, epos, evel, dt)
         if self.goal is not None:
             self._check_goal(t, epos, evel)
+        self._watch_path(t)
         self._samples(t, dpos, dvel, dacc, epos, evel)
 
     def _samples_due_from(self):
@@ -348,17 +365,36 @@ class JointTrajectoryControllerBase(Controller):
         return due
 
     def _goal_due(self, t):
-        """The time from which an update has the goal to check: at every update while it has
-        path tolerances, from the trajectory's end on (until its outcome), else never."""
+        """The time from which an update has the goal to check: from the trajectory's end on
+        (until its outcome); before it, for path tolerances, at every update unless the joints'
+        actuators watch them (_watch_path: then at the step at which one is exceeded, where the
+        World ends its native stretch), else never."""
         g = self.goal
         if g is None:
             return INF
         if t >= g.end_time:
             return t
-        for tol in g.path:
-            if tol.position > 0.0 or tol.velocity > 0.0:
-                return t
+        if g.checks_path and self._path_watched is not g:
+            return t
         return g.end_time
+
+    #: the goal whose path tolerances the joints' actuators watch (None: none)
+    _path_watched = None
+
+    def _watch_path(self, t):
+        """The active goal's path tolerances to the joints' actuators as bands while they apply
+        (a goal before its trajectory's end, with path tolerances), else no bands."""
+        g = self.goal
+        if not (self.acts and g is not None and g.checks_path and t < g.end_time):
+            g = None
+        if g is self._path_watched:
+            return
+        for k, a in enumerate(self.acts):
+            if g is None:
+                a.unwatch_band()
+            else:
+                a.watch_band(g.path[k].position, g.path[k].velocity)
+        self._path_watched = g
 
     def _state_due(self, t):
         return self._next_state is None or t >= self._next_state - 1e-9
@@ -439,7 +475,12 @@ class JointTrajectoryControllerBase(Controller):
         self._hold(t)
 
     def _write(self, dpos, dvel, epos, evel, dt):
+        """The joints' commands from the desired state and the errors (no actuators)."""
         raise NotImplementedError
+
+    def _write_actuators(self):
+        """The joints' actuators: the piece of the trajectory that holds now."""
+        self._place_piece(self._now)
 
     # -- the joints' actuators: the piece of the trajectory that holds, at every step ------------
     #: what the joints' actuators drive (actuators.OUT_*): the trajectory's pieces are placed in
@@ -453,22 +494,25 @@ class JointTrajectoryControllerBase(Controller):
         (``acts`` empty: the controller writes the joints' commands at every update)."""
         self.acts = []
         self._piece = None
+        self._path_watched = None
         if not all(j.can_drive(self.OUTPUT) for j in self.joints):
             return
         for k, j in enumerate(self.joints):
-            rule = actuators.SHORTEST if j.type == "continuous" else actuators.PLAIN
-            a = j.actuate(actuators.SEGMENT_PID, None if gains is None else gains[k], rule, owner=self,
-                          output=self.OUTPUT)
+            a = j.actuate(actuators.SEGMENT_PID, None if gains is None else gains[k], self._error_rule(j),
+                          owner=self, output=self.OUTPUT)
+            a.unwatch_band()
             a.hold(j.position)          # until the first update places the trajectory
             self.acts.append(a)
 
     def _release_joints(self):
         for j, a in zip(self.joints, self.acts):
             if j.owner is self:
+                a.unwatch_band()
                 if j.interface == self.INTERFACE:   # the hardware keeps the last command
                     j.command = a.last.output
                 j.release()
         self.acts = []
+        self._path_watched = None
 
     def _place_piece(self, t):
         """The piece of the trajectory that holds at ``t`` into the actuators, unless it is there."""
@@ -517,9 +561,6 @@ class PositionJointTrajectoryController(JointTrajectoryControllerBase):
         self._release_joints()
 
     def _write(self, dpos, dvel, epos, evel, dt):
-        if self.acts:
-            self._place_piece(self._now)
-            return
         for j, p in zip(self.joints, dpos):
             j.command = p
 
@@ -563,14 +604,14 @@ class _ClosedLoopTrajectoryController(JointTrajectoryControllerBase):
         self._release_joints()
 
     def _write(self, dpos, dvel, epos, evel, dt):
-        if not self.acts:
-            for j, pid, ff, ep, ev, v in zip(self.joints, self.pids, self.velocity_ff, epos, evel, dvel):
-                j.command = pid.compute(ep, dt, ev) + ff * v
-            return
+        for j, pid, ff, ep, ev, v in zip(self.joints, self.pids, self.velocity_ff, epos, evel, dvel):
+            j.command = pid.compute(ep, dt, ev) + ff * v
+
+    def _write_actuators(self):
         for k, (a, pid) in enumerate(zip(self.acts, self.pids)):
             if pid.gains is not self._gains[k]:
                 self._gains[k] = a.gains = pid.gains
-        self._place_piece(self._now)
+        super(_ClosedLoopTrajectoryController, self)._write_actuators()
 
     def update_due(self, t, iteration, dt):
         if not self.acts:
