@@ -8,8 +8,10 @@ continuous joint counting turns; the same for an output that drives the joint's 
 (OUT_VELOCITY: gazebo_ros_control's velocity joint) instead of its effort; a FOLLOW_PID's target
 velocity, bias and set-point relative to its own joint; actuators that follow each other step alike
 in either order; a SEGMENT_PID actuator's tracking error is what its step computes, alike on both
-backends, and a band on it ends a native stretch exactly at the step whose start leaves it; bad
-requests are refused with messages that say what to do."""
+backends, and a band on it ends a native stretch exactly at the step whose start leaves it; pieces
+queued behind a SEGMENT_PID actuator's own take over as an owner placing them one at a time would
+place them, and a stretch ends only where the last ends; bad requests are refused with messages
+that say what to do."""
 import math
 import os
 
@@ -586,6 +588,98 @@ def tracking_scenario(native):
 @needs_c
 def test_the_tracking_error_is_what_the_step_computes_alike_on_both_backends_bit_for_bit():
     assert_backends_alike(tracking_scenario, 1000)
+
+
+SHOULDER_PIECES = [A.segment_piece([0.0, 0.4, 0.0, -0.05], 0.0, 2.0, until=0.3),
+                   A.segment_piece([0.1, -0.3, 0.2], 0.0, 0.5, base=0.3, offset=0.25, until=0.9,
+                                   rel_until=0.4),
+                   A.segment_piece([0.0, 0.5], 0.7, 0.75, until=0.7),     # never holds: passed over
+                   A.segment_piece([0.35, -0.4, 0.3], 0.7, 1.0, until=1.0),
+                   A.hold_piece(-0.4)]
+YAW_PIECES = [A.segment_piece([2.5 + 0.3 * k, 1.5], 0.2 * k, 0.2 * (k + 1), until=0.2 * (k + 1))
+              for k in range(6)] + [A.hold_piece(4.3)]
+
+
+def _holds(p, t):
+    return t < p[7] and t - p[5] < p[8]
+
+
+def queued_scenario(native, queued=True):
+    """The shoulder and the continuous yaw (across +-pi) on pieces that follow each other (absolute,
+    relative with an offset, one that never holds, a hold): queued at once (set_pieces) or, as an
+    owner placed them before there was a queue, one at a time by a before-hook due at each one's
+    end. What was seen every 10 steps: the joints, the PIDs and their last steps, the tracking
+    errors for the next step."""
+    w, m = arm(native)
+    yaw, shoulder = m.joints["yaw"], m.joints["shoulder"]
+    a_sh = w.add_actuator(shoulder, A.SEGMENT_PID, gains=A.PidGains(150.0, 10.0, 8.0, 2.0, -2.0))
+    a_yaw = w.add_actuator(yaw, A.SEGMENT_PID, gains=A.PidGains(40.0, 0.0, 2.0), error=A.SHORTEST)
+    a_sh.feedforward = 0.3
+    plan = [(a_sh, SHOULDER_PIECES), (a_yaw, YAW_PIECES)]
+    if queued:
+        for a, pieces in plan:
+            a.set_pieces(pieces)
+    else:
+        placed = {}
+
+        def place(t, dt):
+            for a, pieces in plan:
+                k = next(i for i, p in enumerate(pieces) if _holds(p, t))
+                if placed.get(a) != k:
+                    a.set_pieces([pieces[k]])
+                    placed[a] = k
+
+        def due():
+            return min(a.segment_ends() for a, _ in plan) - 0.0005
+        place(w.time, w.time_step)
+        w.add_step_hook(before=place, before_due=due)
+    seen = []
+    for k in range(130):
+        w.step(10)
+        seen.append((k, [(j.position, j.velocity) for j in (yaw, shoulder)],
+                     [(a.pid_state(), a.last) for a in (a_sh, a_yaw)],
+                     # what the next step will compute (an owner placing pieces has not yet)
+                     [a.tracking_error(w.time) for a in (a_sh, a_yaw)] if queued else None))
+    return w, seen
+
+
+@needs_c
+def test_queued_pieces_follow_each_other_as_placed_one_at_a_time_on_both_backends_bit_for_bit():
+    assert_backends_alike(queued_scenario, 100)
+    queued, by_hook = queued_scenario(True), queued_scenario(True, queued=False)
+    assert [x[:3] for x in queued[1]] == [x[:3] for x in by_hook[1]]
+    assert queued[0].state_digest() == by_hook[0].state_digest()
+    # without an owner, in one native stretch to the end: the last piece is a hold
+    assert queued[0].native_steps == 1300 and by_hook[0].native_steps == 1300 - 9    # 9 ends, a stop at each
+
+
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_a_stretch_ends_where_the_last_queued_piece_does(native):
+    """Pieces ending at 0.25 s: the World stops for Python there (its before-hook runs at the
+    first step the pieces do not hold for); a new kind or set_segment leaves nothing queued."""
+    w, m = arm(native)
+    a = w.add_actuator(m.joints["yaw"], A.SEGMENT_PID, gains=A.PidGains(40.0, 0.0, 2.0))
+    a.set_pieces(YAW_PIECES[:1] + [A.segment_piece([2.8, 1.5], 0.2, 0.25, until=0.25)])
+    assert a.segment_ends() == 0.25
+    ran = []
+    w.add_step_hook(before=lambda t, dt: ran.append(t), before_due=lambda: math.inf)
+    w.step(400)
+    if native:
+        assert ran and abs(ran[0] - 0.25) < 1e-9 and w.native_steps >= 250, (ran[:2], w.native_steps)
+    a.set_pieces(YAW_PIECES)
+    a.set_segment([1.0], 0.0, 1.0)             # nothing queued now: the yaw holds 1.0 past 1.2 s
+    w.step(1200)
+    assert abs(a.last.set_point - 1.0) < 1e-12
+    a.set_pieces(YAW_PIECES)
+    a.kind = A.POSITION_PID
+    a.kind = A.SEGMENT_PID
+    assert a.segment_ends() == math.inf
+    with pytest.raises(ValueError, match="at least one piece"):
+        a.set_pieces([])
+    with pytest.raises(ValueError, match="at most 33 pieces at once"):
+        a.set_pieces([A.hold_piece(0.0)] * 34)
+    with pytest.raises(ValueError, match="1 to 6 coefficients"):
+        A.segment_piece([0.0] * 7, 0.0, 1.0)
 
 
 def banded(native, band):

@@ -8,8 +8,9 @@ in Python); and most steps do run in the batches. A goal's path tolerances are w
 actuators (bands on their tracking errors): a goal that exceeds one part of the way is aborted at
 the step of an update at every step (the effort, velocity and position types, both backends, and
 against the controller's own checks and PIDs in Python), one that keeps them stops the World as
-often as a goal without them. Also: Trajectory.piece describes sample() exactly over the times it
-claims."""
+often as a goal without them; a motion of many short segments needs no more updates than a hold
+(the pieces queued in the actuators take over in turn). Also: Trajectory.piece describes sample()
+exactly over the times it claims, and the pieces that follow it, taken in turn, are piece(t)."""
 import collections
 import math
 import os
@@ -22,7 +23,7 @@ from modrob_sim.gazebo_ros.testing import ControlRig
 from modrob_sim.physics import native as native_mod
 from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
 from modrob_sim.ros_control.manager import STRICT
-from modrob_sim.ros_control.trajectory import ABSOLUTE, HOLD, RELATIVE, PreparedTrajectory, State
+from modrob_sim.ros_control.trajectory import ABSOLUTE, HOLD, RELATIVE, PreparedTrajectory, State, Trajectory
 
 physics = pytest.importorskip("modrob_sim.physics")
 FIX = os.path.join(os.path.dirname(__file__), "..", "fixtures", "control")
@@ -346,10 +347,11 @@ def test_a_goal_with_path_tolerances_stops_the_world_as_one_without():
 
 
 @needs_c
-def test_a_motion_needs_few_more_python_updates_than_a_hold():
-    # the action feedback comes with a state sample (joint_trajectory._samples): during a motion
-    # the updates in Python are those of a hold (the state samples, joint_states) plus about one
-    # per trajectory segment (its end: the next is placed in the actuators)
+def test_a_motion_needs_no_more_python_updates_than_a_hold():
+    # the action feedback comes with a state sample (joint_trajectory._samples), and the pieces of
+    # the trajectory (a point every 10 ms here, as a planner's) are queued in the actuators, which
+    # take them in turn: during a motion the updates in Python are those of a hold (the state
+    # samples, joint_states), not one more per segment
     rig = Rig(True)
     rig.step(30)
 
@@ -359,14 +361,33 @@ def test_a_motion_needs_few_more_python_updates_than_a_hold():
             rig.step(10)
         return (rig.world.iterations - n0) - (rig.world.native_steps - s0)
     hold = python_updates(400)
-    rig.inbox.append(("goal", (JOINTS, _points(3, 0.4, n=8), dict(goal_id="g"))))
+    rig.inbox.append(("goal", (JOINTS, _points(3, 0.4, n=45, dt=0.01), dict(goal_id="g"))))
     rig.step(10)                # the goal's arrival: one step in Python
     motion = python_updates(400)
     assert rig.jtc.goal is not None
     assert sum(1 for e in rig.log if e[0] == "feedback") >= 4
-    segments = 8
-    assert hold <= 30 and motion <= hold + 2 * segments, (
-        "%d updates in Python in a motion, %d while holding" % (motion, hold))
+    assert hold <= 30 and motion <= hold + 2, (
+        "%d updates in Python in a motion of 45 segments, %d while holding" % (motion, hold))
+
+
+def _pieces_in_turn(traj, t0, times):
+    """What the actuators make of ``traj.pieces(t0, n)``: at each step start the first piece that
+    holds (actuators.piece_at), checked against traj.piece(t) there."""
+    pieces = traj.pieces(t0, 12)
+
+    def holds(p, t):
+        return t < p.abs_until and t - p.base < p.rel_until
+    k = 0
+    for t in times:
+        if t < t0:
+            continue
+        while k + 1 < len(pieces) and not holds(pieces[k], t):
+            k += 1
+        if not holds(pieces[k], t):
+            return
+        want, got = traj.piece(t), pieces[k]
+        assert (got.kind, got.segment, got.base, got.offsets, got.abs_until, got.rel_until) == \
+            (want.kind, want.segment, want.base, want.offsets, want.abs_until, want.rel_until), (t0, t)
 
 
 def _check_pieces(traj, times):
@@ -399,6 +420,13 @@ def test_a_piece_samples_as_the_trajectory_does_for_as_long_as_it_claims():
             prep = PreparedTrajectory([0.0] + pts, states)
             placed = prep.activate(0.75, 0.8, State([0.1, 0.2], [0.0, 0.1]), offsets)
             _check_pieces(placed, times)
+            for t0 in times[::37]:
+                _pieces_in_turn(placed, t0, times)
+            plain = Trajectory(0.8, State([0.1, 0.2], [0.0, 0.1]),
+                               [(0.8 + p, st) for p, st in zip(pts, states)])
+            _check_pieces(plain, times)
+            for t0 in times[::37]:
+                _pieces_in_turn(plain, t0, times)
 
 
 @needs_c

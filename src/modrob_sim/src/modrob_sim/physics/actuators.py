@@ -52,6 +52,11 @@ OUT_POSITION    no PID: the kind's SET-POINT (EFFORT, POSITION_PID: the command;
                 with set_effort are applied as efforts (joint_limit, FORCE_CAP)
 ==============  ========================================================================
 
+A SEGMENT_PID actuator's piece (a segment valid for steps starting before its end, or a hold) may
+have up to MAX_QUEUE pieces queued behind it (:meth:`Actuator.set_pieces`): the next takes over at
+the first step whose start the one before no longer holds for (:func:`piece_at`, in Python and C
+steps alike), so that a trajectory's pieces follow each other without their owner.
+
 A SEGMENT_PID actuator may watch a band (:meth:`Actuator.watch_band`: a trajectory goal's path
 tolerances): a native stretch ends before a step whose start state has |e| > position tolerance
 or |e_dot| > velocity tolerance, so that the owner's update in Python checks that step (the
@@ -101,6 +106,8 @@ PLAIN, CLAMPED, SHORTEST = 0, 1, 2
 #: segment kinds: polynomial in absolute time, in time relative to ``base``, holding a position
 ABSOLUTE, RELATIVE, HOLD = 0, 1, 2
 MAX_COEFFS = 6
+#: the pieces a SEGMENT_PID actuator queues behind its own (Actuator.queue_pieces; the C loop's MR_QUEUE)
+MAX_QUEUE = 32
 INF = float("inf")
 
 #: model actuator kinds (World.add_model_actuator; numbered apart from the joint kinds)
@@ -212,7 +219,7 @@ class PyRecord(object):
                  "abs_until", "rel_until", "max_force", "accel", "motor_vel", "out_kind", "vel_limit",
                  "bodies", "pos_prev", "watch", "watch_target", "watch_tol", "watch_vel", "watch_timeout",
                  "moved_at", "master", "mult", "follow_offset", "deadband", "has_follow_vel", "follow_vel",
-                 "bias", "master_position", "band", "band_pos", "band_vel", "pid")
+                 "bias", "master_position", "band", "band_pos", "band_vel", "queue", "qnext", "pid")
 
     def __init__(self, kind):
         self.kind = kind
@@ -242,7 +249,47 @@ class PyRecord(object):
         self.master_position = 0.0  # FOLLOW_PID: the master's position at the step's start
         self.band = 0
         self.band_pos = self.band_vel = 0.0
+        self.queue = []             # SEGMENT_PID: the pieces queued behind its own (piece_at)
+        self.qnext = 0
         self.pid = Pid(PidGains(0.0))
+
+
+def segment_piece(coeffs, t0, t1, base=None, offset=None, until=INF, rel_until=INF):
+    """A SEGMENT_PID piece (Actuator.set_segment's arguments; a record's fields of the same
+    names: traj_kind, coef, has_offset, seg_t0, seg_t1, rel_base, offset, abs_until, rel_until)."""
+    n = len(coeffs)
+    if not 1 <= n <= MAX_COEFFS:
+        raise ValueError("a segment has 1 to %d coefficients, got %d" % (MAX_COEFFS, n))
+    return (ABSOLUTE if base is None else RELATIVE, [float(c) for c in coeffs], 0 if offset is None else 1,
+            float(t0), float(t1), 0.0 if base is None else float(base),
+            0.0 if offset is None else float(offset), float(until), float(rel_until))
+
+
+def hold_piece(position, until=INF):
+    """A SEGMENT_PID piece that holds ``position`` (velocity 0) for steps starting before ``until``."""
+    return (HOLD, [float(position)], 0, 0.0, 0.0, 0.0, 0.0, float(until), INF)
+
+
+def piece_holds(r, t):
+    """Whether the record's piece holds for a step starting at ``t`` (trajectory.Piece's tests)."""
+    return t < r.abs_until and t - r.rel_base < r.rel_until
+
+
+def piece_at(r, t):
+    """The queued pieces of the SEGMENT_PID record ``r`` take over, in order, while its piece does
+    not hold for a step starting at ``t`` (the C loop's mr_piece_at)."""
+    queue = r.queue
+    while r.qnext < len(queue) and not piece_holds(r, t):
+        r.coef = list(put_piece(r, queue[r.qnext]))
+        r.qnext += 1
+
+
+def put_piece(r, piece):
+    """The record's piece := ``piece`` (segment_piece, hold_piece), but for its coefficients, which
+    are returned (the backend's record keeps them its own way)."""
+    (r.traj_kind, coef, r.has_offset, r.seg_t0, r.seg_t1, r.rel_base, r.offset, r.abs_until,
+     r.rel_until) = piece
+    return coef
 
 
 def segment_sample(r, t):
@@ -333,6 +380,8 @@ def read_python(r, joint, t):
     """The state the actuator ``r`` (a PyRecord) works from in the step that starts at ``t``: its
     joint's position and velocity, a FOLLOW_PID's master's position."""
     r.t, r.position, r.velocity = t, joint.position, joint.velocity
+    if r.kind == SEGMENT_PID:
+        piece_at(r, t)
     if r.kind == FOLLOW_PID and r.master is not None:
         r.master_position = r.master.position
 
@@ -470,6 +519,8 @@ class Actuator(object):
         self._kind = kind
         self._r.kind = kind
         self._r.band = 0
+        self._be.set_actuator_queue(self._r, ())
+        self._pieces_end = INF
         if self._r.out_kind == OUT_POSITION and kind not in (EFFORT, POSITION_PID, SEGMENT_PID):
             self._r.out_kind = OUT_EFFORT       # a kind without a set-point drives the effort
         if motor and not self.drives_motor:
@@ -685,41 +736,38 @@ class Actuator(object):
         """SEGMENT_PID: the desired state from now on is the polynomial ``coeffs`` on [t0, t1] in
         absolute time (``base`` None) or in time relative to ``base``, plus ``offset`` (None: no
         offset); valid for steps starting at t < ``until`` with t - base < ``rel_until`` (then the
-        World steps in Python, and the owner places the next segment)."""
-        r = self._r
-        n = len(coeffs)
-        if not 1 <= n <= MAX_COEFFS:
-            raise ValueError("a segment has 1 to %d coefficients, got %d" % (MAX_COEFFS, n))
-        r.traj_kind = ABSOLUTE if base is None else RELATIVE
-        self._set_coef(coeffs)
-        r.seg_t0, r.seg_t1 = float(t0), float(t1)
-        r.rel_base = 0.0 if base is None else float(base)
-        r.has_offset = 0 if offset is None else 1
-        r.offset = 0.0 if offset is None else float(offset)
-        r.abs_until, r.rel_until = float(until), float(rel_until)
+        next piece queued takes over, or without one the World steps in Python, and the owner
+        places the next segment). Nothing stays queued."""
+        self.set_pieces([segment_piece(coeffs, t0, t1, base, offset, until, rel_until)])
 
     def hold(self, position, until=INF):
-        """SEGMENT_PID: desired position ``position``, velocity 0."""
-        r = self._r
-        r.traj_kind = HOLD
-        self._set_coef([position])
-        r.has_offset = 0
-        r.offset = 0.0
-        r.rel_base = 0.0
-        r.abs_until, r.rel_until = float(until), INF
+        """SEGMENT_PID: desired position ``position``, velocity 0; nothing stays queued."""
+        self.set_pieces([hold_piece(position, until)])
 
-    def _set_coef(self, coeffs):
-        self._be.set_actuator_coeffs(self._r, coeffs)
+    def set_pieces(self, pieces):
+        """SEGMENT_PID: the desired state from now on is the first of ``pieces`` (segment_piece,
+        hold_piece), and the others follow it in order, at most MAX_QUEUE of them: at the first
+        step whose start the actuator's piece no longer holds for, the next one that does takes
+        over (natively and in Python steps alike, :func:`piece_at`), so that a trajectory's pieces
+        follow each other without their owner; a native stretch ends before a step that the last
+        one no longer holds for."""
+        if not pieces:
+            raise ValueError("%r: set_pieces needs at least one piece" % self)
+        if len(pieces) > MAX_QUEUE + 1:
+            raise ValueError("%r: at most %d pieces at once (one and %d queued), got %d"
+                             % (self, MAX_QUEUE + 1, MAX_QUEUE, len(pieces)))
+        r = self._r
+        self._be.set_actuator_coeffs(r, put_piece(r, pieces[0]))
+        self._be.set_actuator_queue(r, pieces[1:])
+        last = pieces[-1]
+        self._pieces_end = min(last[7], last[5] + last[8]) if last[0] == RELATIVE else last[7]
+
+    _pieces_end = INF
 
     def segment_ends(self):
-        """The time from which the segment no longer holds (SEGMENT_PID; else inf)."""
-        if self._kind != SEGMENT_PID:
-            return INF
-        r = self._r
-        end = r.abs_until
-        if r.traj_kind == RELATIVE and r.rel_until < INF:
-            end = min(end, r.rel_base + r.rel_until)
-        return end
+        """The time from which the last piece set (set_pieces) no longer holds, about (SEGMENT_PID;
+        else inf; a relative piece's end in absolute time, rounded)."""
+        return self._pieces_end if self._kind == SEGMENT_PID else INF
 
     @property
     def gains(self):

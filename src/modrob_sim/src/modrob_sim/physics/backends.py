@@ -50,6 +50,8 @@ only the physics-side interface of Model, Link and Joint (model.py):
     apply_model_actuators(actuators)     every model actuator, before the joint actuators
     actuator_gains(r), set_actuator_gains(r, g), reset_actuator_pid(r), actuator_pid_state(r),
     actuator_terms(r), set_actuator_coeffs(r, coeffs)   an actuator's PID and segment
+    set_actuator_queue(r, pieces)   the pieces queued behind a SEGMENT_PID actuator's own
+                                    (actuators.Actuator.queue_pieces: the records' tuples)
     set_actuator_bodies(r, bodies)  the bodies an OUT_POSITION actuator turns with its joint
     set_actuator_master(r, joint)   the joint a FOLLOW_PID actuator follows (None: none)
     actuator_tracking_error(r, joint, t) -> (error, error_dot)   a SEGMENT_PID actuator's errors
@@ -63,6 +65,7 @@ from collections import OrderedDict
 
 import ode
 
+from ..errors import SimulationError
 from . import actuators as act
 from . import meshes as meshlib
 from . import native as native_mod
@@ -104,6 +107,14 @@ class MrTurn(ctypes.Structure):
     _fields_ = [("joint", ctypes.c_void_p), ("last_raw", ctypes.c_double), ("turns", ctypes.c_longlong)]
 
 
+class MrPiece(ctypes.Structure):
+    """native/modrob_ode_native.c's MrPiece: a trajectory piece queued behind a SEGMENT_PID
+    actuator's own (Actuator.queue_pieces; the actuator's fields of the same names)."""
+    _fields_ = [("traj_kind", ctypes.c_int), ("ncoef", ctypes.c_int), ("has_offset", ctypes.c_int),
+                ("coef", ctypes.c_double * act.MAX_COEFFS)] + \
+        [(n, ctypes.c_double) for n in ("seg_t0", "seg_t1", "rel_base", "offset", "abs_until", "rel_until")]
+
+
 class MrActuator(ctypes.Structure):
     """native/modrob_ode_native.c's MrActuator: one actuator's data (actuators.PyRecord's fields
     and its PID's, flat)."""
@@ -128,7 +139,8 @@ class MrActuator(ctypes.Structure):
         [(n, ctypes.c_double) for n in ("mult", "follow_offset", "deadband")] + \
         [("has_follow_vel", ctypes.c_int)] + \
         [(n, ctypes.c_double) for n in ("follow_vel", "bias", "master_position")] + \
-        [("band", ctypes.c_int), ("band_pos", ctypes.c_double), ("band_vel", ctypes.c_double)]
+        [("band", ctypes.c_int), ("band_pos", ctypes.c_double), ("band_vel", ctypes.c_double),
+         ("nqueue", ctypes.c_int), ("qnext", ctypes.c_int), ("queue", MrPiece * act.MAX_QUEUE)]
 
 
 class MrModelActuator(ctypes.Structure):
@@ -265,7 +277,13 @@ class PureBackend(object):
         r.master = joint
 
     @staticmethod
+    def set_actuator_queue(r, pieces):
+        r.queue = list(pieces)
+        r.qnext = 0
+
+    @staticmethod
     def actuator_tracking_error(r, joint, t):
+        act.piece_at(r, t)
         dpos, dvel = act.segment_sample(r, t)
         return act.tracking_error(r.err_kind, dpos, dvel, joint.position, joint.velocity)
 
@@ -729,6 +747,11 @@ class NativeBackend(object):
         self.nat = nat
         self.p = parts
         self._run = _declare_run(nat)
+        if ctypes.sizeof(MrActuator) != nat.mr_actuator_size():
+            raise SimulationError(
+                "%s's MrActuator is %d bytes, its ctypes mirror backends.MrActuator %d: the two declarations "
+                "differ (a field added to one only); make them the same, then `make build`"
+                % (getattr(nat, "_name", "the C library"), nat.mr_actuator_size(), ctypes.sizeof(MrActuator)))
         self._contact_vals = nat.mr_contact_vals()
         self.ctx = nat.mr_ctx_new(odelib.raw_pointer(parts.ode_world), parts.static_space._id(),
                                   parts.dyn_space._id())
@@ -862,6 +885,17 @@ class NativeBackend(object):
         r.ncoef = len(coeffs)
         for k, c in enumerate(coeffs):
             r.coef[k] = c
+
+    @staticmethod
+    def set_actuator_queue(r, pieces):
+        n = len(pieces)
+        if n:
+            coefs = ctypes.c_double * act.MAX_COEFFS
+            made = (MrPiece * n)(*[MrPiece(kind, len(coef), has_off, coefs(*coef), *times)
+                                   for kind, coef, has_off, *times in pieces])
+            ctypes.memmove(r.queue, made, ctypes.sizeof(made))
+        r.nqueue = n
+        r.qnext = 0
 
     def actuator_tracking_error(self, r, joint, t):
         out = self._error_out

@@ -105,10 +105,20 @@ class Trajectory(object):
 
     def piece(self, t):
         """The Piece of sample() from ``t`` on."""
+        return self.pieces(t, 1)[0]
+
+    def pieces(self, t, n):
+        """The Piece of sample() from ``t`` on and those that follow it, at most ``n`` in all: the
+        segments in turn, then the final hold (a piece that does not hold for a step start where
+        the one before ends is passed over as sample() passes over it)."""
+        hold = Piece(HOLD, positions=self.final.positions)
         if not self.segments or t >= self.end_time:
-            return Piece(HOLD, positions=self.final.positions)
-        seg = self.segments[min(bisect.bisect_right(self._ends, t), len(self.segments) - 1)]
-        return Piece(ABSOLUTE, seg, abs_until=seg.t1)
+            return [hold]
+        i = min(bisect.bisect_right(self._ends, t), len(self.segments) - 1)
+        out = [Piece(ABSOLUTE, seg, abs_until=seg.t1) for seg in self.segments[i:i + n]]
+        if len(out) < n:
+            out.append(hold)
+        return out
 
 
 class PreparedTrajectory(object):
@@ -180,15 +190,28 @@ class _PlacedTrajectory(object):
 
     def piece(self, t):
         """The Piece of sample() from ``t`` on."""
+        return self.pieces(t, 1)[0]
+
+    def pieces(self, t, n):
+        """As Trajectory.pieces: the first segment, the prepared ones, then the final hold."""
+        hold = Piece(HOLD, positions=self.final.positions)
         if t >= self.end_time:
-            return Piece(HOLD, positions=self.final.positions)
+            return [hold]
+        out = []
+        nseg = len(self._segments)
         if t < self._first.t1:
-            return Piece(ABSOLUTE, self._first, abs_until=min(self._first.t1, self.end_time))
-        rel = t - self._start
-        n = len(self._segments)
-        i = min(max(bisect.bisect_right(self._times, rel, self._k) - 1, self._k), n - 1)
-        return Piece(RELATIVE, self._segments[i], self._start, self._off, abs_until=self.end_time,
-                     rel_until=self._times[i + 1] if i + 1 < n else INF)
+            out.append(Piece(ABSOLUTE, self._first, abs_until=min(self._first.t1, self.end_time)))
+            i = self._k
+        else:
+            rel = t - self._start
+            i = min(max(bisect.bisect_right(self._times, rel, self._k) - 1, self._k), nseg - 1)
+        while len(out) < n and i < nseg:
+            out.append(Piece(RELATIVE, self._segments[i], self._start, self._off, abs_until=self.end_time,
+                             rel_until=self._times[i + 1] if i + 1 < nseg else INF))
+            i += 1
+        if len(out) < n:
+            out.append(hold)
+        return out
 
 
 def hold_trajectory(t, positions, velocities=None, stop_duration=0.0):

@@ -122,6 +122,7 @@ def _declare(lib):
         "mr_max_depth": (d, [vp, vp]),
         "mr_apply_actuators": (None, [vp, i, d, d, i, i]),
         "mr_actuator_tracking_error": (None, [vp, d, vp]),
+        "mr_actuator_size": (ctypes.c_size_t, []),
         "mr_track_turns": (None, [vp, i]),
         "mr_apply_model_actuators": (None, [vp, i]),
         "mr_watch_new": (i, [vp]),

@@ -1158,6 +1158,15 @@ typedef struct {
     long long turns;
 } MrTurn;
 
+/* a piece of a trajectory queued behind a SEGMENT_PID actuator's own (Actuator.queue_pieces): its
+ * fields as the actuator's of the same names */
+#define MR_QUEUE 32      /* actuators.MAX_QUEUE */
+typedef struct {
+    int traj_kind, ncoef, has_offset;
+    double coef[6];
+    double seg_t0, seg_t1, rel_base, offset, abs_until, rel_until;
+} MrPiece;
+
 typedef struct {
     dJointID joint;
     MrTurn *turn;        /* the joint's turn count (its position = raw angle + 2 pi turns), or NULL */
@@ -1207,7 +1216,14 @@ typedef struct {
      * |error| > band_pos (when band_pos > 0) or |error_dot| > band_vel (when band_vel > 0) */
     int band;
     double band_pos, band_vel;
+    /* SEGMENT_PID: the pieces that follow its own, queue[qnext] .. queue[nqueue - 1]; the first takes
+     * over at the first step whose start the actuator's piece no longer holds for (mr_piece_at) */
+    int nqueue, qnext;
+    MrPiece queue[MR_QUEUE];
 } MrActuator;
+
+/* sizeof(MrActuator): the ctypes mirror (backends.MrActuator) is checked against it */
+size_t mr_actuator_size(void) { return sizeof(MrActuator); }
 
 #define MR_TWO_PI 6.283185307179586
 
@@ -1263,6 +1279,25 @@ static double mr_pid_dot(MrActuator *j, double error, double error_dot, double d
     if (dt <= 0.0 || !isfinite(error)) return 0.0;
     if (!isfinite(error_dot)) return 0.0;
     return mr_pid_terms(j, error, error_dot, dt);
+}
+
+/* actuators.piece_at: the queued pieces take over, in order, while the actuator's piece does not
+ * hold for a step starting at t (t >= abs_until or t - rel_base >= rel_until: Piece's tests) */
+static void mr_piece_at(MrActuator *j, double t)
+{
+    while (j->qnext < j->nqueue && (t >= j->abs_until || t - j->rel_base >= j->rel_until)) {
+        const MrPiece *p = &j->queue[j->qnext++];
+        j->traj_kind = p->traj_kind;
+        j->ncoef = p->ncoef;
+        j->has_offset = p->has_offset;
+        memcpy(j->coef, p->coef, sizeof j->coef);
+        j->seg_t0 = p->seg_t0;
+        j->seg_t1 = p->seg_t1;
+        j->rel_base = p->rel_base;
+        j->offset = p->offset;
+        j->abs_until = p->abs_until;
+        j->rel_until = p->rel_until;
+    }
 }
 
 /* actuators.segment_sample: eval_polynomial's sums of ck * s ** k in the same order at
@@ -1380,9 +1415,10 @@ static inline double mr_joint_velocity(dJointID joint, int slider)
 
 /* Actuator.tracking_error: out[0] the position error, out[1] the velocity error of a SEGMENT_PID
  * actuator at t from its joint's state now (what its step at t would compute) */
-void mr_actuator_tracking_error(const MrActuator *j, double t, double *out)
+void mr_actuator_tracking_error(MrActuator *j, double t, double *out)
 {
     double dpos, dvel;
+    mr_piece_at(j, t);
     mr_tracking_error(j, t, mr_joint_position(j->joint, j->slider, j->turn), mr_joint_velocity(j->joint, j->slider),
                       &dpos, &dvel, &out[0], &out[1]);
 }
@@ -1423,6 +1459,7 @@ void mr_apply_actuators(MrActuator **acts, int n, double t, double dt, int param
     for (k = 0; k < n; ++k) {
         MrActuator *j = acts[k];
         j->t = t;
+        if (j->kind == 2) mr_piece_at(j, t);
         j->position = mr_joint_position(j->joint, j->slider, j->turn);
         j->velocity = mr_joint_velocity(j->joint, j->slider);
         if (j->kind == 5 && j->master)
@@ -1699,13 +1736,16 @@ static void mr_stretch_mimics_and_soft_limits(MrStretch *b)
     }
 }
 
-/* 1 when a segment actuator's piece does not hold for a step starting at t */
+/* 1 when a segment actuator's piece, and every piece queued behind it, do not hold for a step
+ * starting at t */
 static int mr_stretch_pieces_end(const MrStretch *b, double t)
 {
     int k;
     for (k = 0; k < b->nacts; ++k) {
-        const MrActuator *j = b->acts[k];
-        if (j->kind == 2 && (t >= j->abs_until || t - j->rel_base >= j->rel_until)) return 1;
+        MrActuator *j = b->acts[k];
+        if (j->kind != 2) continue;
+        mr_piece_at(j, t);
+        if (t >= j->abs_until || t - j->rel_base >= j->rel_until) return 1;
     }
     return 0;
 }
@@ -1726,6 +1766,7 @@ static int mr_stretch_watches(MrStretch *b, double t)
         v = mr_joint_velocity(j->joint, j->slider);
         if (band) {
             double dpos, dvel, e, edot;
+            mr_piece_at(j, t);
             mr_tracking_error(j, t, q, v, &dpos, &dvel, &e, &edot);
             if ((j->band_pos > 0.0 && fabs(e) > j->band_pos) || (j->band_vel > 0.0 && fabs(edot) > j->band_vel))
                 return 1;

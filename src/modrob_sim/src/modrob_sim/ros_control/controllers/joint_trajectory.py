@@ -487,13 +487,16 @@ class JointTrajectoryControllerBase(Controller):
     #: them (SEGMENT_PID) where every joint can take that output (JointResource.can_drive)
     OUTPUT = actuators.OUT_EFFORT
     acts = ()
-    _piece = None       # (trajectory, Piece, time) placed in the actuators
+    #: the pieces placed at once: the one that holds and those queued behind it, which take over in
+    #: turn without an update (Actuator.set_pieces)
+    PIECES = actuators.MAX_QUEUE + 1
+    _placed = None      # (trajectory, time, [Piece]) placed in the actuators
 
     def _take_joints(self, gains):
         """The joints' actuators (SEGMENT_PID with OUTPUT; ``gains`` per joint or None), or none
         (``acts`` empty: the controller writes the joints' commands at every update)."""
         self.acts = []
-        self._piece = None
+        self._placed = None
         self._path_watched = None
         if not all(j.can_drive(self.OUTPUT) for j in self.joints):
             return
@@ -515,34 +518,53 @@ class JointTrajectoryControllerBase(Controller):
         self._path_watched = None
 
     def _place_piece(self, t):
-        """The piece of the trajectory that holds at ``t`` into the actuators, unless it is there."""
-        last = self._piece
-        if last is not None and last[0] is self.trajectory and t >= last[2] and t < last[1].abs_until and \
-                t - last[1].base < last[1].rel_until:
-            return
-        piece = self.trajectory.piece(t)
-        self._piece = (self.trajectory, piece, t)
-        seg, off = piece.segment, piece.offsets
+        """The piece of the trajectory that holds at ``t`` and those after it into the actuators,
+        unless the pieces placed hold it with more than half of them still to come (or end in the
+        final hold): an update at a state sample tops the queue up before it runs dry."""
+        placed = self._placed
+        if placed is not None and placed[0] is self.trajectory and t >= placed[1]:
+            pieces = placed[2]
+            k = _holding(pieces, t)
+            if k is not None and (len(pieces) - k > self.PIECES // 2 or pieces[-1].kind == HOLD):
+                return
+        pieces = self.trajectory.pieces(t, self.PIECES)
+        self._placed = (self.trajectory, t, pieces)
         for k, a in enumerate(self.acts):
-            if piece.kind == HOLD:
-                a.hold(piece.positions[k])
-            elif piece.kind == ABSOLUTE:
-                a.set_segment(seg.coeffs[k], seg.t0, seg.t1, until=piece.abs_until)
-            else:
-                a.set_segment(seg.coeffs[k], seg.t0, seg.t1, base=piece.base,
-                              offset=None if off is None else off[k], until=piece.abs_until,
-                              rel_until=piece.rel_until)
+            a.set_pieces([_actuator_piece(p, k) for p in pieces])
 
     def _piece_due(self, t, dt):
-        """The next update the actuated controller needs: the placed piece's end, a state sample
-        or feedback, a goal check (t: now, when no piece is placed)."""
-        if self.trajectory is None or self._piece is None or self._piece[0] is not self.trajectory:
+        """The next update the actuated controller needs: the end of the last piece placed, a state
+        sample or feedback, a goal check (t: now, when no piece is placed)."""
+        placed = self._placed
+        if self.trajectory is None or placed is None or placed[0] is not self.trajectory:
             return t
-        piece = self._piece[1]
-        ends = min(piece.abs_until, piece.base + piece.rel_until if piece.rel_until < INF else INF)
+        last = placed[2][-1]
+        ends = min(last.abs_until, last.base + last.rel_until if last.rel_until < INF else INF)
         # a step starting at or after `ends` needs the next piece; the float comparisons of the
         # piece's own test decide exactly, so the update is asked for half a step early
         return min(ends - 0.5 * dt, self._samples_due_from(), self._goal_due(t))
+
+
+def _holding(pieces, t):
+    """The index of the first of ``pieces`` that holds for a step starting at ``t`` (the actuators
+    pass over the others: actuators.piece_at), or None."""
+    for k, p in enumerate(pieces):
+        if t < p.abs_until and t - p.base < p.rel_until:
+            return k
+    return None
+
+
+def _actuator_piece(piece, k):
+    """Joint ``k``'s actuator piece of the trajectory's ``piece``."""
+    if piece.kind == HOLD:
+        return actuators.hold_piece(piece.positions[k])
+    seg = piece.segment
+    if piece.kind == ABSOLUTE:
+        return actuators.segment_piece(seg.coeffs[k], seg.t0, seg.t1, until=piece.abs_until)
+    off = piece.offsets
+    return actuators.segment_piece(seg.coeffs[k], seg.t0, seg.t1, base=piece.base,
+                                   offset=None if off is None else off[k], until=piece.abs_until,
+                                   rel_until=piece.rel_until)
 
 
 class PositionJointTrajectoryController(JointTrajectoryControllerBase):
