@@ -135,11 +135,14 @@ class FollowJointTrajectory(unittest.TestCase):
                                lambda m: stamps.append(m.header.stamp.to_sec()), queue_size=100)
         wait_until(lambda: len(stamps) >= 8, 30, "8 status arrays")
         before = list(stamps)
-        # the first is the latched one; goal transitions (the previous test's cancel) add their own
+        # the first is the latched one; goal transitions (the previous test's cancel) add their own.
+        # The timer's thread wakes when the simulation loop has set the node's time past its next
+        # period, which on a loaded machine, at real_time_factor 0, may be tens of ms of simulated
+        # time late (stamps 0.24, 0.13, 0.26 s apart): its schedule is kept, so the stamps are
+        # 0.2 s apart in the middle and none a period late
         gaps = [b - a for a, b in zip(before[1:], before[2:])]
-        periodic = [g for g in gaps if abs(g - 0.2) < 0.05]
-        self.assertGreaterEqual(len(periodic), 4, "status stamps %s" % before)
         self.assertAlmostEqual(sorted(gaps)[len(gaps) // 2], 0.2, delta=0.05, msg="status stamps %s" % before)
+        self.assertLess(max(gaps), 0.35, "status stamps %s" % before)
         reset = rospy.ServiceProxy("/gazebo/reset_simulation", Empty)
         reset.wait_for_service(30)
         reset()
