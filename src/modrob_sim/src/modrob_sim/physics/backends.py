@@ -210,6 +210,8 @@ class PureBackend(object):
         self.feedback = []    # their feedback after the step: (f1, t1, f2, t2) as contact_log
         self.made = []        # (contact, body1, body2, whole depth) of this step's contact joints
         self.capped = False   # a contact of this step had its correction capped at maxVel
+        self.anchors = {}     # the contacts' anchors by pair (_anchor): the last step's, matched now
+        self._anchors_next = {}
         self.watches = {}     # contact watch handle -> (its infos, {(info, other info): steps} seen)
         self.watched = {}     # geom -> the seen dicts of the watches that hold it
         self._next_watch = 0
@@ -297,7 +299,7 @@ class PureBackend(object):
         pass
 
     def forget_model(self, entry):
-        pass
+        self.forget_anchors()   # they hold its geoms
 
     def remove_geom(self, geom):
         if self.watches:
@@ -363,11 +365,16 @@ class PureBackend(object):
     def drop_snapshot(self):
         pass
 
+    def forget_anchors(self):
+        """The contacts' anchors go (the bodies were put elsewhere)."""
+        self.anchors, self._anchors_next = {}, {}
+
     def close(self):
         # the last step's contacts and the watches hold bodies, geoms and contact joints: not past
         # the World's end
         self.contact_log, self.made, self.joints, self.feedback = [], [], [], []
         self.watches, self.watched = {}, {}
+        self.forget_anchors()
 
     def make_mesh_geom(self, mesh, dynamic, what):
         warn_once(self.p.warned, "mesh-as-box", "%s: triangle meshes collide as their bounding boxes on "
@@ -391,6 +398,7 @@ class PureBackend(object):
         self.joints = []
         self.made = []
         self.capped = False
+        self.anchors, self._anchors_next = self._anchors_next, {}
         self._collide(world)
         seed0 = self.seed
         odelib.set_seed(seed0)
@@ -630,12 +638,65 @@ class PureBackend(object):
             c.setSoftCFM(pp.cfm)
             if f is not None:
                 c.setFDir1(f)
+            if pp.fdir_side == 0:
+                self._anchor(g1, g2, b1, b2, c, pos, normal, mode, pp.erp, w.dt)
             j = ode.ContactJoint(world, group, c)
             j.attach(b1, b2)
             j.setFeedback(True)
             self.made.append((c, b1, b2, whole))
             self.contact_log.append((i1, i2, pos, normal, depth))
             self.joints.append(j)
+
+    def _anchor(self, g1, g2, b1, b2, c, pos, n, mode, erp, dt):
+        """Static friction anchors, the C loop's mr_anchor (the same rule; the reason is there): a
+        contact takes the last step's anchor of the same pair whose points are nearest to it
+        (both within ANCHOR_RADIUS of it across the contact plane, and of each other), and its
+        first friction row, along the gap, asks for the velocity that closes it in one step at its
+        ERP; without one it is anchored where it is."""
+        r2 = ANCHOR_RADIUS * ANCHOR_RADIUS
+        best, found = r2, None
+        last = self.anchors.get((g1, g2))
+        if last is None:
+            last = [(a2, a1) for a1, a2 in self.anchors.get((g2, g1), ())]
+        for a1, a2 in last:
+            w1, w2 = _to_world(b1, a1), _to_world(b2, a2)
+            t1, t2 = _across2(w1, pos, n), _across2(w2, pos, n)
+            if t1 < best and t2 < best and _across2(w1, w2, n) < r2:
+                best, found = max(t1, t2), (a1, a2)
+        mine = self._anchors_next.setdefault((g1, g2), [])
+        if found is None:
+            mine.append((_to_body(b1, pos), _to_body(b2, pos)))
+            return
+        mine.append(found)
+        w1, w2 = _to_world(b1, found[0]), _to_world(b2, found[1])
+        sgn = 1.0 if b1 is not None else -1.0   # ODE's body 0 (b2 when b1 is static)
+        e = [sgn * (x - y) for x, y in zip(w1, w2)]
+        en = e[0] * n[0] + e[1] * n[1] + e[2] * n[2]
+        e = [x - en * y for x, y in zip(e, n)]
+        length = math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+        if not length > 1e-12:
+            return
+        c.setFDir1((e[0] / length, e[1] / length, e[2] / length))
+        c.setMode(mode | ode.ContactFDir1 | ode.ContactMotion1)
+        c.setMotion1(-erp * length / dt)
+
+
+ANCHOR_RADIUS = 1e-3   # m: the C loop's MR_ANCHOR_RADIUS
+
+
+def _to_body(b, p):
+    return tuple(p) if b is None else b.getPosRelPoint(p)
+
+
+def _to_world(b, a):
+    return tuple(a) if b is None else b.getRelPointPos(a)
+
+
+def _across2(a, b, n):
+    """The squared distance of two points across the plane of normal ``n``."""
+    d = (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+    dn = d[0] * n[0] + d[1] * n[1] + d[2] * n[2]
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - dn * dn
 
 
 def _friction_dir(g, b1, b2, pos, n):
@@ -1144,6 +1205,11 @@ class NativeBackend(object):
 
     def drop_snapshot(self):
         self._stretch.snap_iter = -1
+
+    def forget_anchors(self):
+        """The contacts' anchors go (the bodies were put elsewhere)."""
+        if self.ctx is not None:
+            self.nat.mr_anchors_forget(self.ctx)
 
     def snapshot_readers(self):
         snap, turns = self._snap, self._snap_turns

@@ -1152,6 +1152,7 @@ class World(object):
         entry = self._p.entries[model]
         state = entry.snapshot_state or entry.spawn_state
         model.restore_state(state, zero_velocity=True)
+        self._backend.forget_anchors()
         if not model.state_finite():
             state = entry.spawn_state
             model.restore_state(state, zero_velocity=True)
@@ -1300,6 +1301,7 @@ class World(object):
         for name in list(self._frozen):
             self.unfreeze(name)
         self._backend.drop_snapshot()       # of the time before: reset() may have sent time back
+        self._backend.forget_anchors()      # where the contacts held: the bodies are elsewhere now
         self.reset_count += 1
         self._watches = [(w, m) for w, m in self._watches if not w.closed]
         for w, _m in self._watches:

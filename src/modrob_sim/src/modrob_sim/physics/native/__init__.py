@@ -106,6 +106,7 @@ def _declare(lib):
         "mr_step": (i, [vp, d, d, d, d, d, i]),
         "mr_step_checked": (i, [vp, d, d, d, d, d, i, i, vp, i, d, d, ctypes.POINTER(ctypes.c_int)]),
         "mr_set_seed": (None, [vp, ul]),
+        "mr_anchors_forget": (None, [vp]),
         "mr_get_seed": (ul, [vp]),
         "mr_max_model_contacts": (i, [vp, ctypes.POINTER(ctypes.c_int)]),
         "mr_check_bodies": (i, [vp, i, i, d, d]),

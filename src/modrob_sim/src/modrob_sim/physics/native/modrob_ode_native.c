@@ -71,6 +71,13 @@ typedef struct {
     int nseen, capseen;
 } MrContactWatch;
 
+/* a sticking contact's anchor (mr_anchor): the point of each side (body frame; world frame on a
+ * static side) where the contact was when it began */
+typedef struct {
+    dGeomID g1, g2;
+    double a1[3], a2[3];
+} MrAnchor;
+
 typedef struct {
     dTriMeshDataID data;
     double *verts;
@@ -122,6 +129,13 @@ typedef struct {
     /* the contact watches (slots; a freed one is reused) */
     MrContactWatch *watches;
     int nwatches, capwatches;
+    /* the contacts' anchors: the last step's (matched by this step's contacts) and this step's */
+    MrAnchor *anc_prev, *anc_cur;
+    int nanc_prev, nanc_cur, capanc_prev, capanc_cur;
+    /* the last step's anchors by pair (a pair's anchors are consecutive): open addressing on the
+     * pair, each slot the index of the pair's first anchor + 1 (0 = empty) */
+    int *anc_slots;
+    size_t capanc_slots;
     dContactGeom gen[MR_MAX_GEN];
 } MrCtx;
 
@@ -140,6 +154,12 @@ static inline size_t mr_hash_u64(uint64_t x, size_t cap)
 }
 
 #define MR_DELETED ((dGeomID)(uintptr_t)1)
+
+static inline size_t mr_hash_pair(dGeomID a, dGeomID b, size_t cap)
+{
+    uint64_t x = (uint64_t)(uintptr_t)a, y = (uint64_t)(uintptr_t)b;
+    return mr_hash_u64(x < y ? x * 0x9e3779b97f4a7c15ULL + y : y * 0x9e3779b97f4a7c15ULL + x, cap);
+}
 
 static MrGeomRec *mr_find(MrCtx *c, dGeomID g)
 {
@@ -231,6 +251,9 @@ void mr_ctx_free(MrCtx *c)
     free(c->sweep);
     free(c->made);
     free(c->saved);
+    free(c->anc_prev);
+    free(c->anc_cur);
+    free(c->anc_slots);
     free(c);
 }
 
@@ -598,6 +621,143 @@ static int mr_contact_fdir(const double *f, int kind, const dReal *n, dReal *out
     return 1;
 }
 
+static void mr_point_to_body(dBodyID b, const dReal *p, double *out)
+{
+    dVector3 r;
+    if (!b) { out[0] = p[0]; out[1] = p[1]; out[2] = p[2]; return; }
+    dBodyGetPosRelPoint(b, p[0], p[1], p[2], r);
+    out[0] = r[0]; out[1] = r[1]; out[2] = r[2];
+}
+
+static void mr_point_to_world(dBodyID b, const double *a, double *out)
+{
+    dVector3 r;
+    if (!b) { out[0] = a[0]; out[1] = a[1]; out[2] = a[2]; return; }
+    dBodyGetRelPointPos(b, a[0], a[1], a[2], r);
+    out[0] = r[0]; out[1] = r[1]; out[2] = r[2];
+}
+
+/* Static friction anchors. ODE's quickStep stops after a fixed number of iterations, so the
+ * friction rows of a held object never quite reach what holding it needs: each step it slips by
+ * the solver's residual, and the slips add up (a cube squeezed between the light fingers of
+ * franka_description's Panda hand crept 1.4 mm/s along them and dropped out after 10 s; with 200
+ * iterations it still crept 0.2 mm/s). Gazebo's ODE fork converges such contacts better (no random
+ * row order, under-relaxed friction rows), which Debian's ODE 0.16 has no setting for. So each
+ * contact remembers where it began on each of its two bodies; while the two points stay within
+ * MR_ANCHOR_RADIUS of each other and of the new contact (across the contact plane), the contact's
+ * first friction row, along the gap between them, asks for the relative velocity that closes it
+ * in one step at the contact's ERP (ODE's contact motion), as the normal row corrects
+ * penetration. The bound mu*N still holds: a contact that must slip, slips, and is anchored anew
+ * where it is once the points are apart. A rolling contact moves on both bodies and is anchored
+ * anew each step. Not for a surface's <fdir1> (wheels). The anchors live one step: a contact of
+ * this step takes over that of the last step's contacts of its pair whose points are nearest. */
+#define MR_ANCHOR_RADIUS 1e-3
+
+/* the index of the last step's first anchor of the pair (o1, o2) in either order, or -1 */
+static int mr_anchors_of(MrCtx *c, dGeomID o1, dGeomID o2)
+{
+    size_t i;
+    if (!c->nanc_prev) return -1;
+    for (i = mr_hash_pair(o1, o2, c->capanc_slots); c->anc_slots[i]; i = (i + 1) & (c->capanc_slots - 1)) {
+        const MrAnchor *q = &c->anc_prev[c->anc_slots[i] - 1];
+        if ((q->g1 == o1 && q->g2 == o2) || (q->g1 == o2 && q->g2 == o1)) return c->anc_slots[i] - 1;
+    }
+    return -1;
+}
+
+/* the last step's anchors (just swapped in) indexed by pair */
+static void mr_anchors_index(MrCtx *c)
+{
+    size_t need = 16, i;
+    int k;
+    while (need < 2 * (size_t)c->nanc_prev) need *= 2;
+    if (need > c->capanc_slots) {
+        free(c->anc_slots);
+        c->anc_slots = (int *)malloc(need * sizeof(int));
+        c->capanc_slots = need;
+    }
+    memset(c->anc_slots, 0, c->capanc_slots * sizeof(int));
+    for (k = 0; k < c->nanc_prev; ++k) {
+        const MrAnchor *q = &c->anc_prev[k];
+        if (k > 0 && q->g1 == c->anc_prev[k - 1].g1 && q->g2 == c->anc_prev[k - 1].g2) continue;
+        for (i = mr_hash_pair(q->g1, q->g2, c->capanc_slots); c->anc_slots[i]; i = (i + 1) & (c->capanc_slots - 1))
+            ;
+        c->anc_slots[i] = k + 1;
+    }
+}
+
+static void mr_anchor(MrCtx *c, dGeomID o1, dGeomID o2, dBodyID b1, dBodyID b2, dContact *ct, double erp)
+{
+    const dReal *p = ct->geom.pos, *n = ct->geom.normal;
+    const double r2 = MR_ANCHOR_RADIUS * MR_ANCHOR_RADIUS;
+    double w1[3], w2[3], best = r2;
+    int i, found = -1, swapped = 0;
+    MrAnchor *a;
+    int first = mr_anchors_of(c, o1, o2);
+    for (i = first; first >= 0 && i < c->nanc_prev; ++i) {
+        const MrAnchor *q = &c->anc_prev[i];
+        double d1[3], d2[3], e[3], dn1, dn2, dne, t1, t2, te;
+        int sw;
+        if (q->g1 == o1 && q->g2 == o2) sw = 0;
+        else if (q->g1 == o2 && q->g2 == o1) sw = 1;
+        else break;                    /* the pair's anchors end here */
+        mr_point_to_world(b1, sw ? q->a2 : q->a1, w1);
+        mr_point_to_world(b2, sw ? q->a1 : q->a2, w2);
+        d1[0] = w1[0] - p[0]; d1[1] = w1[1] - p[1]; d1[2] = w1[2] - p[2];
+        d2[0] = w2[0] - p[0]; d2[1] = w2[1] - p[1]; d2[2] = w2[2] - p[2];
+        e[0] = w1[0] - w2[0]; e[1] = w1[1] - w2[1]; e[2] = w1[2] - w2[2];
+        dn1 = d1[0] * n[0] + d1[1] * n[1] + d1[2] * n[2];
+        dn2 = d2[0] * n[0] + d2[1] * n[1] + d2[2] * n[2];
+        dne = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+        t1 = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2] - dn1 * dn1;
+        t2 = d2[0] * d2[0] + d2[1] * d2[1] + d2[2] * d2[2] - dn2 * dn2;
+        te = e[0] * e[0] + e[1] * e[1] + e[2] * e[2] - dne * dne;
+        if (t1 < best && t2 < best && te < r2) { best = t1 > t2 ? t1 : t2; found = i; swapped = sw; }
+    }
+    if (c->nanc_cur == c->capanc_cur) {
+        c->capanc_cur = c->capanc_cur ? 2 * c->capanc_cur : 64;
+        c->anc_cur = (MrAnchor *)realloc(c->anc_cur, c->capanc_cur * sizeof(MrAnchor));
+    }
+    a = &c->anc_cur[c->nanc_cur++];
+    a->g1 = o1;
+    a->g2 = o2;
+    if (found < 0) {
+        mr_point_to_body(b1, p, a->a1);
+        mr_point_to_body(b2, p, a->a2);
+        return;
+    }
+    {
+        const MrAnchor *q = &c->anc_prev[found];
+        memcpy(a->a1, swapped ? q->a2 : q->a1, sizeof(a->a1));
+        memcpy(a->a2, swapped ? q->a1 : q->a2, sizeof(a->a2));
+    }
+    mr_point_to_world(b1, a->a1, w1);
+    mr_point_to_world(b2, a->a2, w2);
+    {
+        /* ODE's first friction row asks (v0 - v1) . fdir1 = motion1 at the contact, body 0 being
+         * b1, or b2 when b1 is static. The gap e (body 0's point minus body 1's, across the
+         * normal) is closed along itself: fdir1 along e, motion1 = -erp |e| / dt, the second row
+         * (normal x fdir1) holding still. (A correction split over the rows of a direction that
+         * follows the slip fed back into the slip: a box sliding down a ramp turned aside.) */
+        double e[3], en, len, sgn = b1 ? 1.0 : -1.0;
+        e[0] = sgn * (w1[0] - w2[0]); e[1] = sgn * (w1[1] - w2[1]); e[2] = sgn * (w1[2] - w2[2]);
+        en = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+        e[0] -= en * n[0]; e[1] -= en * n[1]; e[2] -= en * n[2];
+        len = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+        if (!(len > 1e-12)) return;
+        ct->fdir1[0] = e[0] / len; ct->fdir1[1] = e[1] / len; ct->fdir1[2] = e[2] / len;
+        ct->surface.motion1 = -erp * len / c->dt;
+        ct->surface.mode |= dContactFDir1 | dContactMotion1;
+    }
+}
+
+/* the anchors go (World reset, guard restorations: the bodies were put elsewhere) */
+void mr_anchors_forget(MrCtx *c)
+{
+    c->nanc_prev = 0;
+    c->nanc_cur = 0;
+}
+
 static void mr_near(void *data, dGeomID o1, dGeomID o2)
 {
     MrCtx *c = (MrCtx *)data;
@@ -699,6 +859,8 @@ static void mr_near(void *data, dGeomID o1, dGeomID o2)
         ct.surface.soft_cfm = cfm;
         if (has_fdir && mr_contact_fdir(fdir, has_fdir, ct.geom.normal, ct.fdir1))
             ct.surface.mode |= dContactFDir1;
+        if (has_fdir != MR_FDIR_GIVEN)
+            mr_anchor(c, o1, o2, b1, b2, &ct, erp);
         j = dJointCreateContact(c->world, c->contacts, &ct);
         dJointAttach(j, b1, b2);
         if (c->nmade == c->capmade) {
@@ -812,6 +974,13 @@ int mr_collide(MrCtx *c, double dt, double gx, double gy, double gz, double laye
     c->nlog = 0;
     c->nmade = 0;
     c->capped = 0;
+    {                          /* the last step's anchors are matched by this step's contacts */
+        MrAnchor *t = c->anc_prev;
+        int ct = c->capanc_prev;
+        c->anc_prev = c->anc_cur; c->capanc_prev = c->capanc_cur; c->nanc_prev = c->nanc_cur;
+        c->anc_cur = t; c->capanc_cur = ct; c->nanc_cur = 0;
+    }
+    mr_anchors_index(c);
     if (c->nmodels) memset(c->model_contacts, 0, c->nmodels * sizeof(int));
     dJointGroupEmpty(c->contacts);
     mr_sweep(c, c->dyn_space, c->static_space);
