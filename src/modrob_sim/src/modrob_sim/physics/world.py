@@ -1052,7 +1052,7 @@ class World(object):
         self._apply_forces(t, dt)
         self._ncontacts = self._backend.step(dt)
         self.iterations += 1
-        self.time = t + dt
+        self.time = next_time(t, dt)
         self._backend.track_turns(self._p.unwrap)
         self._guard()
         if self._frozen:
@@ -1432,6 +1432,14 @@ def _set_auto_disable(body, on):
 #: a hook with no due function: due now, at every step
 def _NOW():
     return None
+
+
+def next_time(t, dt):
+    """The simulated time a step of ``dt`` after ``t``, on the nanosecond grid, as Gazebo's
+    common::Time (whole seconds and nanoseconds) adds its steps: 180963 steps of 1 ms summed in
+    doubles come off the grid by a nanosecond (a /clock stamp then 180.963000001 s), 400000 by
+    2.5 ns. mr_run_steps (C) computes the same: the nearest whole nanosecond, ties to even."""
+    return round((t + dt) * 1e9) / 1e9
 
 
 def earliest_due(dues):

@@ -1948,6 +1948,13 @@ static int mr_stretch_watches(MrStretch *b, double t)
     return 0;
 }
 
+/* The simulated time a step of dt after t, on the nanosecond grid (world.next_time: the nearest
+ * whole nanosecond, ties to even as Python's round) */
+static double mr_next_time(double t, double dt)
+{
+    return nearbyint((t + dt) * 1e9) / 1e9;
+}
+
 /* Up to n steps; returns the number done (0 when the first step is due for Python). */
 int mr_run_steps(MrCtx *c, MrStretch *b, int n)
 {
@@ -1955,7 +1962,7 @@ int mr_run_steps(MrCtx *c, MrStretch *b, int n)
     b->guard = 0;
     b->after = 0;
     for (k = 0; k < n; ++k) {
-        double t = b->time, tn = t + b->dt;
+        double t = b->time, tn = mr_next_time(t, b->dt);
         int after = tn + 1e-12 >= b->after_due, snapshot;
         if (t >= b->before_due || mr_stretch_pieces_end(b, t) || (b->wake && *b->wake) ||
             mr_stretch_watches(b, t)) break;
