@@ -319,6 +319,36 @@ def test_path_tolerances_abort_at_the_step_of_an_update_at_every_step_bit_for_bi
         assert fast.goal_stops < 100, fast.goal_stops
 
 
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), float("-inf")])
+@pytest.mark.parametrize("which", ["path_tolerance", "goal_tolerance"])
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_a_goal_with_a_tolerance_that_is_no_finite_number_is_rejected_by_name(bad, which, native):
+    """A NaN or infinite tolerance (position or velocity) is refused at the goal's submission, naming
+    the tolerance and the joint, and changes nothing: the watched goal in progress goes on and
+    succeeds, the World steps on (a NaN or infinite path tolerance, accepted, had the actuators'
+    band refuse it inside the update: the loop's step raised at every step from then on)."""
+    rig = Rig(True, native=native)
+    ok = types.SimpleNamespace(name="elbow", position=2.0, velocity=0.0)
+    rig.inbox.append(("goal", (JOINTS, [TrajectoryPoint([0.3, -0.2, 0.4], [0.0] * 3, None, 0.5)],
+                               dict(goal_id="watched", path_tolerance=[ok]))))
+    rig.step(100)
+    assert rig.jtc.acts and rig.jtc.acts[2].band == (2.0, 0.0)
+    for field in ("position", "velocity"):
+        tol = dict(name="shoulder", position=0.1, velocity=0.5)
+        tol[field] = bad
+        rig.inbox.append(("goal", (JOINTS, [TrajectoryPoint([-0.3, 0.2, -0.4], [0.0] * 3, None, 0.5)],
+                                   {"goal_id": "bad", which: [ok, types.SimpleNamespace(**tol)]})))
+        rig.step(10)
+        submit = [e for e in rig.log if e[0] == "submit"][-1]
+        accepted, code, text = submit[2]
+        assert (accepted, code) == (False, -1), submit
+        assert "%s of joint 'shoulder'" % which in text and "%s %r" % (field, bad) in text, text
+    rig.step(1000)
+    events = [e[2:4] for e in rig.log if e[0] == "event"]
+    assert events == [("watched", "succeeded")], events
+    assert abs(rig.model.joints["shoulder"].position + 0.2) < 0.05
+
+
 @needs_c
 @pytest.mark.parametrize("family", ["effort", "velocity"])
 def test_path_tolerance_bands_equal_the_controllers_python_checks_bit_for_bit(family):

@@ -82,6 +82,20 @@ def _merge(default, override):
     return override
 
 
+def _unusable_tolerance(*named_lists):
+    """Why a goal's tolerances cannot be used ('' when they can): a position or velocity tolerance
+    that is NaN or infinite (control_msgs/JointTolerance: > 0 a tolerance, 0 the default, -1
+    erased)."""
+    for what, tolerances in named_lists:
+        for tol in tolerances or ():
+            for field in ("position", "velocity"):
+                value = getattr(tol, field)
+                if not math.isfinite(value):
+                    return ("%s of joint '%s': %s %r is not a finite number; send a tolerance > 0, 0 for "
+                            "the controller's default or -1 to erase it" % (what, tol.name, field, value))
+    return ""
+
+
 class JointTrajectoryControllerBase(Controller):
     INTERFACE = None
 
@@ -191,6 +205,9 @@ class JointTrajectoryControllerBase(Controller):
             ok, code, text = self.check_points(joint_names, points)
             if not ok:
                 return ok, code, text
+        bad = _unusable_tolerance(("path_tolerance", path_tolerance), ("goal_tolerance", goal_tolerance))
+        if bad:
+            return False, INVALID_GOAL, bad
         start = start_time if start_time and start_time > 0.0 else now
         return self._after_check(joint_names, points, start, now, goal_id, path_tolerance, goal_tolerance,
                                  goal_time_tolerance, prepared)
