@@ -349,6 +349,33 @@ def test_a_goal_with_a_tolerance_that_is_no_finite_number_is_rejected_by_name(ba
     assert abs(rig.model.joints["shoulder"].position + 0.2) < 0.05
 
 
+@pytest.mark.parametrize("reset", ["reset", "reset_world"])
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=needs_c)])
+def test_a_goal_in_progress_at_a_reset_is_aborted_at_once(reset, native):
+    """reset_simulation / reset_world (the World reset, then the control loop's: the running
+    controllers started again, holding where the joints are) while a watched goal runs: the goal is
+    aborted at the next update, naming the reset, and the controller holds. (It had stayed active
+    against the hold until its old end time - 6 s later after reset_simulation, whose clock starts
+    again from 0 - and then succeeded, the arm back at its spawn pose, far from the goal.)"""
+    rig = Rig(True, native=native)
+    rig.step(3000)
+    tol = types.SimpleNamespace(name="elbow", position=2.0, velocity=0.0)
+    rig.inbox.append(("goal", (JOINTS, [TrajectoryPoint([0.6, -0.5, 0.7], [0.0] * 3, None, 1.0)],
+                               dict(goal_id="watched", path_tolerance=[tol]))))
+    rig.step(500)
+    assert rig.jtc.goal is not None and rig.jtc.acts[2].band == (2.0, 0.0)
+    getattr(rig.world, reset)()
+    rig.loop.reset()
+    rig.step(20)
+    events = [e[1:] for e in rig.log if e[0] == "event"]
+    assert [e[1:4] for e in events] == [("watched", "aborted", -1)], events
+    assert "reset" in events[0][4]
+    assert rig.jtc.goal is None and all(a.band is None for a in rig.jtc.acts)
+    rig.step(2000)
+    assert len([e for e in rig.log if e[0] == "event"]) == 1
+    assert abs(rig.model.joints["shoulder"].position + 0.5) > 0.3      # held, not at the goal
+
+
 @needs_c
 @pytest.mark.parametrize("family", ["effort", "velocity"])
 def test_path_tolerance_bands_equal_the_controllers_python_checks_bit_for_bit(family):

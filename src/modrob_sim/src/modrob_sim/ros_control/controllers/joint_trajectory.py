@@ -173,6 +173,11 @@ class JointTrajectoryControllerBase(Controller):
         self.trajectory = hold_trajectory(t, pos, vel, self.stop_trajectory_duration)
 
     def starting(self, t):
+        if self.goal is not None:   # started again while running: the control loop's reset
+            self.events.append((self.goal.goal_id, "aborted", INVALID_GOAL,
+                                "the simulation was reset (reset_simulation or reset_world) while executing "
+                                "the goal: controller '%s' holds where the joints are now" % self.name))
+            self.goal = None
         self.trajectory = None
         pos, _ = self._actual()
         self.trajectory = hold_trajectory(t, pos)
