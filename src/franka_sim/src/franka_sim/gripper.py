@@ -32,6 +32,7 @@ Parameters (in the controller's namespace): ``arm_id`` (required), ``finger1/gai
 import math
 import threading
 
+from modrob_sim.errors import InputError
 from modrob_sim.physics.actuators import FOLLOW_PID
 from modrob_sim.ros_control.controllers.base import Controller
 from modrob_sim.ros_control.pid import PidGains
@@ -102,9 +103,16 @@ class FrankaGripperSim(Controller):
     def command(self, state, width, speed, force=0.0, inner=None, outer=None):
         """Start a motion (MOVING or GRASPING); the request in progress, if any, ends interrupted.
         Returns the Request to wait on. A grasp's direction (and its force's sign) is taken from
-        the width at the next update."""
+        the width at the next update. A value that is not a finite number raises InputError (naming
+        it) and changes nothing."""
         inner = self.tolerance_move if inner is None else inner
         outer = self.tolerance_move if outer is None else outer
+        for what, value in (("width", width), ("speed", speed), ("force", force), ("epsilon.inner", inner),
+                            ("epsilon.outer", outer)):
+            if not math.isfinite(value):
+                raise InputError("%s: the command's %s %r is not a finite number; nothing was changed: "
+                                 "send finite values (width m, speed m/s, force N, epsilon m)"
+                                 % (self.name, what, value))
         req = Request(state, width, speed, force, inner, outer)
         req.target = width if state == MOVING else None
         with self._lock:

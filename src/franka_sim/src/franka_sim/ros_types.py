@@ -24,6 +24,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Bool
 from tf2_msgs.msg import TFMessage
 
+from modrob_sim.errors import InputError
 from modrob_sim.physics.transforms import quat_from_matrix
 from modrob_sim.ros_control.extensions import register_controller_type, register_robot_sim_type
 from modrob_sim.ros_control.params import Params, join
@@ -191,7 +192,10 @@ class FrankaGripperAdapter(Adapter):
             return self._fail(server, MoveResult(), "Only positive speeds allowed")
         if not (0.0 <= goal.width <= MAX_WIDTH):
             return self._fail(server, MoveResult(), "Target width has to lie between 0 .. %g" % MAX_WIDTH)
-        req = self._run(server, MOVING, goal.width, goal.speed)
+        try:
+            req = self._run(server, MOVING, goal.width, goal.speed)
+        except InputError as exc:
+            return self._fail(server, MoveResult(), str(exc))
         if req is None:
             return server.set_preempted(MoveResult(success=False, error="preempted"))
         if req.interrupted:
@@ -208,8 +212,11 @@ class FrankaGripperAdapter(Adapter):
                               "Can only grasp inside finger width from [0 .. %g[" % MAX_WIDTH)
         if goal.speed < 0:
             return self._fail(server, GraspResult(), "Only positive speeds allowed")
-        req = self._run(server, GRASPING, goal.width, goal.speed, goal.force, goal.epsilon.inner,
-                        goal.epsilon.outer)
+        try:
+            req = self._run(server, GRASPING, goal.width, goal.speed, goal.force, goal.epsilon.inner,
+                            goal.epsilon.outer)
+        except InputError as exc:
+            return self._fail(server, GraspResult(), str(exc))
         if req is None:
             return server.set_preempted(GraspResult(success=False, error="preempted"))
         if req.interrupted:
@@ -249,13 +256,16 @@ class FrankaGripperAdapter(Adapter):
             rospy.logerr("%s: %s" % (server.action_server.ns, text))
             return server.set_aborted(GripperCommandResult(reached_goal=False), text)
         tol = self.c.tolerance_gripper_action
-        if abs(goal.command.max_effort) < MIN_GRASP_FORCE or width > self.c.width():
-            req = self._run(server, MOVING, width, self.c.default_speed, 0.0, tol, tol)
-        else:
-            req = self._run(server, GRASPING, width, self.c.default_speed, goal.command.max_effort, tol, tol)
-            if req is not None and not req.interrupted and req.final_state != HOLDING:
-                text = "Unexpected state transition: the gripper is not holding as expected"
-                return server.set_aborted(GripperCommandResult(reached_goal=False), text)
+        grasp = not (abs(goal.command.max_effort) < MIN_GRASP_FORCE or width > self.c.width())
+        try:    # (a move does not use the force; it is passed along to be checked all the same)
+            req = self._run(server, GRASPING if grasp else MOVING, width, self.c.default_speed,
+                            goal.command.max_effort, tol, tol)
+        except InputError as exc:
+            rospy.logerr("%s: %s" % (server.action_server.ns, exc))
+            return server.set_aborted(GripperCommandResult(reached_goal=False), str(exc))
+        if grasp and req is not None and not req.interrupted and req.final_state != HOLDING:
+            text = "Unexpected state transition: the gripper is not holding as expected"
+            return server.set_aborted(GripperCommandResult(reached_goal=False), text)
         if req is None:
             return server.set_preempted(GripperCommandResult(reached_goal=False))
         if req.interrupted:

@@ -13,7 +13,7 @@ import threading
 import pytest
 
 from franka_sim.gripper import GRASPING, HOLDING, IDLE, MAX_WIDTH, MOVING, FrankaGripperSim, Request
-from modrob_sim.errors import ControllerError
+from modrob_sim.errors import ControllerError, InputError
 from modrob_sim.gazebo_ros.testing import ControlRig
 from modrob_sim.physics import actuators
 from modrob_sim.physics import native as native_mod
@@ -350,3 +350,31 @@ def test_stopping_the_controller_leaves_the_last_effort_with_the_hardware(native
         res = rig.hw.joints[name]
         assert res.owner is None and res.command == effort
         assert rig.model.joints[name].effort == pytest.approx(effort)
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), float("-inf")])
+@pytest.mark.parametrize("native", BACKENDS)
+def test_a_command_with_a_number_that_is_not_finite_is_refused_by_name_and_the_grasp_holds_on(native, bad):
+    """A move or grasp whose width, speed, force or epsilon is NaN or infinite is refused when it
+    is commanded (InputError naming the value), and changes nothing: the grasp in progress keeps
+    holding, the World steps on (a NaN or infinite speed or force, accepted, reached the fingers'
+    actuators inside the update, which refused it there: the step raised at every step)."""
+    rig = Hand(True, native)
+    run(rig, 2000, {0: lambda r: r.command(MOVING, 0.08, 0.1), 700: Hand.add_cube,
+                    800: lambda r: r.command(GRASPING, 0.03, 0.05, force=20.0, inner=0.005, outer=0.005)})
+    assert rig.c.mode == HOLDING
+    holding = rig.c.request
+    commands = [(MOVING, dict(width=bad, speed=0.1)), (MOVING, dict(width=0.05, speed=bad)),
+                (GRASPING, dict(width=0.02, speed=bad, force=10.0)),
+                (GRASPING, dict(width=0.02, speed=0.1, force=bad)),
+                (GRASPING, dict(width=0.02, speed=0.1, force=10.0, inner=bad)),
+                (GRASPING, dict(width=0.02, speed=0.1, force=10.0, outer=bad))]
+    for state, kw in commands:
+        field = [k for k, v in kw.items() if not math.isfinite(v)][0]
+        with pytest.raises(InputError) as exc:
+            rig.c.command(state, **kw)
+        name = {"inner": "epsilon.inner", "outer": "epsilon.outer"}.get(field, field)
+        assert "%s %r" % (name, bad) in str(exc.value) and "franka_gripper" in str(exc.value), str(exc.value)
+        run(rig, rig.world.iterations + 50, {})
+    assert rig.c.mode == HOLDING and rig.c.request is holding and not holding.interrupted
+    assert [a.last.output for a in rig.c.acts] == pytest.approx([-10.0, -10.0], abs=1.0)
