@@ -156,6 +156,9 @@ class FrankaGripperAdapter(Adapter):
                                                       handles=self.handles))
             self.servers.append(server)
 
+    def action_servers(self):
+        return self.servers
+
     def shutdown(self):
         self.c.stop()
         super(FrankaGripperAdapter, self).shutdown()

@@ -29,6 +29,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 from katana_sim.errors import ConfigError
 from katana_sim.gripper import GripperController
+from modrob_sim.gazebo_ros.action_servers import restamp_after_reset
 from modrob_sim.gazebo_ros.plugin_base import ModelPlugin
 from modrob_sim.gazebo_ros.plugins import register_plugin
 from modrob_sim.physics import actuators
@@ -143,6 +144,7 @@ class KatanaGripperPlugin(ModelPlugin):
             self.core.setpoint = None
             self._next_state = 0.0
             self._done.notify_all()
+        restamp_after_reset(self.server, self.context.world.time)
 
     def shutdown(self):
         with self.lock:

@@ -113,6 +113,9 @@ class GazeboRosControlPlugin(ModelPlugin):
 
     def reset(self):
         self.loop.reset()
+        now = self.context.world.time
+        for adapter in self.adapters.values():
+            adapter.reset(now)
 
     def shutdown(self):
         self.manager.stop_all()

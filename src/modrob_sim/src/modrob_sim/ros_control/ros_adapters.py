@@ -23,6 +23,7 @@ from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from modrob_sim.errors import ModrobError
 from dynamic_reconfigure.server import Server as ReconfigureServer
 
+from modrob_sim.gazebo_ros.action_servers import restamp_after_reset
 from modrob_sim.gazebo_ros.native_pub import publisher
 from modrob_sim.reconfigure_config import ConfigType, Param, shutdown_server
 from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
@@ -91,6 +92,17 @@ class Adapter(object):
 
     def after_update(self, t):
         pass
+
+    def action_servers(self):
+        """The adapter's actionlib servers (its ``server``, if any)."""
+        server = getattr(self, "server", None)
+        return [] if server is None else [server]
+
+    def reset(self, t):
+        """reset_simulation / reset_world (``t``: the simulated time after it; loop thread): the
+        action servers order goals from ``t`` on (gazebo_ros.action_servers)."""
+        for server in self.action_servers():
+            restamp_after_reset(server, t)
 
     def shutdown(self):
         for h in self.handles:
