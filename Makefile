@@ -14,7 +14,7 @@ help:
 	@echo "make test      set up if needed, then every unit test and rostest; ends with 'N passed, N failed'"
 	@echo "make setup     Debian packages + .venv (pinned PyPI extras) + catkin_make (idempotent)"
 	@echo "make build     catkin_make;  make build-colcon: colcon build into build_colcon/ install_colcon/"
-	@echo "make fuzz      the simulator's fuzz suite in full (MODROB_FUZZ_SCALE=20: models, requests, YAML; minutes)"
+	@echo "make fuzz      the simulator's fuzz suite in full (MODROB_FUZZ_SCALE=20: models, requests, YAML, trajectory and gripper goals; minutes)"
 	@echo "make sweep FILE=<sweep.yaml> [RUNS=N] [ADDRESS=<ray head:port>]  trials on Ray (local or a cluster): out/sweeps/<name>/"
 	@echo "make lint      catkin_lint on all packages + flake8 on all Python"
 	@echo "make bench     quick benchmarks vs PyBullet/MuJoCo (< 10 min; FULL=1 everything, J=N side by side): docs/benchmarks.md, out/bench/"
@@ -52,8 +52,8 @@ test-ros:
 	@$(ENV) && python3 $(ROOT)/scripts/run_tests.py --tier 2 $(TESTARGS)
 
 # The short form of the fuzz suite runs in `make test`; this is the full one (seeded, so a failure
-# reproduces): the physics core in pytest, then the /gazebo node under rostest (run_tests.py cleans
-# up after that part). The pytest part's TMPDIR and --basetemp are a directory removed when the
+# reproduces): the physics core in pytest, then the /gazebo node and the Franka gripper under rostest
+# (sim_fuzz.test, gripper_fuzz.test; run_tests.py cleans up after that part). The pytest part's TMPDIR and --basetemp are a directory removed when the
 # target ends, also on Ctrl-C and SIGTERM: pytest would keep its last three in /tmp/pytest-of-<user>.
 fuzz:
 	@$(ROOT)/scripts/setup.sh
@@ -62,7 +62,7 @@ fuzz:
 	  trap 'exit 130' INT && trap 'exit 143' TERM && \
 	  (cd $(ROOT) && TMPDIR=$$tmp python3 -m pytest -q --import-mode=importlib -p no:cacheprovider \
 	    --basetemp $$tmp/pytest src/modrob_sim/test/unit/test_fuzz_physics.py) && \
-	  python3 $(ROOT)/scripts/run_tests.py --tier 2 -k sim_fuzz
+	  python3 $(ROOT)/scripts/run_tests.py --tier 2 -k fuzz
 
 demo:
 	@$(ROOT)/scripts/setup.sh

@@ -1,25 +1,39 @@
 #!/usr/bin/env python3
 """rostest node: hostile requests against /gazebo (seeded; MODROB_FUZZ_SCALE scales the random
-part). Each reproduced request of issue 12 first, then random ones. The node must never die,
-never publish NaN/inf on /gazebo/model_states or /gazebo/link_states, a refusal must name what
-it refused, and a refused request must change nothing."""
+part). Each reproduced request of issue 12 first, then random ones; then FollowJointTrajectory
+goals with hostile tolerances to an effort JointTrajectoryController (whose path tolerances the
+joints' actuators watch) among cancels, preemptions, controller switches and world resets; then
+cmd_vel_out subscribers of a DiffDriveController that come and go at once. The node must never
+die, never publish NaN/inf on /gazebo/model_states or /gazebo/link_states, a refusal must name what
+it refused, a refused request must change nothing, and every goal gets its result."""
+import collections
 import math
 import os
 import sys
 import threading
 import unittest
 
+import actionlib
 import rospy
 import rostest
+import yaml
+from actionlib_msgs.msg import GoalStatus
+from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryActionResult,
+                              FollowJointTrajectoryGoal, JointTolerance)
+from controller_manager_msgs.srv import LoadController, SwitchController
 from gazebo_msgs.msg import LinkStates, ModelState, ModelStates
-from geometry_msgs.msg import Pose, Vector3, Wrench
+from geometry_msgs.msg import Pose, Twist, TwistStamped, Vector3, Wrench
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import JointState
+from trajectory_msgs.msg import JointTrajectoryPoint
 
 from modrob_sim.waits import wait_until
 
 sys.path.insert(0, __file__.rsplit("/", 1)[0])
 from sim_helpers import Gazebo, fixture  # noqa: E402
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures"))
+FIXTURES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures")
+sys.path.insert(0, FIXTURES)
 import fuzz_models as F  # noqa: E402
 
 ARM = """<robot name='arm'><link name='world'/><link name='base'><inertial><mass value='2'/>
@@ -33,6 +47,38 @@ ARM = """<robot name='arm'><link name='world'/><link name='base'><inertial><mass
 <axis xyz='1 0 0'/><limit lower='-0.5' upper='0.5' effort='20' velocity='1'/></joint>
 <joint name='weld' type='fixed'><parent link='tip'/><child link='cap'/><origin xyz='0 0 0.1'/></joint>
 </robot>"""
+
+
+# the 3-joint arm with effort joints under two effort trajectory controllers (switched in turn)
+ARM3_NS = "/fz_arm"
+ARM3_JOINTS = ["yaw", "shoulder", "elbow"]
+ARM3_GAINS = {"yaw": {"p": 80.0, "i": 30.0, "d": 1.5, "i_clamp": 5.0},
+              "shoulder": {"p": 200.0, "i": 50.0, "d": 10.0, "i_clamp": 8.0},
+              "elbow": {"p": 120.0, "d": 6.0}}
+ARM3_JTC = {"type": "effort_controllers/JointTrajectoryController", "joints": ARM3_JOINTS,
+            "gains": ARM3_GAINS,
+            "state_publish_rate": 25, "action_monitor_rate": 10, "stop_trajectory_duration": 0.1,
+            "constraints": {"goal_time": 0.5, "stopped_velocity_tolerance": 0.2,
+                            "shoulder": {"trajectory": 0.5, "goal": 0.1}, "elbow": {"goal": 0.1}}}
+#: a goal's terminal states (actionlib)
+DONE = (GoalStatus.PREEMPTED, GoalStatus.SUCCEEDED, GoalStatus.ABORTED, GoalStatus.REJECTED,
+        GoalStatus.RECALLED)
+
+
+def finite_message(values):
+    return all(math.isfinite(v) for v in values)
+
+
+def load_and_start(ns, names, loaded=()):
+    """Load the controllers ``names`` and ``loaded`` (their parameters set already) in ``ns`` and
+    start ``names``. Returns the switch_controller service."""
+    rospy.wait_for_service(ns + "/controller_manager/load_controller", 30.0)
+    load = rospy.ServiceProxy(ns + "/controller_manager/load_controller", LoadController)
+    for n in list(names) + list(loaded):
+        assert load(name=n).ok, "%s: loading %s failed" % (ns, n)
+    switch = rospy.ServiceProxy(ns + "/controller_manager/switch_controller", SwitchController)
+    assert switch(start_controllers=names, stop_controllers=[], strictness=2).ok
+    return switch
 
 
 class Watch(object):
@@ -75,6 +121,23 @@ class SimFuzz(unittest.TestCase):
         r = cls.gz.spawn_urdf_model(model_name="arm", model_xml=ARM, robot_namespace="",
                                     initial_pose=pose(2, 0, 0),
                                     reference_frame="")
+        assert r.success, r.status_message
+        with open(os.path.join(FIXTURES, "control", "arm_3dof.urdf")) as f:
+            arm3 = f.read().replace("PositionJointInterface", "EffortJointInterface")
+        arm3 = arm3.replace("/arm3", ARM3_NS)
+        rospy.set_param(ARM3_NS + "/joint_state_controller",
+                        {"type": "joint_state_controller/JointStateController", "publish_rate": 50})
+        rospy.set_param(ARM3_NS + "/jtc_a", ARM3_JTC)
+        rospy.set_param(ARM3_NS + "/jtc_b", ARM3_JTC)
+        r = cls.gz.spawn_urdf_model(model_name="fz_arm", model_xml=arm3, robot_namespace=ARM3_NS,
+                                    initial_pose=pose(-2.5, 2.5, 0), reference_frame="")
+        assert r.success, r.status_message
+        with open(os.path.join(FIXTURES, "control", "diffbot_control.yaml")) as f:
+            for name, values in yaml.safe_load(f).items():
+                rospy.set_param("/" + name, values)
+        with open(os.path.join(FIXTURES, "control", "diffbot.urdf")) as f:
+            r = cls.gz.spawn_urdf_model(model_name="diffbot", model_xml=f.read(), robot_namespace="",
+                                        initial_pose=pose(-1.0, -1.0, 0.1), reference_frame="")
         assert r.success, r.status_message
         cls.gz.unpause_physics()
 
@@ -193,6 +256,143 @@ class SimFuzz(unittest.TestCase):
         self.assertTrue(wait_until(lambda: self.gz.sim_time() > t0 + 0.05, 20.0), "physics stopped")
         n = self.watch.count
         self.assertTrue(wait_until(lambda: self.watch.count > n + 2, 20.0), "no state messages")
+        with self.watch.lock:
+            self.assertEqual(self.watch.bad, [], "NaN/inf published")
+
+    # ---- a trajectory controller's goals, watched by the joints' actuators -----------------------
+    def hostile_goal(self, fz):
+        """A goal of 1-3 points within the joints' limits, with tolerances drawn by ``fz`` (NaN,
+        infinite, negative, tiny, huge among them). Returns (goal, its tolerances are finite)."""
+        g = FollowJointTrajectoryGoal()
+        g.trajectory.joint_names = list(ARM3_JOINTS)
+        t = 0.0
+        for _ in range(fz.rng.randint(1, 3)):
+            t += fz.rng.uniform(0.1, 0.6)
+            positions = [fz.rng.uniform(-1.0, 1.0) for _ in ARM3_JOINTS]
+            g.trajectory.points.append(JointTrajectoryPoint(positions=positions,
+                                                            time_from_start=rospy.Duration(t)))
+        g.trajectory.points[-1].velocities = [0.0] * len(ARM3_JOINTS)
+        for tols in (g.path_tolerance, g.goal_tolerance):
+            for j in ARM3_JOINTS:
+                if fz.rng.random() < 0.6:
+                    tols.append(JointTolerance(name=j, position=fz.num(0.05, 1.0),
+                                               velocity=fz.num(0.5, 5.0) if fz.rng.random() < 0.3 else 0.0))
+        g.goal_time_tolerance = rospy.Duration(fz.rng.choice([0.0, 0.2, 1.0, -1.0, 1e4]))
+        finite = finite_message([v for tol in g.path_tolerance + g.goal_tolerance
+                                 for v in (tol.position, tol.velocity)])
+        return g, finite
+
+    def test_5_trajectory_goals_with_hostile_tolerances_among_cancels_switches_and_resets(self):
+        """Goals (most with path tolerances: bands on the joints' actuators) replaced, cancelled, their
+        controller switched off, the simulation or the world reset while they run; every goal gets
+        its result (on the result topic: at real_time_factor 0 a client's status array can drop a
+        goal the server has finished), one with a NaN/inf tolerance is rejected naming it."""
+        fz = F.Fuzz(15, p_hostile=0.25)
+        switch = load_and_start(ARM3_NS, ["joint_state_controller", "jtc_a"], loaded=["jtc_b"])
+        clients, results = {}, {}
+
+        def result(m):
+            results[m.status.goal_id.id] = (m.status.status, m.result.error_string)
+        for n in ("jtc_a", "jtc_b"):
+            action = "%s/%s/follow_joint_trajectory" % (ARM3_NS, n)
+            clients[n] = actionlib.ActionClient(action, FollowJointTrajectoryAction)
+            rospy.Subscriber(action + "/result", FollowJointTrajectoryActionResult, result, queue_size=None)
+            self.assertTrue(wait_until(lambda: clients[n].wait_for_server(rospy.Duration(0.05)), 30.0), n)
+        joint_states = []
+        sub = rospy.Subscriber(ARM3_NS + "/joint_states", JointState, lambda m: joint_states.append(
+            finite_message(list(m.position) + list(m.velocity))), queue_size=50)
+        running, stopped = "jtc_a", "jtc_b"
+        sent = []       # (goal id, goal handle, to the running controller, its tolerances are finite)
+        plan = []
+        for _ in range(2 * F.scale()):      # every kind in each round, in a seeded order
+            rnd = ["goal"] * 6 + ["cancel", "cancel", "switch", "reset_simulation", "reset_world"]
+            fz.rng.shuffle(rnd)
+            plan += rnd
+        for kind in plan:
+            if kind == "goal":      # a new goal preempts the one in progress (the band it had is dropped)
+                to = running if fz.rng.random() < 0.9 else stopped
+                g, finite = self.hostile_goal(fz)
+                gh = clients[to].send_goal(g)
+                sent.append((gh.comm_state_machine.action_goal.goal_id.id, gh, to == running, finite))
+            elif kind == "cancel" and sent:
+                sent[-1][1].cancel()
+            elif kind == "switch":
+                r = switch(start_controllers=[stopped], stop_controllers=[running], strictness=2)
+                self.assertTrue(r.ok)
+                running, stopped = stopped, running
+            elif kind in ("reset_simulation", "reset_world"):
+                getattr(self.gz, kind)()
+            t0 = self.gz.sim_time()
+            wait = fz.rng.choice([0.0, 0.01, 0.05, 0.3])
+            self.assertTrue(wait_until(lambda: self.gz.sim_time() >= t0 + wait, 20.0), "physics stopped")
+            self.alive()
+        for _, gh, _, _ in sent:
+            gh.cancel()
+        for k, (gid, gh, to_running, finite) in enumerate(sent):
+            self.assertTrue(wait_until(lambda: gid in results, 30.0), "goal %d got no result" % k)
+            status, text = results[gid]
+            self.assertIn(status, DONE)
+            if not finite:      # never accepted: refused up front, naming the tolerance and its joint
+                # (or recalled: its cancel reached the server before the goal did)
+                self.assertIn(status, (GoalStatus.REJECTED, GoalStatus.RECALLED),
+                              "goal %d with a NaN/inf tolerance: %s" % (k, text))
+                if status == GoalStatus.REJECTED:
+                    self.assertTrue("tolerance of joint '" in text or "not running" in text, text)
+            elif status == GoalStatus.REJECTED:     # only by a controller that was stopped
+                self.assertIn("not running", text)
+        self.assertTrue(any(not s[3] for s in sent) and any(s[3] for s in sent), "both kinds of goal")
+        # the running controller still follows a goal to its end
+        g = FollowJointTrajectoryGoal()
+        g.trajectory.joint_names = list(ARM3_JOINTS)
+        g.trajectory.points.append(JointTrajectoryPoint(positions=[0.2, 0.1, -0.2], velocities=[0.0] * 3,
+                                                        time_from_start=rospy.Duration(0.5)))
+        g.path_tolerance = [JointTolerance(name="shoulder", position=1.0)]
+        gh = clients[running].send_goal(g)
+        gid = gh.comm_state_machine.action_goal.goal_id.id
+        self.assertTrue(wait_until(lambda: gid in results, 30.0), "the last goal got no result")
+        self.assertEqual(results[gid][0], GoalStatus.SUCCEEDED, results[gid][1])
+        sub.unregister()
+        self.assertTrue(joint_states and all(joint_states), "no or non-finite joint states")
+        rospy.loginfo("sim_fuzz: %d trajectory goals (%d with a NaN/inf tolerance): %s" % (
+            len(sent), sum(1 for s in sent if not s[3]),
+            dict(collections.Counter(s for s, _ in results.values()))))
+
+    # ---- a mobile base's cmd_vel_out: subscribers that come and go --------------------------------
+    def test_6_cmd_vel_out_subscribers_come_and_go_among_hostile_commands(self):
+        fz = F.Fuzz(16, p_hostile=0.2)
+        load_and_start("", ["diffbot_joint_publisher", "diffbot_velocity_controller"])
+        ns = "/diffbot_velocity_controller"
+        out, odom = [], []
+        cmd = rospy.Publisher(ns + "/cmd_vel", Twist, queue_size=10)
+        rospy.Subscriber(ns + "/odom", Odometry, lambda m: odom.append(finite_message(
+            [m.pose.pose.position.x, m.pose.pose.position.y, m.twist.twist.linear.x,
+             m.twist.twist.angular.z])), queue_size=50)
+        subs = []
+        for _ in range(25 * F.scale()):
+            r = fz.rng.random()
+            if r < 0.4:
+                subs.append(rospy.Subscriber(ns + "/cmd_vel_out", TwistStamped, lambda m: out.append(
+                    finite_message([m.twist.linear.x, m.twist.angular.z])), queue_size=10))
+            elif r < 0.8 and subs:
+                subs.pop(fz.rng.randrange(len(subs))).unregister()
+            else:
+                cmd.publish(Twist(linear=Vector3(fz.num(-0.3, 0.3), 0, 0),
+                                  angular=Vector3(0, 0, fz.num(-1, 1))))
+            t0 = self.gz.sim_time()
+            wait = fz.rng.choice([0.0, 0.0, 0.002, 0.05, 0.15])
+            self.assertTrue(wait_until(lambda: self.gz.sim_time() >= t0 + wait, 20.0), "physics stopped")
+        for s in subs:
+            s.unregister()
+        # one that stays: its messages come (within IDLE_LOOK of simulated time, then at every update)
+        n = len(out)
+        stay = rospy.Subscriber(ns + "/cmd_vel_out", TwistStamped, lambda m: out.append(
+            finite_message([m.twist.linear.x, m.twist.angular.z])), queue_size=10)
+        self.assertTrue(wait_until(lambda: len(out) > n + 20, 30.0),
+                        "no cmd_vel_out for a subscriber that stays")
+        stay.unregister()
+        self.assertTrue(all(out), "a non-finite cmd_vel_out")
+        self.assertTrue(odom and all(odom), "no or non-finite odometry")
+        self.alive()
         with self.watch.lock:
             self.assertEqual(self.watch.bad, [], "NaN/inf published")
 

@@ -1,15 +1,18 @@
 """Tier 1 fuzz (seeded) of the physics core and the controller manager: random and degenerate
-URDF/SDF models, hostile requests, controller YAML. The process must never abort (ODE aborts the
+URDF/SDF models, hostile requests, controller YAML, trajectory goals with hostile tolerances among
+cancels, controller switches and resets. The process must never abort (ODE aborts the
 whole process on absurd numbers), no state may become NaN/inf, and every refusal must name what
 it refused. `make test` runs the short form; `make fuzz` sets MODROB_FUZZ_SCALE=20."""
 import importlib.util
 import math
 import os
+import types
 
 import pytest
 
 from modrob_sim.errors import ModrobError
 from modrob_sim.physics import World
+from modrob_sim.physics import native as native_lib
 
 _FIX = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "fixtures")
 _spec = importlib.util.spec_from_file_location("fuzz_models", os.path.join(_FIX, "fuzz_models.py"))
@@ -170,3 +173,93 @@ def test_controller_yaml_fuzz_refused_naming_the_parameter(seed):
         mgr.switch([], [name], 2)
         mgr.unload(name)
         assert c is not None
+
+
+def _tolerances(fz, joints):
+    """JointTolerance-like tolerances for some of ``joints``, drawn by ``fz`` (hostile ones among
+    them), and whether every number in them is finite."""
+    out = []
+    for j in joints:
+        if fz.rng.random() < 0.6:
+            out.append(types.SimpleNamespace(name=j, position=fz.num(0.05, 1.0), acceleration=0.0,
+                                             velocity=fz.num(0.5, 5.0) if fz.rng.random() < 0.3 else 0.0))
+    return out, all(math.isfinite(t.position) and math.isfinite(t.velocity) for t in out)
+
+
+@pytest.mark.parametrize("native", [False, pytest.param(True, marks=pytest.mark.skipif(
+    native_lib.LIB is None, reason="the C loop is not built"))])
+def test_trajectory_goals_with_hostile_tolerances_among_cancels_switches_and_resets(native):
+    """An effort JointTrajectoryController's goals (their path tolerances watched by the joints'
+    actuators as bands) with tolerances drawn sane or hostile, replaced, cancelled, their
+    controller switched off, the simulation or the world reset while they run, stepped as the node
+    steps (natively between the hooks' due times). A goal with a NaN or infinite tolerance is
+    refused by name and changes nothing; every accepted goal ends with one outcome; the World
+    never raises and its state stays finite."""
+    from modrob_sim.gazebo_ros.testing import ControlRig
+    from modrob_sim.ros_control.controllers.joint_trajectory import TrajectoryPoint
+    fz = F.Fuzz(6, p_hostile=0.3)
+    with open(os.path.join(_FIX, "control", "arm_3dof.urdf")) as f:
+        rig = ControlRig(f.read().replace("PositionJointInterface", "EffortJointInterface"), native=native)
+    joints = ["yaw", "shoulder", "elbow"]
+    params = {"type": "effort_controllers/JointTrajectoryController", "joints": joints,
+              "gains": {"yaw": {"p": 80.0, "i": 30.0, "d": 1.5, "i_clamp": 5.0},
+                        "shoulder": {"p": 200.0, "i": 50.0, "d": 10.0, "i_clamp": 8.0},
+                        "elbow": {"p": 120.0, "d": 6.0}},
+              "stop_trajectory_duration": 0.1,
+              "constraints": {"goal_time": 0.5, "stopped_velocity_tolerance": 0.2,
+                              "shoulder": {"trajectory": 0.5, "goal": 0.1}}}
+    ctl = {n: rig.mgr.load(n, dict(params)) for n in ("a", "b")}
+    for n in ctl:
+        rig.adapter(n)
+    assert rig.mgr.switch(["a"], [], 2)[0]
+    rig.start(True)
+    running, stopped = "a", "b"
+    accepted, outcomes, refused_n, banded = set(), {}, 0, 0
+    for i in range(60 * F.scale()):
+        kind = fz.rng.choice(["goal", "goal", "goal", "cancel", "switch", "reset", "reset_world"])
+        t = rig.world.time
+        if kind == "goal":
+            points, tt = [], 0.0
+            for _ in range(fz.rng.randint(1, 3)):
+                tt += fz.rng.uniform(0.05, 0.4)
+                points.append(TrajectoryPoint([fz.rng.uniform(-1, 1) for _ in joints], None, None, tt))
+            path, path_ok = _tolerances(fz, joints)
+            goal, goal_ok = _tolerances(fz, joints)
+            gid = "g%d" % i
+            ok, code, text = ctl[running].submit(joints, points, 0.0, t, goal_id=gid, path_tolerance=path,
+                                                 goal_tolerance=goal,
+                                                 goal_time_tolerance=fz.rng.choice([0.0, 0.2, -1.0, 1e4]))
+            if path_ok and goal_ok:
+                assert ok, text
+                accepted.add(gid)
+            else:
+                refused_n += 1
+                assert (ok, code) == (False, -1) and "tolerance of joint '" in text, (ok, code, text)
+        elif kind == "cancel" and accepted:
+            ctl[running].cancel(sorted(accepted)[-1], t)
+        elif kind == "switch":
+            assert rig.mgr.switch([stopped], [running], 2)[0]
+            running, stopped = stopped, running
+        elif kind == "reset":
+            rig.world.reset()
+            rig.loop.reset()
+        elif kind == "reset_world":
+            rig.world.reset_world()
+            rig.loop.reset()
+        rig.step(fz.rng.choice([1, 5, 20, 100]))
+        banded += any(a.band is not None for a in ctl[running].acts)
+        check_state(rig.world)
+        for c in ctl.values():
+            for gid, outcome, _code, _text in c.events:
+                assert gid not in outcomes, (gid, outcome, outcomes.get(gid))
+                outcomes[gid] = outcome
+            del c.events[:]
+    for c in ctl.values():
+        if c.goal is not None:
+            c.cancel(c.goal.goal_id, rig.world.time)
+    rig.step(10)
+    for c in ctl.values():
+        for gid, outcome, _code, _text in c.events:
+            outcomes[gid] = outcome
+    assert accepted and refused_n and banded, (len(accepted), refused_n, banded)
+    assert accepted <= set(outcomes), sorted(accepted - set(outcomes))
