@@ -219,6 +219,49 @@ DEFERRED = textwrap.dedent(r"""
 """).replace("LISTEN_SOURCE", repr(LISTEN))
 
 
+# the subscriber counts as the subscribers come and go: a subscriber in another process (rospy
+# shares one connection per topic and process), a second publisher of the same topic in this
+# process (roscpp's one publication of the topic: the same count), a publisher that leaves while
+# the other stays, and none once roscpp stops
+COUNTS = textwrap.dedent(r"""
+    import subprocess, sys, time
+    import rospy
+    from sensor_msgs.msg import JointState
+    from modrob_sim.gazebo_ros import native_pub
+
+    rospy.init_node("counttest", disable_signals=True)
+    assert native_pub.start(rospy.get_name()), native_pub.reason()
+    a = native_pub.publisher("/counted", JointState, queue_size=10)
+    b = native_pub.publisher("/counted", JointState, queue_size=10)
+    other = native_pub.publisher("/not_counted", JointState, queue_size=10)
+
+    def settle(pub, n):
+        deadline = time.time() + 30
+        while pub.get_num_connections() != n and time.time() < deadline:
+            time.sleep(0.02)
+        return pub.get_num_connections()
+
+    SUB = "import rospy, sys; rospy.init_node('s', anonymous=True); " \
+          "rospy.Subscriber('/counted', rospy.AnyMsg, lambda m: None); sys.stdin.read()"
+    print("none", a.get_num_connections(), b.get_num_connections(), flush=True)
+    procs = [subprocess.Popen([sys.executable, "-c", SUB], stdin=subprocess.PIPE)]
+    print("one", settle(a, 1), b.get_num_connections(), other.get_num_connections(), flush=True)
+    procs.append(subprocess.Popen([sys.executable, "-c", SUB], stdin=subprocess.PIPE))
+    print("two", settle(a, 2), b.get_num_connections(), flush=True)
+    procs.pop().communicate(timeout=30)
+    print("back_to_one", settle(a, 1), b.get_num_connections(), flush=True)
+    a.unregister()
+    print("after_unregister", a.get_num_connections(), b.get_num_connections(), flush=True)
+    procs.pop().communicate(timeout=30)
+    print("gone", settle(b, 0), flush=True)
+    procs.append(subprocess.Popen([sys.executable, "-c", SUB], stdin=subprocess.PIPE))
+    print("again", settle(b, 1), flush=True)
+    native_pub.stop()
+    print("stopped", b.get_num_connections(), flush=True)
+    procs.pop().communicate(timeout=30)
+""")
+
+
 def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -257,6 +300,21 @@ def test_roscpp_publishers_send_rospys_bytes_and_latch(master):
     assert out["js_equal"] == "[True, True, True]"
     assert out["clock_equal"] == "True"
     assert out["publishers"] == "['/pubtest_roscpp']"
+
+
+def test_subscriber_counts_follow_the_subscribers(master):
+    proc = subprocess.run([sys.executable, "-c", COUNTS], env=master, capture_output=True, text=True,
+                          timeout=180)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    out = dict(ln.split(" ", 1) for ln in proc.stdout.splitlines() if " " in ln)
+    assert out["none"] == "0 0"
+    assert out["one"] == "1 1 0"
+    assert out["two"] == "2 2"
+    assert out["back_to_one"] == "1 1"
+    assert out["after_unregister"] == "0 1"     # a's handle is gone; b keeps the topic and its subscriber
+    assert out["gone"] == "0"
+    assert out["again"] == "1"
+    assert out["stopped"] == "0"
 
 
 def test_without_roscpp_it_is_rospy(master):

@@ -35,7 +35,9 @@
 // rospy subscriber keeps the connection's last message for a second subscription of its process
 // (rospy shares one connection per topic), as it does for a latched topic.
 #include <algorithm>
+#include <ros/publication.h>
 #include <ros/ros.h>
+#include <ros/topic_manager.h>
 
 #include <chrono>
 #include <cmath>
@@ -131,6 +133,8 @@ double monotonic_now() {
 // the Handle through a weak pointer)
 struct Handle {
   ros::Publisher pub;
+  // the topic's roscpp publication, for its subscriber count (see mrp_num_subscribers)
+  ros::PublicationPtr publication;
   ros::Publisher latch_flag;       // latched topics: advertised latched, never published through
   modrob::RawMessage msg;
   std::mutex lock;                 // pending frames, the order of the publishes, the latched copy
@@ -260,6 +264,7 @@ void* mrp_advertise(const char* topic, const char* md5, const char* datatype, co
     }
     h->pub = g_nh->advertise(ops);
     if (!h->pub) { g_error = std::string("could not advertise ") + topic; return nullptr; }
+    h->publication = ros::TopicManager::instance()->lookupPublication(h->pub.getTopic());
     return new std::shared_ptr<Handle>(h);
   } catch (const std::exception& e) {
     g_error = e.what();
@@ -304,9 +309,16 @@ int mrp_flush(void* handle) {
   return 0;
 }
 
+// The topic's subscribers: the count ros::Publisher::getNumSubscribers gives (the publication's
+// subscriber links), read from the publication itself. getNumSubscribers finds the publication by
+// its name under roscpp's lock of all advertised topics, which roscpp's poll thread holds while it
+// writes the queued messages of every topic to their sockets: called at the simulation's stops,
+// right after the states or /clock went out, the call waited for those writes. The publication's
+// own lock is held only while its links change or its own messages are handed to them.
 int mrp_num_subscribers(void* handle) {
   Handle* h = handle_of(handle);
-  return (h && h->pub) ? static_cast<int>(h->pub.getNumSubscribers()) : 0;
+  if (!h || !h->pub || !h->publication || h->publication->isDropped()) return 0;
+  return static_cast<int>(h->publication->getNumSubscribers());
 }
 
 void mrp_unadvertise(void* handle) {
@@ -317,6 +329,7 @@ void mrp_unadvertise(void* handle) {
     if (h->pub) flush_locked(h);
     h->pub.shutdown();
     h->latch_flag.shutdown();
+    h->publication.reset();
   }
   delete static_cast<std::shared_ptr<Handle>*>(handle);
 }
