@@ -103,6 +103,50 @@ def test_a_control_period_of_one_step_steps_natively_as_without_one():
     assert fast.world.native_steps > 0.9 * fast.world.iterations, fast.world.native_steps
 
 
+def _record_updates(rig, controller):
+    """(the times of the control loop's updates, the times at which ``controller`` updated)."""
+    loops, updates = [], []
+    read, update = rig.hw.read, controller.update
+
+    def counted_read():
+        loops.append(rig.mgr.time)      # once per update of the loop, after its time is set
+        read()
+
+    def counted_update(t, dt):
+        updates.append(t)
+        update(t, dt)
+    rig.hw.read, controller.update = counted_read, counted_update
+    return loops, updates
+
+
+@needs_c
+def test_a_controller_that_is_not_due_is_left_out_where_the_world_stops_for_another():
+    """Standing, the arm's loop updates only for the joint_state_controller's samples (50 Hz):
+    there the group position controller, with no new command or gains, is not due and does not
+    update (the steps are those of an update at every step: the tests above); a mobile base, whose
+    odometry sums one arc per update, updates wherever the loop does (update_at_every_stop)."""
+    arm = run(GroupArm(True), 1200, GROUP_EVENTS)
+    loops, updates = _record_updates(arm, arm.pos)
+    arm.step(1000)
+    assert len(loops) == 50, loops
+    assert updates == []
+    arm.pos.set_command([0.5, -0.5])
+    arm.step(100)
+    assert len(updates) == 1, updates       # the command's update
+
+    bot = DiffBot(True)
+    bot.joint_state_controller(publish_rate=30)     # on another phase than the odometry's 50 Hz
+    assert bot.mgr.switch(["jsc"], [], STRICT)[0]
+    bot.step(100)
+    loops, updates = _record_updates(bot, bot.c)
+    bot.step(1000)
+    samples = [e[1] for e in bot.log if isinstance(e, tuple) and e[1] >= loops[0]]
+    # 20 of the 30 samples here fall outside the odometry's own updates: without its declaration
+    # the base would skip them
+    assert updates == loops
+    assert samples and set(samples) <= set(updates)
+
+
 class Gripper(ControlRig):
     """The parallel gripper's effort_controllers/GripperActionController (its PID in the finger's
     actuator; ``position``: position_controllers/GripperActionController, the finger set

@@ -69,6 +69,7 @@ class ControlRig(object):
             if after is not None:
                 after(t, dt)
         if not fast:
+            loop.every_controller = True        # gazebo_ros_control: every controller, every step
             self.world.add_step_hook(before=loop.before_step, after=after_hook)
             return
         never = lambda: INF  # noqa: E731

@@ -14,6 +14,14 @@ def is_due(t, due):
     return t + DUE_TOLERANCE >= due
 
 
+def stops_at(t, due):
+    """Whether the World stops for Python at the step starting at ``t`` for a before-hook due at
+    ``due`` (its native stretch ends ``DUE_MARGIN`` before it): a hook that gathers several into
+    one (ros_control's control loop, its controllers) runs there those for which it would stop, and
+    leaves out the others as if the World had stepped natively through ``t``."""
+    return due - DUE_MARGIN <= t
+
+
 #: simulated seconds between two looks for a listener while a hook whose work is only for listeners
 #: (a sensor's topic, a controller's per-update message) has none: meanwhile the hook is not due, so
 #: the World steps natively through its update times, and its first message after a listener comes

@@ -20,7 +20,7 @@ from . import odelib
 from .backends import NativeBackend, NativeMesh, PureBackend  # noqa: F401 (NativeMesh: public name)
 from .builder import build_model
 from .contact_watch import ContactWatch
-from .due import DUE_MARGIN
+from .due import DUE_MARGIN, stops_at
 from .description import GeometryDesc
 from .model import FORCE_CAP, MIMIC_COUPLING_FORCE, MIMIC_GAIN  # noqa: F401 (public names)
 from .transforms import (IDENTITY_POSE, check_pose, check_vec3, cross, dot, normalized, pose_mul,
@@ -993,8 +993,9 @@ class World(object):
             return 1
         backend = self._backend
         backend.clear_wake()        # before the due times: a wake after this ends the stretch
-        before = earliest_due(self._before_dues) - DUE_MARGIN
-        hooked = before <= t
+        due = earliest_due(self._before_dues)
+        before = due - DUE_MARGIN
+        hooked = stops_at(t, due)
         if hooked:
             self.stops += 1
             dt = self._p.dt

@@ -5,8 +5,16 @@ tests without ROS (gazebo_ros.testing) run the same.
 An update runs in Python at the steps at which it has work: a controller's ``update_due`` (a
 state message, a joint_state_controller sample, the end of a trajectory segment, a goal to
 check), an adapter with a goal or command waiting, a gain changed. At the other steps the joints'
-actuators (the World's) carry the last set-points. A controller that reports what its actuator
-did in the update's step (``collect_due``) is collected in the after-step hook of that step."""
+actuators (the World's) carry the last set-points. An update updates the running controllers for
+which the World would stop there (:func:`physics.due.stops_at` of their ``update_due``); the others
+are left out, as at the steps the World makes natively, unless the controller says that its update
+has work at every update (``update_at_every_stop``) or an actuator of its joints watches a goal's
+checks for it (a gripper goal, a trajectory goal's path tolerances: the World ends a native
+stretch at the step at which one fires, a time no ``update_due`` gives). A controller that reports
+what its actuator did in the update's step (``collect_due``) is collected in the after-step hook of
+that step."""
+from modrob_sim.physics.due import stops_at
+
 INF = float("inf")
 
 
@@ -21,6 +29,9 @@ class ControlLoop(object):
         self.world = world
         self.control_period = control_period
         self.last_update = None
+        #: True: every running controller updates at every update, due or not (gazebo_ros_control's
+        #: update at every step, the reference of the tests that compare the two bit for bit)
+        self.every_controller = False
 
     def _period(self):
         """The control period, or None when the controllers update at every step: no
@@ -60,9 +71,31 @@ class ControlLoop(object):
         adapters = list(self.adapters.values())
         for a in adapters:
             a.before_update(t)
-        self.manager.update(t, step, iteration=self.world.iterations)
+        # with a control period every update runs whole, as gazebo_ros_control's does once per period
+        due = None if period is not None or self.every_controller else self._due_controllers(t, dt)
+        self.manager.update(t, step, iteration=self.world.iterations, controllers=due)
         for a in adapters:
             a.after_update(t)
+
+    def _due_controllers(self, t, dt):
+        """The running controllers whose update runs at the step starting at ``t`` (after the
+        adapters handed over what waited: a goal makes its controller due)."""
+        it = self.world.iterations
+        return [c for c in self.manager.controllers.values()
+                if c.state == "running" and (c.update_at_every_stop or stops_at(t, c.update_due(t, it, dt))
+                                             or self._watched(c))]
+
+    def _watched(self, c):
+        """Whether an actuator of a joint of controller ``c`` watches a goal's checks or path
+        tolerances (the World ends its native stretch at the step at which one fires, where the
+        controller's update must run)."""
+        joints = self.hw.joints
+        for name in c.joint_names:
+            res = joints.get(name)
+            a = None if res is None else res.actuator
+            if a is not None and (a.watching or a.band is not None):
+                return True
+        return False
 
     def after_due(self):
         for c in self.manager.controllers.values():

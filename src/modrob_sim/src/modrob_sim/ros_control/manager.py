@@ -150,14 +150,15 @@ class ControllerManager(object):
         return running
 
     # -- loop ------------------------------------------------------------------------------
-    def update(self, t, dt, iteration=None):
+    def update(self, t, dt, iteration=None, controllers=None):
         """read -> update running controllers -> write, at simulated time ``t``; ``iteration``:
         the index of the physics step (the World's count: the steps between two updates in
-        Python count too), else one more than the last update's."""
+        Python count too), else one more than the last update's. ``controllers``: the running
+        controllers to update, in the manager's order (None: every running one)."""
         self.time = t
         self.hw.iteration = self.hw.iteration + 1 if iteration is None else iteration
         self.hw.read()
-        for c in self.controllers.values():
+        for c in self.controllers.values() if controllers is None else controllers:
             if c.state == "running":
                 c.update(t, dt)
         self.hw.write(dt, t)

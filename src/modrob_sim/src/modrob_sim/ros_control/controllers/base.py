@@ -87,8 +87,15 @@ class Controller(object):
         starts at ``t`` (``iteration`` its index, ``dt`` the step): between two such updates the
         World's actuators carry the controller's last set-points (docs/plugins.md, "Due times").
         The default, ``t``: every update runs (a controller that writes new commands at every
-        update). ``math.inf``: none until something changes."""
+        update). ``math.inf``: none until something changes. At a step where the World stops for
+        another controller or plugin, an update that is not due is left out (ros_control's
+        ControlLoop), unless ``update_at_every_stop``."""
         return t
+
+    #: True: the update runs wherever the control loop updates, due or not (a controller whose
+    #: results depend on how many updates there were: the mobile bases' odometry integrates the
+    #: wheels' travel per update); False: only where :meth:`update_due` makes the World stop
+    update_at_every_stop = False
 
     #: the ``command`` buffer's version the last update took (None: none taken yet)
     _taken_version = None

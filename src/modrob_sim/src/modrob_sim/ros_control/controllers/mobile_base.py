@@ -166,6 +166,11 @@ class MobileBaseController(Controller):
     (``publish_cmd``, ``publish_wheel_state``); the ROS layer sets it from its topics' subscribers.
     """
 
+    #: its update runs wherever the control loop updates, due or not: the odometry's pose sums one
+    #: arc per update (so the arcs, and the pose's last digits, follow every update), and an update
+    #: looks for a listener of the per-update messages (where the messages start)
+    update_at_every_stop = True
+
     def __init__(self, name, hw, params):
         super(MobileBaseController, self).__init__(name, hw, params)
         self.publish_rate = positive(params, "publish_rate", DEFAULT_PUBLISH_RATE)
