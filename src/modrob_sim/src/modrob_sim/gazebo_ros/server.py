@@ -109,6 +109,7 @@ class GazeboRosNode(object):
         forward_python_logging("modrob_sim")
         report_physics_backend(self.world)
         self._own_sim_time = take_over_sim_time()
+        self._rostime_t = None      # the simulated time rospy's clock was last set to (_set_time)
         plugins.import_plugin_modules(plugins.PLUGIN_MODULES + list(params.plugin_modules),
                                       on_error=self._plugin_module_failed)
 
@@ -220,8 +221,12 @@ class GazeboRosNode(object):
 
     def _set_time(self, t):
         """Simulated time is ``t`` [s] (before a step, or after a batch of steps in C): rospy's
-        time, then the timers due by then."""
-        set_rostime(ros_time(t))
+        time, then the timers due by then. rospy's time is set (and its sleepers woken) only when
+        it changes: a pass of the loop ends at a stop, where the before-hook of the next pass's
+        first step sets the same time again."""
+        if t != self._rostime_t:
+            self._rostime_t = t
+            set_rostime(ros_time(t))
         self.timers.tick(t)
 
     def _before_step(self, t, dt):
