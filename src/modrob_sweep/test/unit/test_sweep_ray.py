@@ -329,7 +329,7 @@ try:
 except ray.exceptions.WorkerCrashedError as exc:
     # one write: Ray's log thread prints the raylet's lines to this stdout too, and print() writes
     # its pieces one by one, so a raylet line could come between "lost:" and the name
-    sys.stdout.write("lost: %s\n" % type(exc).__name__)
+    sys.stdout.write("lost: %s\\n" % type(exc).__name__)
     sys.stdout.flush()
 runner._wait_local_trials(token)
 runner.keep_crash_logs(sys.argv[1], sys.stdout)
