@@ -104,8 +104,11 @@ def _geometry(rd, elem, where):
     rd.fail(where, "unsupported geometry <%s> (box, cylinder, sphere, plane, mesh)" % kind)
 
 
-def _surface(rd, ce, where):
-    s = Surface()
+def collision_surface(rd, ce, where, base=None):
+    """The contact surface of an SDF ``<collision>`` element ``ce`` (its ``<max_contacts>`` and
+    ``<surface>``): from SDF's defaults, or where ``ce`` has no ``<surface>`` from ``base`` (a URDF
+    link's so far: a ``<gazebo reference><collision>`` block, urdf_reader)."""
+    s = Surface() if base is None or _child(ce, "surface") is not None else base.copy()
     if _text(ce, "max_contacts") is not None:
         s.max_contacts = rd.int(_text(ce, "max_contacts"), where, "<max_contacts>")
         if s.max_contacts < 0:
@@ -272,7 +275,7 @@ def _model(rd, me, name, warn, resolver=None):
         for ce in _children(le, "collision"):
             cw = "%s collision '%s'" % (where, ce.get("name", ""))
             gd = _geometry(rd, ce, cw)
-            gd.surface = _surface(rd, ce, cw)
+            gd.surface = collision_surface(rd, ce, cw)
             ld.collisions.append(gd)
         for ve in _children(le, "visual"):
             gd = _geometry(rd, ve, "%s visual '%s'" % (where, ve.get("name", "")))

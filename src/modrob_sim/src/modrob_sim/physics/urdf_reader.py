@@ -9,6 +9,7 @@ from . import limits
 from .description import (JOINT_TYPES, GeometryDesc, JointDesc, LinkDesc, ModelDesc,
                           PluginSpec)
 from .gripper import read_gripper
+from .sdf_reader import collision_surface
 from .transforms import IDENTITY_POSE, quat_from_rpy
 from .xml_util import Reader, local, parse_xml
 
@@ -294,6 +295,12 @@ def _read_gazebo(rd, root, desc, name, warn):
 
 def _gazebo_link(rd, ge, link, desc, name, warn):
     where = "<gazebo reference='%s'>" % link.name
+    # a <collision> block goes into each of the link's collisions, as sdformat converts it for
+    # Gazebo: its <max_contacts>, and its <surface> in place of what they had; then the block's own
+    # tags (<mu1> ...) on top
+    for c in ge:
+        if local(c.tag) == "collision":
+            link.surface = collision_surface(rd, c, where + "<collision>", base=link.surface)
     s = link.surface
     for c in ge:
         tag = local(c.tag)
