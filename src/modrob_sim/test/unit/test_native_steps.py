@@ -9,6 +9,7 @@ import os
 import pytest
 
 from modrob_sim.gazebo_ros.testing import ControlRig
+from modrob_sim.physics import actuators as A
 from modrob_sim.physics import native as native_mod
 from modrob_sim.physics.world import next_time
 from modrob_sim.ros_control.manager import STRICT
@@ -173,13 +174,18 @@ def test_the_step_observer_sees_every_native_step():
         expected.append(t)
     assert set(seen) <= set(expected) and seen == sorted(seen)
     assert len(set(seen) | set(times)) == 95      # every step: observed natively or its hooks ran
-    rig.model.joints["yaw"].set_effort(0.0)      # an effort for the next step: the World makes it in Python
+    rig.model.joints["yaw"].set_effort(0.0)      # an effort for the next step: made in C as well
+    rig.step(1)
+    assert rig.world.iterations - rig.world.native_steps - rig.world.hooked_steps == 0
+    assert len(seen) == 96
+    # a wrench for one step: the World makes that step in Python
+    rig.model.links["l1"].add_wrench((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), duration=0.5 * rig.world.time_step)
     rig.step(1)
     assert rig.world.iterations - rig.world.native_steps - rig.world.hooked_steps == 1
-    assert len(seen) == 95 and abs(times[-1] - 0.096) < 1e-9
+    assert len(seen) == 96 and abs(times[-1] - 0.097) < 1e-9
     rig.world.set_step_observer(None, None)
     rig.step(10)
-    assert len(seen) == 95
+    assert len(seen) == 96
 
 
 @needs_c
@@ -205,3 +211,88 @@ def test_a_wake_while_the_due_times_are_asked_is_not_lost():
     world.add_step_hook(before=before, before_due=before_due)
     world.step(50)
     assert world.iterations == 50 and taken == [0.0], taken
+
+
+TABLE = """<robot name="table"><link name="top">
+  <collision><origin xyz="0.6 0.6 0.3"/><geometry><box size="0.6 0.6 0.05"/></geometry></collision></link>
+  <gazebo><static>true</static></gazebo></robot>"""
+CAN = """<robot name="can"><link name="can">
+  <inertial><mass value="0.2"/>
+    <inertia ixx="0.0002" ixy="0" ixz="0" iyy="0.0002" iyz="0" izz="0.0001"/></inertial>
+  <collision><geometry><cylinder radius="0.03" length="0.1"/></geometry></collision></link></robot>"""
+
+
+def efforts_run(native):
+    """A PD hook that gives every joint an effort with set_effort at every step, as the physics
+    core benchmark's: revolute joints beyond their effort limit at first, prismatic fingers (one
+    given two add_effort calls a step, their sum beyond its limit), the elbow with an actuator of
+    its own (its efforts go to the actuator); a can dropped on a table falls asleep. Then no hook:
+    an effort given between step() calls, for a stretch of 20 steps or a single step. Returns the
+    world, what was seen after each step and the steps that were made in Python."""
+    w = physics.World(time_step=0.001, seed=5, native=native)
+    with open(os.path.join(FIX, "arm_3dof.urdf")) as f:
+        arm = w.add_urdf("arm", f.read().replace("PositionJointInterface", "EffortJointInterface"))
+    with open(os.path.join(FIX, "gripper_parallel.urdf")) as f:
+        grip = w.add_urdf("gripper", f.read(), pose=((-0.8, 0.0, 0.5), (0.0, 0.0, 0.0, 1.0)))
+    w.add_urdf("table", TABLE)
+    w.add_urdf("can", CAN, pose=((0.6, 0.6, 0.38), (0.0, 0.0, 0.0, 1.0)))
+    yaw, shoulder, elbow = (arm.joints[n] for n in ("yaw", "shoulder", "elbow"))
+    f1, f2 = grip.joints["finger_joint1"], grip.joints["finger_joint2"]
+    a_el = w.add_actuator(elbow, A.EFFORT, effort_limit=5.0)
+    a_el.command = 2.0
+    joints = (yaw, shoulder, elbow, f1, f2)
+    hold = ((yaw, 1.2), (shoulder, -0.8), (elbow, 0.6))
+
+    def pd(t, _dt):
+        for j, q in hold:
+            j.set_effort(300.0 * (q - j.position) - 6.0 * j.velocity)
+        f1.set_effort(30.0 if t < 0.2 else -3.0)
+        f2.add_effort(8.0)
+        f2.add_effort(15.0 if t < 0.3 else -12.0)
+
+    def seen():
+        return ([(j.position, j.velocity, j.effort) for j in joints], a_el.last, w.time, w.state_digest())
+    log, python_steps = [], []
+
+    def step(n):
+        before = w.iterations - w.native_steps - w.hooked_steps
+        w.step(n)
+        python_steps.append(w.iterations - w.native_steps - w.hooked_steps - before)
+        log.append(seen())
+    hook = w.add_step_hook(before=pd)
+    for _ in range(600):
+        step(1)
+    w.remove_step_hook(hook)
+    for k in range(6):
+        yaw.set_effort(-20.0)
+        elbow.set_effort(1.0)
+        f1.add_effort(4.0)
+        step(20 if k % 2 else 1)
+    return w, log, python_steps
+
+
+@needs_c
+def test_set_effort_steps_are_native_and_equal_the_python_steps_bit_for_bit():
+    """Efforts queued with set_effort/add_effort no longer keep a step in Python on the native
+    backend: its first native step applies them (after the model actuators, as World._apply_forces:
+    the same states, reported efforts and actuator outputs as the pure-Python backend, bit for
+    bit), and the efforts last one step, also within a longer stretch."""
+    wp, pure, _ = efforts_run(False)
+    wn, nat, python_steps = efforts_run(True)
+    assert not wp.native and wn.native
+    assert len(pure) == len(nat) == 606
+    for k, (a, b) in enumerate(zip(pure, nat)):
+        assert a == b, "after step() call %d: %r != %r" % (k, a, b)
+    assert sum(python_steps) == 0, "steps made in Python: %d" % sum(python_steps)
+    assert wn.hooked_steps == 600 and wn.native_steps == wn.iterations - 600
+    # what the run did: the arm held near its targets, the can asleep on the table (still, no
+    # contacts made), the efforts reported for one step only
+    assert abs(wn.models["arm"].joints["yaw"].position - 1.2) < 0.05
+    can = wn.models["can"].links["can"]
+    assert can.pose[0][2] > 0.3 and can.twist == ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0)) and not wn.contacts()
+    first = [e for _p, _v, e in nat[0][0]]                      # clamped to the joints' limits
+    assert first == [50.0, -50.0, 50.0, 20.0, 20.0], first
+    assert [e for _p, _v, e in nat[599][0]][3:] == [-3.0, -4.0]
+    after = [[e for _p, _v, e in s[0]] for s in nat[600:]]
+    assert [e[0] for e in after] == [-20.0, 0.0] * 3 and [e[3] for e in after] == [4.0, 0.0] * 3
+    assert [e[2] for e in after] == [3.0, 2.0] * 3              # the elbow's actuator: 2 + 1, then 2

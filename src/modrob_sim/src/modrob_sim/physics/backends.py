@@ -16,12 +16,17 @@ only the physics-side interface of Model, Link and Joint (model.py):
     forget_model(entry)             the model (the World's entry for it) left the World
     remove_geom(geom)               free one geom (model removal and teardown)
     rebuild(models)                 the set of models, joints or the time step changed
+    settings_changed()              the step settings of the parts (gravity, physics parameters
+                                    and what follows from them) changed
     make_mesh_geom(mesh, dynamic, what) -> (geom, pose of the geom in the mesh frame)
     apply_damping()                 explicit joint damping for this step
     step(dt) -> contacts            collide + contact joints + quickStep (or dWorldStep); the
                                     native one also runs the guard's velocity scan here
-    run(n, t, iterations, before_due, after_due, wake, observer) -> Stretch or None
-                                    up to n steps natively (the pure backend: None, never)
+    run(n, t, iterations, before_due, after_due, efforts) -> Stretch or None
+                                    up to n steps natively (the pure backend: None, never);
+                                    the first applies ``efforts`` (the World's queued efforts
+                                    taken for the step: the joints' and the values) after the
+                                    model actuators, as the World's step in Python does
     find_blowups() -> [(model, group, reason)]   the guard's scan after a step
     snapshot_iteration -> int       the iteration of the guard's last snapshot taken natively (-1:
                                     none since the last rebuild or drop_snapshot(); the pure: -1)
@@ -184,7 +189,9 @@ class _Stretch(ctypes.Structure):
         [(n, ctypes.c_int) for n in ("param_vel", "param_fmax", "param_lo_stop", "param_hi_stop")] + \
         [("mimic_gain", ctypes.c_double), ("mimic_force", ctypes.c_double),
          ("macts", ctypes.c_void_p), ("nmacts", ctypes.c_int),
-         ("snap", ctypes.c_void_p), ("snap_turns", ctypes.c_void_p), ("snap_iter", ctypes.c_longlong)]
+         ("snap", ctypes.c_void_p), ("snap_turns", ctypes.c_void_p), ("snap_iter", ctypes.c_longlong),
+         ("nefforts", ctypes.c_int), ("effort_joints", ctypes.c_void_p), ("effort_kinds", ctypes.c_void_p),
+         ("effort_values", ctypes.c_void_p)]
 
 
 #: doubles per body in the C loop's guard snapshot (MR_SNAP_BODY)
@@ -308,6 +315,9 @@ class PureBackend(object):
     def rebuild(self, models):
         pass
 
+    def settings_changed(self):
+        pass
+
     # ---- contact watches (noted in _near) -----------------------------------------------------
     def new_watch(self, infos):
         handle = self._next_watch
@@ -355,7 +365,7 @@ class PureBackend(object):
         pass
 
     @staticmethod
-    def run(n, t, iterations, before_due, after_due, wake=None, observer=None):
+    def run(n, t, iterations, before_due, after_due, efforts):
         """No native stretches on the pure-Python path: every step is World._step_once."""
         return None
 
@@ -843,6 +853,16 @@ class NativeBackend(object):
         self.stretch_ok = True              # every mimic and soft-limit joint is one the C loop drives
         self._snap = self._snap_turns = None
         self._stretch.snap_iter = -1
+        self._effort_joints = ()             # the joints of the last efforts handed to a stretch
+        self._effort_arrays = None           # their (ODE joints, kinds, values) for mr_run_steps
+        # what mr_run_steps reads besides each run's times and efforts is written into the stretch
+        # where it changes (here, rebuild, settings_changed, the actuator lists), not at every run
+        b = self._stretch
+        b.param_vel, b.param_fmax = odelib.PARAM_VEL, odelib.PARAM_FMAX
+        b.param_lo_stop, b.param_hi_stop = odelib.PARAM_LO_STOP, odelib.PARAM_HI_STOP
+        b.mimic_gain, b.mimic_force = MIMIC_GAIN, MIMIC_COUPLING_FORCE
+        b.acts = ctypes.addressof(self._act_array)
+        b.macts = ctypes.addressof(self._macts_array)
 
     def set_seed(self, seed):
         self.nat.mr_set_seed(self.ctx, seed)
@@ -886,6 +906,7 @@ class NativeBackend(object):
         for k, a in enumerate(self._acts):
             arr[k] = ctypes.pointer(a.record)
         self._act_array = arr
+        self._stretch.acts, self._stretch.nacts = ctypes.addressof(arr), len(self._acts)
 
     def apply_actuators(self, actuators, t, dt):
         if actuators:
@@ -910,6 +931,7 @@ class NativeBackend(object):
         self._macts = tuple(actuators)
         self._macts_array = (ctypes.POINTER(MrModelActuator) * max(1, len(self._macts)))(
             *[ctypes.pointer(a.record) for a in self._macts])
+        self._stretch.macts, self._stretch.nmacts = ctypes.addressof(self._macts_array), len(self._macts)
 
     def apply_model_actuators(self, actuators):
         if self._macts:
@@ -1051,6 +1073,7 @@ class NativeBackend(object):
     def rebuild(self, models):
         world = self.p
         nat, ctx = self.nat, self.ctx
+        self._effort_joints = ()             # their ODE joints may be gone
         nat.mr_clear_adjacency(ctx)
         for m in models:
             e = world.entries[m]
@@ -1095,6 +1118,26 @@ class NativeBackend(object):
                                                                 for j, _ in damped]),
                              (ctypes.c_int * max(1, n))(*[0 if j.is_angular else 1 for j, _ in damped]),
                              (ctypes.c_double * max(1, n))(*[c for _, c in damped]))
+        dj, dk, dc = self._damp_arrays[1:]
+        b.ndamp = n
+        b.damp_joints, b.damp_kinds, b.damp_coef = (ctypes.addressof(dj), ctypes.addressof(dk),
+                                                    ctypes.addressof(dc))
+        b.turns, b.nturns = ctypes.addressof(self._turn_array), self._nturns
+        b.bodies, b.nbodies = ctypes.addressof(self._body_array), len(self._body_owner)
+        self.settings_changed()     # the time step
+
+    def settings_changed(self):
+        world = self.p
+        b = self._stretch
+        params = world.params
+        b.guard_max_contacts = int(params["guard_max_contacts"])
+        b.snapshot_interval = int(params["snapshot_interval"])
+        b.max_contacts = int(world.max_contacts)
+        b.vmax2, b.wmax2 = world.vmax2, world.wmax2
+        b.dt = world.dt
+        b.gx, b.gy, b.gz = world.gravity
+        b.layer = world.layer
+        b.world_step = 1 if world.world_step else 0
 
     def _arrange_mimics_and_soft(self, mimics, soft):
         """The mimic and soft-limit joints for mr_run_steps (after every rebuild)."""
@@ -1141,36 +1184,21 @@ class NativeBackend(object):
         """``fn(user, t)`` (C function addresses, or None) after every step of a stretch."""
         self._stretch.observer, self._stretch.observer_user = fn, user
 
-    def run(self, n, t, iterations, before_due, after_due):
+    def run(self, n, t, iterations, before_due, after_due, efforts):
         """Up to ``n`` steps in C from time ``t`` (iteration count ``iterations``): none that
         starts at t' >= ``before_due`` (a before-hook is due, or the World's own Python), a step
         ending at t' with t' + 1e-12 >= ``after_due`` ends the stretch (``after``); so do a step the
-        guard must look at, the end of a segment actuator's piece and a wake-up. Returns a
-        Stretch, or None when no step was made (the next one is the World's in Python)."""
-        world = self.p
+        guard must look at, the end of a segment actuator's piece and a wake-up. The first step
+        applies ``efforts`` ((joints, values): Joint.take_effort's). Returns a Stretch, or None when
+        no step was made (the next one is the World's in Python)."""
         b = self._stretch
-        n_damp, dj, dk, dc = self._damp_arrays
-        b.acts, b.nacts = ctypes.addressof(self._act_array), len(self._acts)
-        b.macts, b.nmacts = ctypes.addressof(self._macts_array), len(self._macts)
-        b.turns, b.nturns = ctypes.addressof(self._turn_array), self._nturns
-        b.ndamp = n_damp
-        b.damp_joints, b.damp_kinds, b.damp_coef = (ctypes.addressof(dj), ctypes.addressof(dk),
-                                                    ctypes.addressof(dc))
-        b.bodies, b.nbodies = ctypes.addressof(self._body_array), len(self._body_owner)
-        params = world.params
-        b.guard_max_contacts = int(params["guard_max_contacts"])
-        b.snapshot_interval = int(params["snapshot_interval"])
-        b.max_contacts = int(world.max_contacts)
-        b.vmax2, b.wmax2 = world.vmax2, world.wmax2
-        b.dt = world.dt
-        b.gx, b.gy, b.gz = world.gravity
-        b.layer = world.layer
-        b.world_step = 1 if world.world_step else 0
+        joints, values = efforts
+        if joints:
+            self._hand_efforts(b, joints, values)
+        else:
+            b.nefforts = 0
         b.time, b.iterations = t, iterations
         b.before_due, b.after_due = before_due, after_due
-        b.param_vel, b.param_fmax = odelib.PARAM_VEL, odelib.PARAM_FMAX
-        b.param_lo_stop, b.param_hi_stop = odelib.PARAM_LO_STOP, odelib.PARAM_HI_STOP
-        b.mimic_gain, b.mimic_force = MIMIC_GAIN, MIMIC_COUPLING_FORCE
         k = self._run(self.ctx, self._stretch_ref, int(n))
         if k <= 0:
             return None
@@ -1180,6 +1208,19 @@ class NativeBackend(object):
         out.steps, out.time, out.iterations = k, b.time, b.iterations
         out.after, out.guard, out.ncontacts = bool(b.after), bool(b.guard), b.ncontacts
         return out
+
+    def _hand_efforts(self, b, joints, values):
+        """The efforts into the stretch (the joints' ODE joints and kinds kept while the same joints
+        come again, as a controller's every step brings them)."""
+        if joints != self._effort_joints:
+            n = len(joints)
+            arrays = ((ctypes.c_void_p * n)(*[odelib.raw_pointer(j.ode_joint) for j in joints]),
+                      (ctypes.c_int * n)(*[0 if j.is_angular else 1 for j in joints]),
+                      (ctypes.c_double * n)())
+            self._effort_joints, self._effort_arrays = list(joints), arrays
+            b.effort_joints, b.effort_kinds, b.effort_values = [ctypes.addressof(a) for a in arrays]
+        self._effort_arrays[2][:] = values
+        b.nefforts = len(joints)
 
     def make_mesh_geom(self, mesh, dynamic, what):
         verts, tris = mesh

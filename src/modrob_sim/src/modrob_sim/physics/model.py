@@ -353,7 +353,7 @@ class Joint(object):
         if j is None:
             return 0.0
         if self._angular:
-            return j.getAngle() + TWO_PI * self._turns
+            return j.getAngle() + TWO_PI * self._tr.turns
         return j.getPosition()
 
     @property
@@ -585,16 +585,14 @@ class Joint(object):
         """True for revolute limits beyond +-pi (ODE's stops are moved with the turn count)."""
         return self._soft_limits
 
-    def apply_command(self):
-        """Apply the effort queued for this step to ODE and report it in ``effort``."""
-        f = self._cmd
-        if self._angular:
-            self._ode.addTorque(f)
-        else:
-            self._ode.addForce(f)
-        self._effort = f
+    def take_effort(self):
+        """The effort queued for this step, clamped, handed to the step that applies it (the
+        World's, with add_raw_effort, or the native backend's): reported in ``effort`` from now on
+        and forgotten."""
+        f = self._effort = self._cmd
         self._cmd = 0.0
         self._has_cmd = False
+        return f
 
     def add_damping(self, coefficient):
         """Explicit viscous damping for this step: -coefficient * velocity."""

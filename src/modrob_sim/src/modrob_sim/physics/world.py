@@ -213,6 +213,7 @@ class World(object):
     def gravity(self, g):
         self._p.gravity = limits.check_gravity(check_vec3(g, "World gravity"), "World gravity")
         self._p.ode_world.setGravity(self._p.gravity)
+        self._backend.settings_changed()
         for m in self.models.values():
             m.wake()
 
@@ -280,6 +281,7 @@ class World(object):
         self._p.vmax2 = p["guard_max_linear_velocity"] ** 2
         self._p.wmax2 = p["guard_max_angular_velocity"] ** 2
         self._p.pair_cache.clear()
+        self._backend.settings_changed()
         for m in self.models.values():
             self._apply_auto_disable(m)
 
@@ -1008,29 +1010,32 @@ class World(object):
             # the step at t is made whatever the hooks say now; the stretch goes on to their next due time
             before = max(earliest_due(self._before_dues) - DUE_MARGIN, t + 0.5 * dt)
         after = earliest_due(self._after_dues) - DUE_MARGIN
-        r = backend.run(n, t, self.iterations, before, after)
+        efforts = self._take_efforts()
+        r = backend.run(n, t, self.iterations, before, after, efforts)
         if r is not None:
             if hooked:
                 self.hooked_steps += 1
                 self.native_steps -= 1
-            self._after_stretch(r)
+            self._after_stretch(r, efforts[0])
             return r.steps
-        self._step_once(hooked=hooked)
+        self._step_once(hooked=hooked, efforts=efforts)     # the efforts are this step's
         return 1
 
     def _stretch_ok(self):
         """The World's own reasons to step in Python: wrenches, partial gravity, a frozen model
-        (held in Python), queued efforts, a mimic or soft-limit joint the C loop cannot drive."""
-        return not (self._wrench_links or self._anti_gravity or self._frozen or self._effort_joints) \
-            and self._backend.stretch_ok
+        (held in Python), a mimic or soft-limit joint the C loop cannot drive."""
+        return not (self._wrench_links or self._anti_gravity or self._frozen) and self._backend.stretch_ok
 
-    def _after_stretch(self, r):
+    def _after_stretch(self, r, joints):
+        """``joints``: those whose queued efforts the stretch's first step applied."""
         self.native_steps += r.steps
         self.time, self.iterations = r.time, r.iterations
         self._ncontacts = r.ncontacts
-        for j in self._last_effort_joints:      # efforts of the step before: not given again
-            j.effort = 0.0
-        self._last_effort_joints = []
+        if r.steps == 1:
+            self._last_effort_joints = joints
+        else:                                   # given for the first step only
+            for j in joints:
+                j.effort = 0.0
         if r.guard:
             self._guard()
             if self._frozen:
@@ -1041,8 +1046,9 @@ class World(object):
             for h in self._after:
                 h(t, dt)
 
-    def _step_once(self, hooked=False):
-        """One step in Python; ``hooked``: its before-hooks have run already (and were counted)."""
+    def _step_once(self, hooked=False, efforts=None):
+        """One step in Python; ``hooked``: its before-hooks have run already (and were counted);
+        ``efforts``: the step's queued efforts, taken already (_take_efforts)."""
         if not hooked:
             self.stops += 1
         dt = self._p.dt
@@ -1050,7 +1056,7 @@ class World(object):
         if not hooked:
             for h in self._before:
                 h(t, dt)
-        self._apply_forces(t, dt)
+        self._apply_forces(t, dt, efforts)
         self._ncontacts = self._backend.step(dt)
         self.iterations += 1
         self.time = next_time(t, dt)
@@ -1061,24 +1067,37 @@ class World(object):
         for h in self._after:
             h(self.time, dt)
 
-    def _apply_forces(self, t, dt):
+    def _take_efforts(self):
+        """A step's queued efforts (set_effort, add_effort), taken: a joint with an actuator hands
+        its raw sum to the actuator (added before the joint's clamp in the actuator's step); the
+        others' clamped efforts are returned as (joints, efforts), for the step to apply after the
+        model actuators, and reported by the joints from now on; those of the step before that
+        are not given again report 0."""
+        queued = self._effort_joints
+        if queued:
+            self._effort_joints = []
+            joints = [j for j in queued if j.actuator is None]
+            if len(joints) < len(queued):
+                for j in queued:
+                    a = j.actuator
+                    if a is not None:
+                        a.add_extra(j.take_command())
+        else:
+            joints = ()
+        last = self._last_effort_joints
+        if last and last != joints:     # (the same joints again: each reports its new effort)
+            for j in last:
+                j.effort = 0.0
+        self._last_effort_joints = ()
+        return joints, [j.take_effort() for j in joints] if joints else ()
+
+    def _apply_forces(self, t, dt, efforts=None):
         if self._model_actuators:
             self._backend.apply_model_actuators(self._model_actuators)
-        for j in self._last_effort_joints:
-            j.effort = 0.0
-        if self._effort_joints:
-            applied = []
-            for j in self._effort_joints:
-                a = j.actuator
-                if a is None:
-                    j.apply_command()
-                    applied.append(j)
-                else:       # added to the actuator's effort before the joint's clamp
-                    a.add_extra(j.take_command())
-            self._last_effort_joints = applied
-            self._effort_joints = []
-        else:
-            self._last_effort_joints = []
+        joints, values = self._take_efforts() if efforts is None else efforts
+        for j, f in zip(joints, values):
+            j.add_raw_effort(f)
+        self._last_effort_joints = joints
         if self._actuators:
             self._backend.apply_actuators(self._actuators, t, dt)
         self._backend.apply_damping()

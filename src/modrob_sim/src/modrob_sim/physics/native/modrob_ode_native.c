@@ -1853,6 +1853,13 @@ typedef struct {
     double *snap;
     double *snap_turns;
     long long snap_iter;  /* out: the iteration count after the step of the last snapshot taken */
+    /* the efforts queued for the first step (set_effort on joints without an actuator, already
+     * clamped: Joint.queued_effort), applied after the model actuators as World._apply_forces
+     * does (Joint.apply_command); kinds: 0 hinge, 1 slider */
+    int nefforts;
+    dJointID *effort_joints;
+    int *effort_kinds;
+    double *effort_values;
 } MrStretch;
 
 #define MR_SNAP_BODY 13
@@ -1902,6 +1909,16 @@ static void mr_stretch_mimics_and_soft_limits(MrStretch *b)
         double lo = u->lower - turns, hi = u->upper - turns;
         dJointSetHingeParam(u->joint, b->param_lo_stop, lo > -3.141592653589793 ? lo : -dInfinity);
         dJointSetHingeParam(u->joint, b->param_hi_stop, hi < 3.141592653589793 ? hi : dInfinity);
+    }
+}
+
+/* the efforts queued for the stretch's first step */
+static void mr_stretch_efforts(const MrStretch *b)
+{
+    int k;
+    for (k = 0; k < b->nefforts; ++k) {
+        if (b->effort_kinds[k]) dJointAddSliderForce(b->effort_joints[k], b->effort_values[k]);
+        else dJointAddHingeTorque(b->effort_joints[k], b->effort_values[k]);
     }
 }
 
@@ -1968,6 +1985,7 @@ int mr_run_steps(MrCtx *c, MrStretch *b, int n)
             mr_stretch_watches(b, t)) break;
         b->last_start = t;
         if (b->nmacts) mr_apply_model_actuators(b->macts, b->nmacts);
+        if (k == 0 && b->nefforts) mr_stretch_efforts(b);
         mr_apply_actuators(b->acts, b->nacts, t, b->dt, b->param_vel, b->param_fmax);
         if (b->ndamp) mr_apply_damping(b->damp_joints, b->damp_kinds, b->damp_coef, b->ndamp);
         if (b->nmimic || b->nsoft) mr_stretch_mimics_and_soft_limits(b);
