@@ -2,17 +2,17 @@
 due times (docs/plugins.md, "Due times"); pure, no rospy: the plugin (ros_control.plugin) and the
 tests without ROS (gazebo_ros.testing) run the same.
 
-An update runs in Python at the steps at which it has work: a controller's ``update_due`` (a
-state message, a joint_state_controller sample, the end of a trajectory segment, a goal to
-check), an adapter with a goal or command waiting, a gain changed. At the other steps the joints'
-actuators (the World's) carry the last set-points. An update updates the running controllers for
-which the World would stop there (:func:`physics.due.stops_at` of their ``update_due``); the others
-are left out, as at the steps the World makes natively, unless the controller says that its update
-has work at every update (``update_at_every_stop``) or an actuator of its joints watches a goal's
-checks for it (a gripper goal, a trajectory goal's path tolerances: the World ends a native
-stretch at the step at which one fires, a time no ``update_due`` gives). A controller that reports
-what its actuator did in the update's step (``collect_due``) is collected in the after-step hook of
-that step."""
+An update runs in Python at the steps at which it has work: a controller's ``update_due`` (a state
+message, a joint_state_controller sample, a trajectory whose pieces queued in the actuators run
+low, a goal to check), an adapter with a goal or command waiting, a gain changed. At the other
+steps the joints' actuators (the World's) carry the last set-points. An update updates the running
+controllers for which the World would stop there (:func:`physics.due.stops_at` of their
+``update_due``); the others are left out, as at the steps the World makes natively, unless the
+controller says that its update has work at every update (``update_at_every_stop``) or an actuator
+of its joints watches a goal's checks for it (a gripper goal, a trajectory goal's path tolerances:
+the World ends a native stretch at the step at which one fires, a time no ``update_due`` gives). A
+controller that reports what its actuator did in the update's step (``collect_due``) is collected
+in the after-step hook of that step."""
 from modrob_sim.physics.due import stops_at
 
 INF = float("inf")
