@@ -662,7 +662,9 @@ class PureBackend(object):
         contact takes the last step's anchor of the same pair whose points are nearest to it
         (both within ANCHOR_RADIUS of it across the contact plane, and of each other), and its
         first friction row, along the gap, asks for the velocity that closes it in one step at its
-        ERP; without one it is anchored where it is."""
+        ERP; without one it is anchored where it is. Only between two moving bodies."""
+        if b1 is None or b2 is None:
+            return
         r2 = ANCHOR_RADIUS * ANCHOR_RADIUS
         best, found = r2, None
         last = self.anchors.get((g1, g2))

@@ -650,7 +650,13 @@ static void mr_point_to_world(dBodyID b, const double *a, double *out)
  * penetration. The bound mu*N still holds: a contact that must slip, slips, and is anchored anew
  * where it is once the points are apart. A rolling contact moves on both bodies and is anchored
  * anew each step. Not for a surface's <fdir1> (wheels). The anchors live one step: a contact of
- * this step takes over that of the last step's contacts of its pair whose points are nearest. */
+ * this step takes over that of the last step's contacts of its pair whose points are nearest.
+ * Only between two moving bodies (a held object and its fingers): against a static side (the
+ * floor, a table) a contact has ODE's own friction, as on Gazebo. Anchored there, a TurtleBot3
+ * burger's box caster (mu 0.1), dragged along the floor, turned the robot 0.027 rad at the start
+ * of a straight drive. (Rules that left sliding contacts unanchored instead, by the bodies' speed
+ * at the contact or by how far the points came apart in a step, let the Panda's held cube creep
+ * out of its fingers: its contacts move back and forth faster than a dragged caster.) */
 #define MR_ANCHOR_RADIUS 1e-3
 
 /* the index of the last step's first anchor of the pair (o1, o2) in either order, or -1 */
@@ -693,7 +699,9 @@ static void mr_anchor(MrCtx *c, dGeomID o1, dGeomID o2, dBodyID b1, dBodyID b2, 
     double w1[3], w2[3], best = r2;
     int i, found = -1, swapped = 0;
     MrAnchor *a;
-    int first = mr_anchors_of(c, o1, o2);
+    int first;
+    if (!b1 || !b2) return;     /* against a static side: ODE's own friction */
+    first = mr_anchors_of(c, o1, o2);
     for (i = first; first >= 0 && i < c->nanc_prev; ++i) {
         const MrAnchor *q = &c->anc_prev[i];
         double d1[3], d2[3], e[3], dn1, dn2, dne, t1, t2, te;
