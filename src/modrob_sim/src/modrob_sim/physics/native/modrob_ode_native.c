@@ -656,7 +656,7 @@ static void mr_point_to_world(dBodyID b, const double *a, double *out)
  * burger's box caster (mu 0.1), dragged along the floor, turned the robot 0.027 rad at the start
  * of a straight drive. (Rules that left sliding contacts unanchored instead, by the bodies' speed
  * at the contact or by how far the points came apart in a step, let the Panda's held cube creep
- * out of its fingers: its contacts move back and forth faster than a dragged caster.) */
+ * out of its fingers again.) */
 #define MR_ANCHOR_RADIUS 1e-3
 
 /* the index of the last step's first anchor of the pair (o1, o2) in either order, or -1 */
